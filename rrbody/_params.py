@@ -1,0 +1,24 @@
+"""Layout of the float64 parameter vector ``p`` that every compiled kernel receives.
+
+Kernels take parameters as arguments (no closures) so one compiled function serves every scene.
+:func:`rrbody.scene.Scene.kernel_params` fills this vector; nothing else writes it.
+"""
+
+OMEGA = 0      # drive rate (rad/s); 0 for a free body
+D = 1          # drive radius (m)
+L = 2          # pivot offset |CM -> P| (m)
+IP = 3         # I_P / m = I_cm/m + l^2 (m^2)
+BETA = 4       # phi - alpha: angle of CM->P in the body frame (rad)
+LAW = 5        # friction law code (0 none, 1 dry, 2 viscous)
+COEFF = 6      # mu*g (m/s^2, dry) or gamma (1/s, viscous)
+BODY = 7       # area model: 0 point, 1 sampled elements, 2 instantaneous-centre quadrature
+VEPS = 8       # speed below which a dry element's direction counts as undefined (m/s)
+RA = 9         # semi-axis along body x (m)
+RB = 10        # semi-axis along body y (m)
+NQ = 11        # quadrature nodes of the instantaneous-centre method
+ICM = 12       # I_cm / m (m^2)
+SIZE = 16
+
+BODY_POINT = 0
+BODY_SAMPLED = 1
+BODY_ICR = 2

@@ -1,0 +1,180 @@
+"""Flip time, the reverse-rotation (RR) test and the critical geometry H_c (SPEC section 4).
+
+Definitions
+-----------
+- **Flip time** t_f: time of the global minimum of phi(t), reported whenever phi falls below
+  phi0 at all (including the paper's low-omega "incomplete RR"); None when phi never does. The run stops once the flip is
+  settled (see :mod:`rrbody.ode`, rule ``"flip"``): phi has risen ``settle_turns`` full turns above
+  its lowest minimum and ``settle_periods`` driving periods have passed since it.
+- **RR exists** iff T_1 (first time theta = phi - omega t + pi has fallen by 2 pi) exists and
+  omega T_1 < 2 pi. Exact in the frictionless limit (see :func:`frictionless_T1`).
+- **H_c(k)**: the RR/no-RR boundary met first when H grows from small values (RR exists for all
+  H below it), found by a grid scan and bisection. (Without friction RR reappears for H > 1.96,
+  where the body barely turns and drifts backwards; H_c is the paper's first boundary.)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+from typing import Any
+
+import numpy as np
+
+from ._checks import check_positive, check_range
+from .scene import Scene, rod_mass_scene
+from .simulation import resolve_rtol
+
+__all__ = ["FlipResult", "flip_time", "reverse_rotation_exists", "critical_h", "frictionless_T1",
+           "frictionless_critical_h"]
+
+
+@dataclass
+class FlipResult:
+    """Outcome of :func:`flip_time` (s, rad). ``t_f`` is None when there is no flip to report."""
+
+    t_f: float | None
+    phi_min: float
+    t_phi_min: float
+    reverse_rotation: bool
+    T1: float | None
+    settled: bool
+    regime: str
+    t_stop: float
+    n_steps: int
+    n_minima: int
+    rtol: float
+    wall_s: float
+    minima: np.ndarray
+
+    def as_dict(self) -> dict[str, Any]:
+        d = asdict(self)
+        d.pop("minima")
+        return d
+
+
+def _rr_from_T1(T1: float, omega: float) -> bool:
+    return math.isfinite(T1) and omega * T1 < 2.0 * math.pi
+
+
+def flip_time(scene: Scene, *, rtol: float | None = None, accuracy: str = "default", t_max: float | None = None,
+              settle_turns: float = 2.0, settle_periods: float = 3.0, max_steps: int = 50_000_000,
+              progress: bool = False) -> FlipResult:
+    """Flip time of a driven scene by the direct ODE path.
+
+    ``t_max`` (s; default ``scene.t_max``, else unbounded) caps the horizon; without friction there
+    is no flip and only the RR question is answered. The minimum's time and value are located to
+    the integrator's accuracy (Newton on the step size; see :mod:`rrbody.ode`).
+    """
+    if not scene.driven:
+        raise ValueError("flip_time needs a driven scene (drive is None: a free body has no flip)")
+    from .ode import integrate_driven
+
+    rtol_v = resolve_rtol(rtol, accuracy)
+    settle_turns = check_range("settle_turns", settle_turns, 0.5, 100.0)
+    settle_periods = check_range("settle_periods", settle_periods, 0.0, 1e6)
+    horizon = t_max if t_max is not None else scene.t_max
+    horizon = math.inf if horizon is None else check_positive("t_max", horizon, unit="s")
+    p, S = scene.kernel_params()
+    y0 = (scene.phi0, scene.initial_phi_dot)
+    omega = scene.omega
+    if not scene.friction.active:
+        res = integrate_driven(p, S, y0, t_end=min(horizon, 2.0 * scene.drive.period), rtol=rtol_v,  # type: ignore[union-attr]
+                               stop="rr", max_steps=max_steps)
+        rr = _rr_from_T1(res.T1, omega)
+        regime = ("no friction: reverse rotation is perennial, there is no flip" if rr
+                  else "no friction: no reverse rotation")
+        return FlipResult(None, res.phi_min, res.t_min, rr, res.T1 if math.isfinite(res.T1) else None, False,
+                          regime, res.t_end, res.n_steps, res.n_minima, rtol_v, res.wall, res.minima)
+    res = integrate_driven(p, S, y0, t_end=horizon, rtol=rtol_v, stop="flip", settle_turns=settle_turns,
+                           settle_periods=settle_periods, max_steps=max_steps, progress=progress, desc="flip time")
+    rr = _rr_from_T1(res.T1, omega)
+    settled = res.status == "flip settled"
+    T1 = res.T1 if math.isfinite(res.T1) else None
+    turned_back = res.has_min and res.phi_min < scene.phi0
+    if not settled:
+        regime = (f"not settled: {res.status} at t={res.t_end:.6g} s; the lowest minimum so far is at "
+                  f"t={res.t_min:.6g} s, so t_f >= that")
+        t_f = None
+    elif not turned_back:
+        regime = "no reverse rotation: phi never falls below phi0 (normal rotation from the start)"
+        t_f = None
+    elif rr:
+        regime = "reverse rotation (theta made a full backward turn in the first period), then normal rotation"
+        t_f = res.t_min
+    else:
+        regime = (f"incomplete reverse rotation: phi fell by {scene.phi0 - res.phi_min:.4g} rad before turning "
+                  "forward (no full backward turn of theta in the first period)")
+        t_f = res.t_min
+    phi_min = res.phi_min if res.has_min else scene.phi0
+    return FlipResult(t_f, phi_min, res.t_min, rr, T1, settled, regime, res.t_end, res.n_steps, res.n_minima, rtol_v,
+                      res.wall, res.minima)
+
+
+def reverse_rotation_exists(scene: Scene, *, rtol: float | None = None, accuracy: str = "default") -> bool:
+    """SPEC section 4: T_1 exists and omega T_1 < 2 pi. Integrates at most one driving period."""
+    from .ode import integrate_driven
+
+    p, S = scene.kernel_params()
+    res = integrate_driven(p, S, (scene.phi0, scene.initial_phi_dot), t_end=1.01 * scene.drive.period,  # type: ignore[union-attr]
+                           rtol=resolve_rtol(rtol, accuracy), stop="rr")
+    return _rr_from_T1(res.T1, scene.omega)
+
+
+def critical_h(k: float, omega: float, *, phi0: float = math.pi, friction: str = "dry", tol: float = 1e-9,
+               rtol: float | None = None, accuracy: str = "default", H_lo: float = 1e-3, H_hi: float = 1.0,
+               n_scan: int = 64) -> float:
+    """H_c(k) for the rod-mass body: first RR -> no-RR boundary as H grows from ``H_lo``.
+
+    The scan over ``n_scan`` log-spaced H in [H_lo, H_hi] brackets the boundary; bisection then
+    narrows it to ``tol`` (absolute, in H). Raises ValueError if no boundary lies in the range.
+    """
+    tol = check_range("tol", tol, 1e-14, 1e-1)
+    H_lo = check_positive("H_lo", H_lo)
+    H_hi = check_positive("H_hi", H_hi)
+    if not H_hi > H_lo:
+        raise ValueError(f"H_hi must be > H_lo={H_lo:g}, got {H_hi!r}")
+
+    def rr(H: float) -> bool:
+        return reverse_rotation_exists(rod_mass_scene(H, k, omega, phi0, friction=friction), rtol=rtol,
+                                       accuracy=accuracy)
+
+    grid = np.geomspace(H_lo, H_hi, n_scan)
+    if not rr(float(grid[0])):
+        raise ValueError(f"no reverse rotation even at H_lo={H_lo:g} (k={k:g}, omega={omega:g}); lower H_lo")
+    a = float(grid[0])
+    b = None
+    for H in grid[1:]:
+        if rr(float(H)):
+            a = float(H)
+        else:
+            b = float(H)
+            break
+    if b is None:
+        raise ValueError(f"reverse rotation persists up to H_hi={H_hi:g}; raise H_hi")
+    while b - a > tol:
+        m = 0.5 * (a + b)
+        if rr(m):
+            a = m
+        else:
+            b = m
+    return 0.5 * (a + b)
+
+
+def frictionless_T1(H: float, omega: float) -> float:
+    """Exact T_1 without friction from phi0 = pi (s): 4 H K(m) / (omega (H + 1)), m = 4H/(H+1)^2.
+
+    The rotating-frame pendulum H theta'' = -omega^2 sin(theta) starts at the bottom with
+    theta' = -omega (1 + 1/H); one revolution takes a complete elliptic integral K(m).
+    """
+    from scipy.special import ellipk
+
+    return 4.0 * H * float(ellipk(4.0 * H / (H + 1.0) ** 2)) / (omega * (H + 1.0))
+
+
+def frictionless_critical_h() -> float:
+    """H_c(0) = 0.79272623...: root of 2 H K(4H/(H+1)^2) = pi (H + 1) (phi0 = pi)."""
+    from scipy.optimize import brentq
+    from scipy.special import ellipk
+
+    return float(brentq(lambda H: 2 * H * ellipk(4 * H / (H + 1) ** 2) - math.pi * (H + 1), 0.3, 0.99, xtol=1e-15))

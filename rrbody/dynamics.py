@@ -1,0 +1,59 @@
+"""Right-hand sides of the equations of motion (compiled, pure functions of (t, y, p, S)).
+
+Driven body (SPEC section 2), state y = (phi, phi') with phi the angle of CM -> P (rad):
+
+    (I_cm/m + l^2) phi'' = omega^2 l d sin(phi - omega t) + tau_P / m
+
+The body angle is alpha = phi - beta, so the same state serves l = 0 (P at the CM), where phi is
+simply the body angle shifted by beta. tau_P is the friction torque about P (world frame).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from . import _params as P
+from .friction import body_wrench
+
+__all__ = ["driven_rhs", "driven_kinematics"]
+
+
+@njit(cache=True, inline="always")
+def driven_kinematics(t: float, phi: float, phid: float, p: np.ndarray) -> tuple[float, float, float, float, float, float]:
+    """CM position (m) and velocity (m/s) and P position (m), world frame, for the driven body."""
+    w = p[P.OMEGA]
+    d = p[P.D]
+    l = p[P.L]
+    cw = math.cos(w * t)
+    sw = math.sin(w * t)
+    cp = math.cos(phi)
+    sp = math.sin(phi)
+    px = d * cw
+    py = d * sw
+    # r = P - l e(phi); r' = P' - l phi' e_perp(phi), e_perp = (-sin, cos)
+    x = px - l * cp
+    y = py - l * sp
+    vx = -d * w * sw + l * phid * sp
+    vy = d * w * cw - l * phid * cp
+    return x, y, vx, vy, px, py
+
+
+@njit(cache=True)
+def driven_rhs(t, y, p, S, out):  # noqa: ANN001 (numba signature)
+    """out = (phi', phi'') for the circularly driven body."""
+    phi = y[0]
+    phid = y[1]
+    w = p[P.OMEGA]
+    d = p[P.D]
+    l = p[P.L]
+    torque = w * w * l * d * math.sin(phi - w * t)
+    if p[P.LAW] != 0.0:
+        _, _, vx, vy, _, _ = driven_kinematics(t, phi, phid, p)
+        fx, fy, tau_cm = body_wrench(p, S, phi - p[P.BETA], vx, vy, phid)
+        # torque about P: tau_cm + (r - P) x F with r - P = -l e(phi)
+        torque += tau_cm - l * (math.cos(phi) * fy - math.sin(phi) * fx)
+    out[0] = phid
+    out[1] = torque / p[P.IP]

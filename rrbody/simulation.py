@@ -1,0 +1,129 @@
+"""One entry point: ``simulate(scene, method=...) -> Trajectory``, with a registry of methods.
+
+Methods: ``"ode"`` (the compiled direct ODE path, default) and ``"engine"`` (pymunk, registered by
+:mod:`rrbody.engine` when it is imported). An unknown name lists the valid ones.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from . import __version__
+from ._checks import check_int, check_positive, check_range
+from .scene import Scene
+from .trajectory import Trajectory
+
+__all__ = ["simulate", "METHODS", "ACCURACY", "register_method", "default_dt_out", "resolve_rtol"]
+
+#: accuracy presets -> ODE relative tolerance (chosen from benchmarks/results: see README)
+ACCURACY: dict[str, float] = {"draft": 1e-7, "default": 1e-10, "paper": 1e-12}
+
+METHODS: dict[str, str] = {"ode": "rrbody.simulation:_simulate_ode", "engine": "rrbody.engine:simulate_engine"}
+_LOADED: dict[str, Callable[..., Trajectory]] = {}
+
+
+def register_method(name: str, func: Callable[..., Trajectory]) -> None:
+    """Add an integrator path under ``name``."""
+    _LOADED[name] = func
+    METHODS.setdefault(name, f"{func.__module__}:{func.__name__}")
+
+
+def _method(name: str) -> Callable[..., Trajectory]:
+    if name not in METHODS:
+        raise ValueError(f"method must be one of {', '.join(repr(m) for m in METHODS)}, got {name!r}")
+    if name not in _LOADED:
+        mod, attr = METHODS[name].split(":")
+        _LOADED[name] = getattr(importlib.import_module(mod), attr)
+    return _LOADED[name]
+
+
+def resolve_rtol(rtol: float | None, accuracy: str = "default") -> float:
+    """The ODE tolerance: an explicit ``rtol`` or the ``accuracy`` preset's."""
+    if rtol is not None:
+        return check_range("rtol", rtol, 1e-15, 1e-2)
+    if accuracy not in ACCURACY:
+        raise ValueError(f"accuracy must be one of {', '.join(repr(a) for a in ACCURACY)}, got {accuracy!r}")
+    return ACCURACY[accuracy]
+
+
+def default_dt_out(scene: Scene) -> float:
+    """An output interval (s) that resolves the fastest motion: 1/64 of the shortest of the
+    driving period and the initial spin period."""
+    rates = [scene.omega, abs(scene.initial_phi_dot), abs(scene.spin0)]
+    fastest = max(r for r in rates) if max(rates) > 0 else 1.0
+    return (2.0 * math.pi / fastest) / 64.0
+
+
+def simulate(scene: Scene, *, method: str = "ode", t_max: float | None = None, dt_out: float | None = None,
+             progress: bool = False, **options: Any) -> Trajectory:
+    """Run ``scene`` with ``method`` and return its :class:`Trajectory`.
+
+    ``t_max`` (s) overrides ``scene.t_max``; one of them is required. ``dt_out`` is the sampling
+    interval of the returned arrays (default :func:`default_dt_out`). Method options (e.g.
+    ``rtol``/``accuracy`` for ``"ode"``, ``dt``/``iterations`` for ``"engine"``) pass through.
+    """
+    func = _method(method)
+    horizon = t_max if t_max is not None else scene.t_max
+    if horizon is None:
+        raise ValueError("t_max must be given (in the scene or as an argument), got None (valid range: (0, inf))")
+    horizon = check_positive("t_max", horizon, unit="s")
+    dt = default_dt_out(scene) if dt_out is None else check_positive("dt_out", dt_out, unit="s")
+    n = horizon / dt
+    if n > 20_000_000:
+        raise ValueError(f"dt_out={dt:g} s gives {n:.3g} samples over t_max={horizon:g} s; "
+                         "the limit is 2e7 (raise dt_out)")
+    return func(scene, t_max=horizon, dt_out=dt, progress=progress, **options)
+
+
+def _simulate_ode(scene: Scene, *, t_max: float, dt_out: float, progress: bool = False, rtol: float | None = None,
+                  accuracy: str = "default", max_steps: int = 50_000_000) -> Trajectory:
+    """The direct ODE path (compiled DOP853) for driven bodies; free bodies go to :mod:`rrbody.free`."""
+    rtol_v = resolve_rtol(rtol, accuracy)
+    max_steps = check_int("max_steps", max_steps, 1)
+    if not scene.driven:
+        from .free import simulate_free
+
+        return simulate_free(scene, t_max=t_max, dt_out=dt_out, rtol=rtol_v, max_steps=max_steps, progress=progress)
+    from .ode import integrate_driven
+
+    p, S = scene.kernel_params()
+    res = integrate_driven(p, S, (scene.phi0, scene.initial_phi_dot), t_end=t_max, rtol=rtol_v, stop="t_end",
+                           dt_out=dt_out, max_steps=max_steps, progress=progress, desc="ode")
+    traj = driven_trajectory(scene, res.out[:, 0], res.out[:, 1], res.out[:, 2])
+    minima = res.minima
+    i = int(np.argmin(minima[:, 1])) if len(minima) else -1
+    traj.events = {
+        "minima": minima.tolist(),
+        "n_minima": res.n_minima,
+        "T1": res.T1 if math.isfinite(res.T1) else None,
+        "phi_min": float(min(minima[i, 1], scene.phi0)) if i >= 0 else scene.phi0,
+        "t_phi_min": float(minima[i, 0]) if i >= 0 and minima[i, 1] < scene.phi0 else 0.0,
+    }
+    traj.meta = {**traj.meta, "method": "ode", "rtol": rtol_v, "status": res.status, "n_steps": res.n_steps,
+                 "n_rejected": res.n_rejected, "wall_s": res.wall}
+    if res.status not in ("reached t_end",):
+        traj.meta["warning"] = f"integration stopped early: {res.status} at t={res.t_end:.6g} s"
+    return traj
+
+
+def driven_trajectory(scene: Scene, t: np.ndarray, phi: np.ndarray, phi_dot: np.ndarray) -> Trajectory:
+    """Assemble a Trajectory of a driven body from samples of phi(t), phi'(t) (rad, rad/s)."""
+    drive = scene.drive
+    if drive is None:
+        raise ValueError("driven_trajectory needs a driven scene (drive is None)")
+    l = scene.body.l
+    P = drive.position(t)
+    V = drive.velocity(t)
+    e = np.column_stack([np.cos(phi), np.sin(phi)])
+    eperp = np.column_stack([-np.sin(phi), np.cos(phi)])
+    cm = P - l * e
+    vcm = V - l * phi_dot[:, None] * eperp
+    beta = scene.phi0 - scene.body.alpha0
+    return Trajectory(t=t, phi=phi, phi_dot=phi_dot, x_cm=cm[:, 0], y_cm=cm[:, 1], vx_cm=vcm[:, 0],
+                      vy_cm=vcm[:, 1], x_p=P[:, 0], y_p=P[:, 1], body_angle=phi - beta, spin=phi_dot.copy(),
+                      meta={"scene": scene.describe(), "rrbody_version": __version__})
