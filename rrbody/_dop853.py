@@ -12,7 +12,28 @@ import math
 
 import numpy as np
 from numba import njit
-from scipy.integrate._ivp import dop853_coefficients as _co
+
+def _load_scipy_tableau():  # noqa: ANN202
+    """scipy's DOP853 coefficient module, loaded by file so that ``scipy.integrate`` (0.3 s of
+    imports) is not pulled in just for these constants."""
+    import importlib.util
+    from pathlib import Path
+
+    spec = importlib.util.find_spec("scipy")
+    if spec is None or spec.origin is None:
+        raise ImportError("scipy is required")
+    path = Path(spec.origin).parent / "integrate" / "_ivp" / "dop853_coefficients.py"
+    mspec = importlib.util.spec_from_file_location("_rrbody_dop853_coefficients", path)
+    if mspec is None or mspec.loader is None:
+        raise ImportError(f"cannot load scipy's DOP853 coefficients from {path}")
+    mod = importlib.util.module_from_spec(mspec)
+    mspec.loader.exec_module(mod)
+    return mod
+
+
+_co = _load_scipy_tableau()
+
+from .dynamics import rhs
 
 __all__ = ["TABLEAU", "rk_step", "error_norm", "ORDER"]
 
@@ -34,11 +55,13 @@ TABLEAU: tuple[np.ndarray, ...] = (
 
 
 @njit(cache=True)
-def rk_step(rhs, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp):  # noqa: ANN001 (numba)
-    """One DOP853 step of size h from (t, y) with f0 = rhs(t, y).
+def rk_step(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp):  # noqa: ANN001 (numba)
+    """One DOP853 step of size h from (t, y) with f0 = rhs(system, t, y, ...).
 
-    Fills K[0..12] (K[12] = f(t+h, ynew)) and ``ynew``. ``p`` and ``S`` are the parameter vector
-    and the area-sample array passed through to ``rhs(t, y, p, S, out)``.
+    Fills K[0..12] (K[12] = f(t+h, ynew)) and ``ynew``. ``system`` selects the equations
+    (:func:`rrbody.dynamics.rhs`; an integer rather than a function argument, because numba
+    cannot cache functions that take other compiled functions as arguments). ``p`` and ``S``
+    are the parameter vector and the area-sample array.
     """
     n = y.shape[0]
     for j in range(n):
@@ -49,13 +72,13 @@ def rk_step(rhs, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp):  # noqa: ANN001 (nu
             for r in range(s):
                 acc += A[s, r] * K[r, j]
             ytmp[j] = y[j] + h * acc
-        rhs(t + C[s] * h, ytmp, p, S, K[s])
+        rhs(system, t + C[s] * h, ytmp, p, S, K[s])
     for j in range(n):
         acc = 0.0
         for r in range(N_STAGES):
             acc += B[r] * K[r, j]
         ynew[j] = y[j] + h * acc
-    rhs(t + h, ynew, p, S, K[N_STAGES])
+    rhs(system, t + h, ynew, p, S, K[N_STAGES])
 
 
 @njit(cache=True)

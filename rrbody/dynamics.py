@@ -18,7 +18,10 @@ from numba import njit
 from . import _params as P
 from .friction import body_wrench
 
-__all__ = ["driven_rhs", "driven_kinematics"]
+__all__ = ["rhs", "driven_rhs", "driven_kinematics", "SYSTEM_DRIVEN", "SYSTEM_FREE"]
+
+SYSTEM_DRIVEN = 0  # y = (phi, phi')
+SYSTEM_FREE = 1    # y = (x, y, alpha, vx, vy, spin): a free body (see free_rhs)
 
 
 @njit(cache=True, inline="always")
@@ -57,3 +60,29 @@ def driven_rhs(t, y, p, S, out):  # noqa: ANN001 (numba signature)
         torque += tau_cm - l * (math.cos(phi) * fy - math.sin(phi) * fx)
     out[0] = phid
     out[1] = torque / p[P.IP]
+
+
+@njit(cache=True)
+def free_rhs(t, y, p, S, out):  # noqa: ANN001
+    """Free body, y = (x, y, alpha, vx, vy, spin) (m, rad, m/s, rad/s): friction alone.
+
+    A point mass (I_cm = 0) keeps its spin constant: it has no rotational inertia to decelerate.
+    """
+    out[0] = y[3]
+    out[1] = y[4]
+    out[2] = y[5]
+    fx, fy, tau = 0.0, 0.0, 0.0
+    if p[P.LAW] != 0.0:
+        fx, fy, tau = body_wrench(p, S, y[2], y[3], y[4], y[5])
+    out[3] = fx
+    out[4] = fy
+    out[5] = tau / p[P.ICM] if p[P.ICM] > 0.0 else 0.0
+
+
+@njit(cache=True)
+def rhs(system, t, y, p, S, out):  # noqa: ANN001
+    """Dispatch to the equations of ``system`` (SYSTEM_DRIVEN or SYSTEM_FREE)."""
+    if system == SYSTEM_DRIVEN:
+        driven_rhs(t, y, p, S, out)
+    else:
+        free_rhs(t, y, p, S, out)

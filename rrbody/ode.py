@@ -33,7 +33,7 @@ from numba import njit
 
 from . import _params as P
 from ._dop853 import TABLEAU, error_norm, rk_step, step_factor
-from .dynamics import driven_rhs
+from .dynamics import SYSTEM_DRIVEN, driven_rhs
 
 __all__ = ["DrivenResult", "integrate_driven", "STOP_RULES"]
 
@@ -48,11 +48,11 @@ _ST_SIZE = 16
 
 
 @njit(cache=True)
-def _refine(rhs, t, y, f, h0, hmax, which, p, S, A, B, C, K2, y2, ytmp, omega, target):  # noqa: ANN001
+def _refine(t, y, f, h0, hmax, which, p, S, A, B, C, K2, y2, ytmp, omega, target):  # noqa: ANN001
     """Newton on h in (0, hmax] for the event `which` (0: phi' = 0; 1: theta = target)."""
     h = min(max(h0, 0.0), hmax)
     for _ in range(12):
-        rk_step(rhs, t, y, f, h, p, S, A, B, C, K2, y2, ytmp)
+        rk_step(SYSTEM_DRIVEN, t, y, f, h, p, S, A, B, C, K2, y2, ytmp)
         if which == 0:
             g = y2[1]
             dg = K2[12, 1]
@@ -67,12 +67,12 @@ def _refine(rhs, t, y, f, h0, hmax, which, p, S, A, B, C, K2, y2, ytmp, omega, t
             h = hn
             break
         h = hn
-    rk_step(rhs, t, y, f, h, p, S, A, B, C, K2, y2, ytmp)
+    rk_step(SYSTEM_DRIVEN, t, y, f, h, p, S, A, B, C, K2, y2, ytmp)
     return h
 
 
 @njit(cache=True)
-def _advance(rhs, y, f, st, p, S, t_end, stop, settle_turns, settle_periods, rtol, hmax, max_steps,
+def _advance(y, f, st, p, S, t_end, stop, settle_turns, settle_periods, rtol, hmax, max_steps,
              minima, out, dt_out, A, B, C, E3, E5):  # noqa: ANN001
     """Advance the carried state until t_end, a stop rule fires, or max_steps accepted steps."""
     n = y.shape[0]
@@ -101,7 +101,7 @@ def _advance(rhs, y, f, st, p, S, t_end, stop, settle_turns, settle_periods, rto
             st[_T] = t
             st[_H] = h
             return 4
-        rk_step(rhs, t, y, f, hh, p, S, A, B, C, K, ynew, ytmp)
+        rk_step(SYSTEM_DRIVEN, t, y, f, hh, p, S, A, B, C, K, ynew, ytmp)
         st[_PHID_SCALE] = max(st[_PHID_SCALE], abs(ynew[1]))
         scale[0] = rtol * math.pi
         scale[1] = rtol * st[_PHID_SCALE]
@@ -123,7 +123,7 @@ def _advance(rhs, y, f, st, p, S, t_end, stop, settle_turns, settle_periods, rto
                     out[k, 1] = y[0]
                     out[k, 2] = y[1]
                 else:
-                    rk_step(rhs, t, y, f, ho, p, S, A, B, C, K2, y2, ytmp)
+                    rk_step(SYSTEM_DRIVEN, t, y, f, ho, p, S, A, B, C, K2, y2, ytmp)
                     out[k, 0] = t + ho
                     out[k, 1] = y2[0]
                     out[k, 2] = y2[1]
@@ -132,7 +132,7 @@ def _advance(rhs, y, f, st, p, S, t_end, stop, settle_turns, settle_periods, rto
         # local minimum of phi: phi' crosses zero upwards
         if y[1] < 0.0 and ynew[1] >= 0.0:
             h0 = hh * (-y[1]) / (ynew[1] - y[1])
-            hm = _refine(rhs, t, y, f, h0, hh, 0, p, S, A, B, C, K2, y2, ytmp, omega, 0.0)
+            hm = _refine(t, y, f, h0, hh, 0, p, S, A, B, C, K2, y2, ytmp, omega, 0.0)
             tm = t + hm
             k = int(st[_NMIN])
             if k < minima.shape[0]:
@@ -150,7 +150,7 @@ def _advance(rhs, y, f, st, p, S, t_end, stop, settle_turns, settle_periods, rto
             g1 = ynew[0] - omega * (t + hh) + math.pi - target
             if g0 > 0.0 and g1 <= 0.0:
                 h0 = hh * g0 / (g0 - g1)
-                hm = _refine(rhs, t, y, f, h0, hh, 1, p, S, A, B, C, K2, y2, ytmp, omega, target)
+                hm = _refine(t, y, f, h0, hh, 1, p, S, A, B, C, K2, y2, ytmp, omega, target)
                 st[_T1] = t + hm
         t = t + hh
         for j in range(n):
@@ -246,7 +246,7 @@ def integrate_driven(p: np.ndarray, S: np.ndarray, y0: tuple[float, float], *, t
                 status = 3
                 break
             before = st[_T]
-            status = _advance(driven_rhs, y, f, st, p, S, t_end, stop_code, settle_turns, settle_periods, rtol,
+            status = _advance(y, f, st, p, S, t_end, stop_code, settle_turns, settle_periods, rtol,
                               hmax, min(chunk, left), minima, out, dt_out, A, B, C, E3, E5)
             if bar is not None:
                 bar.update(st[_T] - before)
