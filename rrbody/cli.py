@@ -213,6 +213,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         opts.update({k: v for k, v in (("dt", args.dt), ("iterations", args.iterations)) if v is not None})
         opts["max_steps"] = args.max_steps
     traj = simulate(scene, method=args.method, dt_out=args.dt_out, progress=_progress(args), **opts)
+    if "warning" in traj.meta:
+        print(f"rrbody simulate: warning: {traj.meta['warning']}; the trajectory is partial", file=sys.stderr)
     written: dict[str, str] = {}
     if args.out:
         written["out"] = str(traj.save(args.out, force=args.force))
