@@ -45,6 +45,10 @@ def atomic_path(path: str | os.PathLike[str], *, force: bool = False, name: str 
         yield tmp_path
         if not force and final.exists():
             raise ValueError(f"{name}: {str(final)!r} appeared while writing (pass --force to overwrite)")
+        # mkstemp creates 0600 files; give the result the permissions a plain open() would
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp_path, 0o666 & ~umask)
         os.replace(tmp_path, final)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
