@@ -9,7 +9,14 @@ from __future__ import annotations
 import math
 from numbers import Real
 
-__all__ = ["check_real", "check_positive", "check_nonnegative", "check_range", "check_int", "check_choice"]
+#: Upper bounds on physical inputs. They exclude values that overflow the kernels (omega * t or
+#: spin * size beyond ~1e15 loses every digit of an angle) rather than any physical regime studied.
+MAX_RATE = 1e6        # rad/s (omega, spins) and 1/s
+MAX_LENGTH = 1e6      # m (d, l, R0)
+MAX_FRICTION = 1e9    # mu g in m/s^2, gamma in 1/s, k in 1/s^2
+MAX_TIME = 1e9        # s (horizons)
+
+__all__ = ["MAX_RATE", "MAX_LENGTH", "MAX_FRICTION", "MAX_TIME", "check_real", "check_positive", "check_nonnegative", "check_range", "check_int", "check_choice"]
 
 
 def check_real(name: str, value: object) -> float:
@@ -22,19 +29,21 @@ def check_real(name: str, value: object) -> float:
     return v
 
 
-def check_positive(name: str, value: object, *, unit: str = "") -> float:
-    """Finite and > 0."""
+def check_positive(name: str, value: object, *, unit: str = "", hi: float = math.inf) -> float:
+    """Finite, > 0 and <= hi."""
     v = check_real(name, value)
-    if not v > 0.0:
-        raise ValueError(f"{name} must be > 0{(' ' + unit) if unit else ''}, got {v!r} (valid range: (0, inf))")
+    if not (v > 0.0 and v <= hi):
+        u = f" {unit}" if unit else ""
+        raise ValueError(f"{name} must be > 0{u} and <= {hi:g}, got {v!r} (valid range: (0, {hi:g}])")
     return v
 
 
-def check_nonnegative(name: str, value: object, *, unit: str = "") -> float:
-    """Finite and >= 0."""
+def check_nonnegative(name: str, value: object, *, unit: str = "", hi: float = math.inf) -> float:
+    """Finite, >= 0 and <= hi."""
     v = check_real(name, value)
-    if not v >= 0.0:
-        raise ValueError(f"{name} must be >= 0{(' ' + unit) if unit else ''}, got {v!r} (valid range: [0, inf))")
+    if not (v >= 0.0 and v <= hi):
+        u = f" {unit}" if unit else ""
+        raise ValueError(f"{name} must be >= 0{u} and <= {hi:g}, got {v!r} (valid range: [0, {hi:g}])")
     return v
 
 

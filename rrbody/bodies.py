@@ -17,7 +17,7 @@ from typing import ClassVar, Literal
 
 import numpy as np
 
-from ._checks import check_choice, check_nonnegative, check_positive, check_range
+from ._checks import MAX_LENGTH, check_choice, check_nonnegative, check_positive, check_range
 
 __all__ = ["Body", "RodMass", "Disk", "Ellipse", "BODY_KINDS"]
 
@@ -38,7 +38,7 @@ class Body:
     orientation: Orientation = "x"
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "l", check_nonnegative("l", self.l, unit="m"))
+        object.__setattr__(self, "l", check_nonnegative("l", self.l, unit="m", hi=MAX_LENGTH))
         object.__setattr__(self, "mass", check_positive("mass", self.mass, unit="kg"))
         check_choice("orientation", self.orientation, ("x", "y"))
 
@@ -97,7 +97,7 @@ class RodMass(Body):
     def __post_init__(self) -> None:
         super().__post_init__()
         if self.l == 0.0:
-            raise ValueError("l must be > 0 m for a rod-mass body (the rod length), got 0.0 (valid range: (0, inf))")
+            raise ValueError(f"l must be > 0 m for a rod-mass body (the rod length), got 0.0 (valid range: (0, {MAX_LENGTH:g}])")
 
     @property
     def inertia_per_mass(self) -> float:
@@ -113,7 +113,7 @@ class Disk(Body):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        object.__setattr__(self, "R", check_positive("R", self.R, unit="m"))
+        object.__setattr__(self, "R", check_positive("R", self.R, unit="m", hi=MAX_LENGTH))
 
     @property
     def inertia_per_mass(self) -> float:
@@ -138,7 +138,7 @@ class Ellipse(Body):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        object.__setattr__(self, "R0", check_positive("R0", self.R0, unit="m"))
+        object.__setattr__(self, "R0", check_positive("R0", self.R0, unit="m", hi=MAX_LENGTH))
         object.__setattr__(self, "delta", check_range("delta", self.delta, -1.0, 1.0, lo_open=True, hi_open=True))
 
     @property

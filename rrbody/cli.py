@@ -101,6 +101,33 @@ def add_integrator_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--t-max", type=_finite("--t-max"), default=None, help="horizon in s")
 
 
+#: valid ranges of numeric options: (low, high, low end open). Checked before anything runs, so an
+#: error always names the option the user typed.
+_RANGES: dict[str, tuple[float, float, bool]] = {
+    "H": (0.0, 1e6, True), "l": (0.0, 1e6, False), "R0": (0.0, 1e6, True), "delta": (-1.0, 1.0, True),
+    "omega": (0.0, 1e6, True), "d": (0.0, 1e6, True), "k": (0.0, 1e9, False), "mu": (0.0, 1e3, False),
+    "g": (0.0, 1e6, True), "phi0": (-1e6, 1e6, False), "phi_dot0": (-1e6, 1e6, False), "spin0": (-1e6, 1e6, False),
+    "rtol": (1e-15, 1e-2, False), "t_max": (0.0, 1e9, True), "dt_out": (0.0, 1e9, True), "dt": (0.0, 1e3, True),
+    "tol": (1e-14, 0.1, False), "samples": (1, 10_000_000, False), "max_steps": (1, 10**12, False),
+    "iterations": (1, 100_000, False),
+}
+
+
+def check_option_ranges(a: argparse.Namespace) -> None:
+    """Raise CliError naming the first option whose value lies outside its range."""
+    for dest, (lo, hi, lo_open) in _RANGES.items():
+        v = getattr(a, dest, None)
+        if v is None:
+            continue
+        ok = (v > lo if lo_open else v >= lo) and v <= hi and math.isfinite(v)
+        if dest == "delta":
+            ok = lo < v < hi
+        if not ok:
+            opt = "--" + dest.replace("_", "-")
+            interval = f"{'(' if lo_open or dest == 'delta' else '['}{lo:g}, {hi:g}{')' if dest == 'delta' else ']'}"
+            raise CliError(f"{opt} must lie in {interval}, got {v!r}")
+
+
 def scene_from_args(a: argparse.Namespace) -> Any:
     """Build a validated Scene from parsed options (ValueError names the option)."""
     from .bodies import Disk, Ellipse, RodMass
@@ -108,11 +135,10 @@ def scene_from_args(a: argparse.Namespace) -> Any:
     from .friction import Friction
     from .scene import Scene
 
+    check_option_ranges(a)
     if a.k is not None and a.mu is not None:
         raise CliError("--k and --mu are alternatives: give one of them")
     d = a.d
-    if not (isinstance(d, float) and d > 0):
-        raise CliError(f"--d must be > 0 m, got {d!r}")
     law = a.friction
     if law == "none":
         fric = Friction("none")
@@ -132,8 +158,8 @@ def scene_from_args(a: argparse.Namespace) -> Any:
     if not a.no_drive:
         if a.omega is None:
             raise CliError("--omega is required (rad/s, > 0) unless --no-drive")
-        if not a.omega > 0:
-            raise CliError(f"--omega must be > 0 rad/s, got {a.omega!r} (valid range: (0, inf))")
+        if not 0 < a.omega <= 1e6:
+            raise CliError(f"--omega must be > 0 rad/s and <= 1e6, got {a.omega!r} (valid range: (0, 1e6])")
         drive = CircularDrive(omega=a.omega, d=d)
     try:
         if a.body == "rod":
@@ -141,8 +167,8 @@ def scene_from_args(a: argparse.Namespace) -> Any:
                 raise CliError("--H and --l are alternatives for the rod-mass body: give one")
             if a.H is None and a.l is None:
                 raise CliError("--H is required for the rod-mass body (H = l/d > 0)")
-            if a.H is not None and not a.H > 0:
-                raise CliError(f"--H must be > 0, got {a.H!r} (valid range: (0, inf))")
+            if a.H is not None and not 0 < a.H <= 1e6:
+                raise CliError(f"--H must be > 0 and <= 1e6, got {a.H!r} (valid range: (0, 1e6])")
             if a.l is not None and not a.l > 0:
                 raise CliError(f"--l must be > 0 m, got {a.l!r} (valid range: (0, inf))")
             body: Any = RodMass(l=a.H * d if a.H is not None else a.l)
@@ -270,6 +296,7 @@ def cmd_flip_time(args: argparse.Namespace) -> int:
 def cmd_critical_h(args: argparse.Namespace) -> int:
     from .analysis import critical_h
 
+    check_option_ranges(args)
     if args.k is not None and args.mu is not None:
         raise CliError("--k and --mu are alternatives: give one of them")
     if args.k is None and args.mu is None:

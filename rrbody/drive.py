@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._checks import check_positive, check_real
+from ._checks import MAX_LENGTH, MAX_RATE, check_positive
 
 __all__ = ["CircularDrive"]
 
@@ -20,9 +20,8 @@ class CircularDrive:
     d: float = 1.0
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "omega", check_positive("omega", self.omega, unit="rad/s"))
-        object.__setattr__(self, "d", check_positive("d", self.d, unit="m"))
-        check_real("omega*d", self.omega * self.d)
+        object.__setattr__(self, "omega", check_positive("omega", self.omega, unit="rad/s", hi=MAX_RATE))
+        object.__setattr__(self, "d", check_positive("d", self.d, unit="m", hi=MAX_LENGTH))
 
     @property
     def period(self) -> float:

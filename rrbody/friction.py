@@ -23,7 +23,7 @@ import numpy as np
 from numba import njit
 
 from . import _params as P
-from ._checks import check_choice, check_nonnegative
+from ._checks import MAX_FRICTION, check_choice, check_nonnegative, check_positive
 
 __all__ = ["Friction", "LAWS", "LAW_CODES", "point_force", "sampled_wrench", "body_wrench"]
 
@@ -45,7 +45,7 @@ class Friction:
 
     def __post_init__(self) -> None:
         check_choice("friction", self.law, LAWS)
-        object.__setattr__(self, "coeff", check_nonnegative("friction coefficient", self.coeff))
+        object.__setattr__(self, "coeff", check_nonnegative("friction coefficient", self.coeff, hi=MAX_FRICTION))
         if self.law == "none":
             object.__setattr__(self, "coeff", 0.0)
 
@@ -53,14 +53,14 @@ class Friction:
     def from_k(cls, law: str, k: float, d: float) -> "Friction":
         """From k = mu g / d (1/s^2) and the drive radius d (m). Viscous: gamma = k (paper convention)."""
         check_choice("friction", law, LAWS)
-        k = check_nonnegative("k", k, unit="1/s^2")
+        k = check_nonnegative("k", k, unit="1/s^2", hi=MAX_FRICTION)
         return cls(law, k * d if law == "dry" else k)
 
     @classmethod
     def from_mu(cls, law: str, mu: float, g: float = 9.81, d: float = 1.0) -> "Friction":
         """From the friction coefficient mu, gravity g (m/s^2) and, for the viscous convention, d (m)."""
-        mu = check_nonnegative("mu", mu)
-        g = check_nonnegative("g", g, unit="m/s^2")
+        mu = check_nonnegative("mu", mu, hi=1e3)
+        g = check_positive("g", g, unit="m/s^2", hi=1e6)
         return cls.from_k(law, mu * g / d, d)
 
     @property

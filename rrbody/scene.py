@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from . import _params as P
-from ._checks import check_choice, check_int, check_positive, check_real
+from ._checks import MAX_LENGTH, MAX_RATE, MAX_TIME, check_choice, check_int, check_positive, check_range
 from .bodies import BODY_KINDS, Body, RodMass
 from .drive import CircularDrive
 from .friction import Friction
@@ -72,18 +72,19 @@ class Scene:
             raise ValueError(f"drive must be a CircularDrive or None, got {self.drive!r}")
         if not isinstance(self.friction, Friction):
             raise ValueError(f"friction must be a Friction, got {self.friction!r}")
-        object.__setattr__(self, "phi0", check_real("phi0", self.phi0))
+        object.__setattr__(self, "phi0", check_range("phi0", self.phi0, -1e6, 1e6))
         if self.phi_dot0 is not None:
-            object.__setattr__(self, "phi_dot0", check_real("phi_dot0", self.phi_dot0))
+            object.__setattr__(self, "phi_dot0", check_range("phi_dot0", self.phi_dot0, -MAX_RATE, MAX_RATE))
         if self.t_max is not None:
-            object.__setattr__(self, "t_max", check_positive("t_max", self.t_max, unit="s"))
+            object.__setattr__(self, "t_max", check_positive("t_max", self.t_max, unit="s", hi=MAX_TIME))
         check_choice("friction_method", self.friction_method, FRICTION_METHODS)
         object.__setattr__(self, "samples", check_int("samples", self.samples, 1, 10_000_000))
         v0 = tuple(self.v0)
         if len(v0) != 2:
             raise ValueError(f"v0 must be a pair (vx, vy) in m/s, got {self.v0!r}")
-        object.__setattr__(self, "v0", (check_real("v0[0]", v0[0]), check_real("v0[1]", v0[1])))
-        object.__setattr__(self, "spin0", check_real("spin0", self.spin0))
+        object.__setattr__(self, "v0", (check_range("v0[0]", v0[0], -MAX_LENGTH, MAX_LENGTH),
+                                        check_range("v0[1]", v0[1], -MAX_LENGTH, MAX_LENGTH)))
+        object.__setattr__(self, "spin0", check_range("spin0", self.spin0, -MAX_RATE, MAX_RATE))
         if self.drive is not None and isinstance(self.body, RodMass) and self.body.l == 0.0:
             raise ValueError("l must be > 0 for a driven rod-mass body")
 
@@ -220,8 +221,8 @@ class Scene:
 def rod_mass_scene(H: float, k: float, omega: float, phi0: float = math.pi, *, friction: str = "dry",
                    d: float = 1.0, t_max: float | None = None, phi_dot0: float | None = None) -> Scene:
     """The paper's rod-mass body: H = l/d, k = mu g/d (1/s^2; gamma for viscous), omega (rad/s)."""
-    H = check_positive("H", H)
-    d = check_positive("d", d, unit="m")
+    H = check_positive("H", H, hi=MAX_LENGTH)
+    d = check_positive("d", d, unit="m", hi=MAX_LENGTH)
     drive = CircularDrive(omega=omega, d=d)
     return Scene(body=RodMass(l=H * d), drive=drive, friction=Friction.from_k(friction, k, d), phi0=phi0,
                  t_max=t_max, phi_dot0=phi_dot0)

@@ -93,3 +93,44 @@ def test_angle_parser_never_crashes(s: str) -> None:
                                         ("0.5*pi", 0.5 * math.pi), ("2.5", 2.5), ("1e-3", 1e-3), ("π/3", math.pi / 3)])
 def test_angle_parser_values(text: str, value: float) -> None:
     assert parse_angle(text) == pytest.approx(value, rel=1e-15)
+
+
+# ---- the CLI: every numeric option of flip-time with values outside its range -----------------
+_BASE = {"--H": "0.2", "--k": "0.05", "--omega": "0.6"}
+_INVALID = {
+    "--H": ["0", "-1", "nan", "inf", "1e300", "abc", ""],
+    "--k": ["-1", "nan", "-inf", "1e300", "x"],
+    "--omega": ["0", "-0.6", "nan", "inf", "1e300", "fast"],
+    "--d": ["0", "-1", "nan", "1e300"],
+    "--phi0": ["nan", "inf", "1e300", "pi/0", "2pi/", "pi pi", "sin(1)", "__import__('os')"],
+    "--phi-dot0": ["nan", "1e300"],
+    "--rtol": ["0", "1", "-1e-9", "nan"],
+    "--t-max": ["0", "-5", "nan", "1e300"],
+    "--max-steps": ["0", "-3", "1.5", "x"],
+    "--samples": ["0", "-1", "many"],
+}
+
+
+@settings(max_examples=80, deadline=None)
+@given(data=st.data())
+def test_cli_rejects_out_of_range_options(data) -> None:  # noqa: ANN001
+    import contextlib
+    import io
+
+    from rrbody.cli import main
+
+    option = data.draw(st.sampled_from(sorted(_INVALID)))
+    value = data.draw(st.sampled_from(_INVALID[option]))
+    args = dict(_BASE)
+    args[option] = value
+    argv = ["flip-time"] + [x for kv in args.items() for x in kv]
+    err = io.StringIO()
+    out = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out):
+        try:
+            code = main(argv)
+        except SystemExit as e:
+            code = int(e.code or 0)
+    assert code == 2, (argv, out.getvalue())
+    assert option in err.getvalue() and "Traceback" not in err.getvalue()
+    assert out.getvalue() == ""
