@@ -109,7 +109,7 @@ _RANGES: dict[str, tuple[float, float, bool]] = {
     "g": (0.0, 1e6, True), "phi0": (-1e6, 1e6, False), "phi_dot0": (-1e6, 1e6, False), "spin0": (-1e6, 1e6, False),
     "rtol": (1e-15, 1e-2, False), "t_max": (0.0, 1e9, True), "dt_out": (0.0, 1e9, True), "dt": (0.0, 1e3, True),
     "tol": (1e-14, 0.1, False), "samples": (1, 10_000_000, False), "max_steps": (1, 10**12, False),
-    "iterations": (1, 100_000, False),
+    "iterations": (1, 100_000, False), "movie_speed": (0.0, 1e6, True), "fps": (1.0, 240.0, False),
 }
 
 
@@ -225,7 +225,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     from .io import check_writable
     from .simulation import simulate
 
-    scene = scene_from_args(args)
+    scene = scene_from_args(args)  # checks every option's range first, --fps and --movie-speed included
     if scene.t_max is None:
         raise CliError("--t-max is required for simulate (s, > 0)")
     for opt in ("out", "movie", "rerun"):
@@ -247,7 +247,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     if args.movie:
         from .render.mp4 import render_movie
 
-        written["movie"] = str(render_movie(traj, args.movie, force=args.force, progress=_progress(args)))
+        written["movie"] = str(render_movie(traj, args.movie, force=args.force, progress=_progress(args),
+                                            fps=args.fps, speed=args.movie_speed))
     if args.rerun or args.rerun_spawn:
         from .render.rerun import record
 
@@ -352,8 +353,16 @@ def cmd_scene(args: argparse.Namespace) -> int:
             print(f"{n:24s} {doc}")
         return 0
     names = [n for n, _ in list_scenes()] if args.name == "all" else [args.name]
+    import time
+
+    t0 = time.perf_counter()
     for n in names:
         run_scene(n, force=args.force, report=(args.name == "all"))
+    if args.name == "all":
+        from .report import write_report
+
+        wall = time.perf_counter() - t0
+        print(f"all scenes: {wall:.1f} s; wrote {write_report(_repo_root() / 'results', run_time_s=wall)}")
     return 0
 
 
@@ -372,6 +381,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="output interval in s (default: 1/64 of the fastest period)")
     s.add_argument("--out", help="trajectory CSV (JSON metadata in the first line)")
     s.add_argument("--movie", help="render an MP4 of the run to this path")
+    s.add_argument("--movie-speed", type=_finite("--movie-speed"), default=1.0,
+                   help="simulated seconds per second of movie (default 1: real time)")
+    s.add_argument("--fps", type=_finite("--fps"), default=30.0, help="movie frames per second (default 30)")
     s.add_argument("--rerun", help="write a rerun recording (.rrd) of the run")
     s.add_argument("--rerun-spawn", action="store_true", help="open the rerun viewer (needs a screen)")
     s.add_argument("--force", action="store_true", help="overwrite existing output files")
@@ -407,6 +419,12 @@ def build_parser() -> argparse.ArgumentParser:
     sc.add_argument("--list", action="store_true", help="list the scenes")
     sc.add_argument("--force", action="store_true", default=True, help=argparse.SUPPRESS)
     sc.set_defaults(func=cmd_scene, json=False)
+
+    from .report import add_parser as add_report_parser
+    from .sweep import add_parser as add_sweep_parser
+
+    add_sweep_parser(sub)
+    add_report_parser(sub)
 
     dm = sub.add_parser("demo", help="the main job (what `make demo` runs)")
     dm.set_defaults(func=cmd_demo, json=False)
