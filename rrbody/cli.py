@@ -277,7 +277,7 @@ def cmd_flip_time(args: argparse.Namespace) -> int:
         from .engine import engine_flip_time
 
         opts = {k: v for k, v in (("dt", args.dt), ("iterations", args.iterations)) if v is not None}
-        res = engine_flip_time(scene, t_max=args.t_max, **opts)
+        res = engine_flip_time(scene, t_max=args.t_max, max_steps=args.max_steps, progress=_progress(args), **opts)
     else:
         from .analysis import flip_time
 

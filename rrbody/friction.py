@@ -24,6 +24,7 @@ from numba import njit
 
 from . import _params as P
 from ._checks import MAX_FRICTION, check_choice, check_nonnegative, check_positive
+from ._icr import icr_wrench
 
 __all__ = ["Friction", "LAWS", "LAW_CODES", "point_force", "sampled_wrench", "body_wrench"]
 
@@ -125,7 +126,8 @@ def body_wrench(p: np.ndarray, S: np.ndarray, alpha: float, vx: float, vy: float
     """Friction force (m/s^2) and torque about the CM (m^2/s^2) per unit mass for the scene's body.
 
     Dispatches on the area model in ``p`` (see :mod:`rrbody._params`): a point mass feels the law
-    at its CM; a sampled body sums its elements ``S``.
+    at its CM; a sampled body sums its elements ``S``; an ellipse or disk with the
+    instantaneous-centre model uses the quadrature of :mod:`rrbody._icr`.
     """
     law = int(p[P.LAW])
     coeff = p[P.COEFF]
@@ -134,4 +136,6 @@ def body_wrench(p: np.ndarray, S: np.ndarray, alpha: float, vx: float, vy: float
     if model == P.BODY_POINT:
         fx, fy = point_force(vx, vy, law, coeff, v_eps)
         return fx, fy, 0.0
+    if model == P.BODY_ICR:
+        return icr_wrench(p[P.RA], p[P.RB], int(p[P.NQ]), alpha, vx, vy, spin, law, coeff, v_eps, p[P.ICM])
     return sampled_wrench(S, alpha, vx, vy, spin, law, coeff, v_eps)
