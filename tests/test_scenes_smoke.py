@@ -12,7 +12,8 @@ import pytest
 from rrbody.report import write_report
 from rrbody.scenes import list_scenes, scenes_dir
 
-FIGURE_SCENES = ("phixtpm", "sss", "seco1", "normal-and-phase-portrait", "tfxwpm2", "hc", "tfvshvsomega")
+FIGURE_SCENES = ("phixtpm", "sss", "seco1", "normal-and-phase-portrait", "tfxwpm2", "hc", "tfvshvsomega",
+                 "extended-phi", "movie-s1", "movie-s2")
 
 
 @pytest.mark.parametrize("name", FIGURE_SCENES)
