@@ -196,7 +196,8 @@ def scene_from_args(a: argparse.Namespace) -> Any:
 _PARAM_TO_OPTION = {"l": "--l", "R": "--R0", "R0": "--R0", "delta": "--delta", "omega": "--omega", "d": "--d",
                     "samples": "--samples", "t_max": "--t-max", "phi0": "--phi0", "phi_dot0": "--phi-dot0",
                     "rtol": "--rtol", "dt": "--dt", "iterations": "--iterations", "max_steps": "--max-steps",
-                    "dt_out": "--dt-out", "tol": "--tol", "H": "--H", "k": "--k", "mu": "--mu", "g": "--g"}
+                    "dt_out": "--dt-out", "tol": "--tol", "H": "--H", "k": "--k", "mu": "--mu", "g": "--g",
+                    "friction_method": "--friction-method", "v0[0]": "--v0", "v0[1]": "--v0", "spin0": "--spin0"}
 
 
 def _option_name(msg: str) -> str:

@@ -131,6 +131,9 @@ class Scene:
     @property
     def area_model(self) -> int:
         """Which friction integration the kernels use (see :mod:`rrbody._params`)."""
+        if self.body.is_point and self.friction_method == "icr":
+            raise ValueError(f"friction_method 'icr' needs an extended body (disk or ellipse), got body "
+                             f"{self.body.kind!r}; a point mass feels friction at its CM ('auto')")
         if self.body.is_point or not self.friction.active:
             return P.BODY_POINT
         if self.friction_method == "sampled":
