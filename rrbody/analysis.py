@@ -25,7 +25,7 @@ from ._checks import check_positive, check_range
 from .scene import Scene, rod_mass_scene
 from .simulation import resolve_rtol
 
-__all__ = ["FlipResult", "flip_time", "reverse_rotation_exists", "critical_h", "frictionless_T1",
+__all__ = ["FlipResult", "flip_time", "classify_flip", "reverse_rotation_exists", "critical_h", "frictionless_T1",
            "frictionless_critical_h"]
 
 
@@ -88,27 +88,40 @@ def flip_time(scene: Scene, *, rtol: float | None = None, accuracy: str = "defau
                           regime, res.t_end, res.n_steps, res.n_minima, rtol_v, res.wall, res.minima)
     res = integrate_driven(p, S, y0, t_end=horizon, rtol=rtol_v, stop="flip", settle_turns=settle_turns,
                            settle_periods=settle_periods, max_steps=max_steps, progress=progress, desc="flip time")
-    rr = _rr_from_T1(res.T1, omega)
-    settled = res.status == "flip settled"
+    t_f, regime, rr, settled, phi_min = classify_flip(scene, status=res.status, has_min=res.has_min,
+                                                      phi_min=res.phi_min, t_min=res.t_min, T1=res.T1,
+                                                      t_end=res.t_end)
     T1 = res.T1 if math.isfinite(res.T1) else None
-    turned_back = res.has_min and res.phi_min < scene.phi0
-    if not settled:
-        regime = (f"not settled: {res.status} at t={res.t_end:.6g} s; the lowest minimum so far is at "
-                  f"t={res.t_min:.6g} s, so t_f >= that")
-        t_f = None
-    elif not turned_back:
-        regime = "no reverse rotation: phi never falls below phi0 (normal rotation from the start)"
-        t_f = None
-    elif rr:
-        regime = "reverse rotation (theta made a full backward turn in the first period), then normal rotation"
-        t_f = res.t_min
-    else:
-        regime = (f"incomplete reverse rotation: phi fell by {scene.phi0 - res.phi_min:.4g} rad before turning "
-                  "forward (no full backward turn of theta in the first period)")
-        t_f = res.t_min
-    phi_min = res.phi_min if res.has_min else scene.phi0
     return FlipResult(t_f, phi_min, res.t_min, rr, T1, settled, regime, res.t_end, res.n_steps, res.n_minima, rtol_v,
                       res.wall, res.minima)
+
+
+def classify_flip(scene: Scene, *, status: str, has_min: bool, phi_min: float, t_min: float, T1: float,
+                  t_end: float) -> tuple[float | None, str, bool, bool, float]:
+    """Turn a run's lowest minimum into the reported flip: (t_f, regime, RR exists, settled, phi_min).
+
+    Shared by both integrator paths, so the ODE and the engine report flips by the same rules:
+    ``t_f`` is the time of the lowest minimum when the run settled and phi fell below phi0;
+    otherwise None, with the regime saying why.
+    """
+    rr = _rr_from_T1(T1, scene.omega)
+    settled = status == "flip settled"
+    turned_back = has_min and phi_min < scene.phi0
+    t_f: float | None = None
+    if not settled:
+        regime = (f"not settled: {status} at t={t_end:.6g} s; " +
+                  (f"the lowest minimum so far is at t={t_min:.6g} s, so t_f >= that" if has_min
+                   else "phi has had no minimum yet"))
+    elif not turned_back:
+        regime = "no reverse rotation: phi never falls below phi0 (normal rotation from the start)"
+    elif rr:
+        regime = "reverse rotation (theta made a full backward turn in the first period), then normal rotation"
+        t_f = t_min
+    else:
+        regime = (f"incomplete reverse rotation: phi fell by {scene.phi0 - phi_min:.4g} rad before turning "
+                  "forward (no full backward turn of theta in the first period)")
+        t_f = t_min
+    return t_f, regime, rr, settled, (phi_min if has_min else scene.phi0)
 
 
 def reverse_rotation_exists(scene: Scene, *, rtol: float | None = None, accuracy: str = "default") -> bool:

@@ -720,7 +720,7 @@ def engine_flip_time(scene: Scene, *, t_max: float | None = None, dt: float | No
     rule (:func:`rrbody.analysis.flip_time`): t_f is the time of the lowest minimum of phi, located
     by a parabola through the three engine samples around it. ``t_max`` None: run until settled.
     ``FlipResult.rtol`` is NaN (the engine has a step, not a tolerance)."""
-    from .analysis import FlipResult
+    from .analysis import FlipResult, classify_flip
 
     if not scene.driven:
         raise ValueError("engine_flip_time needs a driven scene (drive is None: a free body has no flip)")
@@ -742,28 +742,12 @@ def engine_flip_time(scene: Scene, *, t_max: float | None = None, dt: float | No
                           regime, res.t_end, res.n_steps, res.n_minima, math.nan, res.wall, minima_arr(res))
     res = _run(scene, settings, t_end=horizon, stop="flip", settle_turns=settle_turns, settle_periods=settle_periods,
                max_steps=max_steps, progress=progress)
-    rr = math.isfinite(res.T1) and scene.omega * res.T1 < 2.0 * math.pi
-    settled = res.status == "flip settled"
-    turned_back = res.has_min and res.phi_min < scene.phi0
-    if not settled:
-        regime = (f"not settled: {res.status} at t={res.t_end:.6g} s; " +
-                  (f"the lowest minimum so far is at t={res.t_min:.6g} s, so t_f >= that" if res.has_min
-                   else "phi has had no minimum yet"))
-        t_f = None
-    elif not turned_back:
-        regime = "no reverse rotation: phi never falls below phi0 (normal rotation from the start)"
-        t_f = None
-    elif rr:
-        regime = "reverse rotation (theta made a full backward turn in the first period), then normal rotation"
-        t_f = res.t_min
-    else:
-        regime = (f"incomplete reverse rotation: phi fell by {scene.phi0 - res.phi_min:.4g} rad before turning "
-                  "forward (no full backward turn of theta in the first period)")
-        t_f = res.t_min
+    t_f, regime, rr, settled, phi_min = classify_flip(scene, status=res.status, has_min=res.has_min,
+                                                      phi_min=res.phi_min, t_min=res.t_min, T1=res.T1,
+                                                      t_end=res.t_end)
     cm = _coarse_meta(scene, settings.dt)
     if cm.get("coarse"):
         regime += f" [{cm['warning']}]"
-    phi_min = res.phi_min if res.has_min else scene.phi0
     return FlipResult(t_f, phi_min, res.t_min, rr, res.T1 if math.isfinite(res.T1) else None, settled, regime,
                       res.t_end, res.n_steps, res.n_minima, math.nan, res.wall, minima_arr(res))
 
