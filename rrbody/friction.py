@@ -120,7 +120,7 @@ def sampled_wrench(samples: np.ndarray, alpha: float, vx: float, vy: float, spin
     return fx_t, fy_t, tau
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def body_wrench(p: np.ndarray, S: np.ndarray, alpha: float, vx: float, vy: float,
                 spin: float) -> tuple[float, float, float]:
     """Friction force (m/s^2) and torque about the CM (m^2/s^2) per unit mass for the scene's body.
