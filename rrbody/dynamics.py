@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from . import _params as P
-from .friction import body_wrench
+from .friction import body_wrench, point_force
 
 __all__ = ["rhs", "driven_rhs", "driven_kinematics", "SYSTEM_DRIVEN", "SYSTEM_FREE"]
 
@@ -52,7 +52,21 @@ def driven_rhs(t, y, p, S, out):  # noqa: ANN001 (numba signature)
     w = p[P.OMEGA]
     d = p[P.D]
     l = p[P.L]
-    # four trig calls per evaluation: sin(phi - wt) from the angle-difference identity (the
+    if p[P.BODY] == P.BODY_POINT:
+        # friction acts at the CM only: work in the frame (e, e_perp) of CM -> P, where the CM
+        # velocity is (d w sin psi, d w cos psi - l phi') with psi = phi - w t: two trig calls,
+        # and the speed is a sum of squares (no cancelling square root at the phi0 = pi start)
+        psi = phi - w * t
+        s = math.sin(psi)
+        c = math.cos(psi)
+        torque = w * w * l * d * s
+        if p[P.LAW] != 0.0:
+            _, f_perp = point_force(d * w * s, d * w * c - l * phid, int(p[P.LAW]), p[P.COEFF], p[P.VEPS])
+            torque -= l * f_perp  # (r - P) x F with r - P = -l e
+        out[0] = phid
+        out[1] = torque / p[P.IP]
+        return
+    # extended body: four trig calls per evaluation: sin(phi - wt) from the angle-difference identity (the
     # absolute error, ~ulp(phi), is the same as evaluating sin at the rounded difference)
     cw = math.cos(w * t)
     sw = math.sin(w * t)

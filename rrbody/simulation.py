@@ -21,7 +21,7 @@ from .trajectory import Trajectory
 __all__ = ["simulate", "METHODS", "ACCURACY", "register_method", "default_dt_out", "resolve_rtol"]
 
 #: accuracy presets -> ODE relative tolerance (chosen from benchmarks/results: see README)
-ACCURACY: dict[str, float] = {"draft": 1e-10, "default": 1e-13, "paper": 1e-14}
+ACCURACY: dict[str, float] = {"draft": 1e-9, "default": 1e-13, "paper": 1e-14}
 
 METHODS: dict[str, str] = {"ode": "rrbody.simulation:_simulate_ode", "engine": "rrbody.engine:simulate_engine"}
 _LOADED: dict[str, Callable[..., Trajectory]] = {}

@@ -1,0 +1,166 @@
+"""Engine path (pymunk): error vs dt, cost per simulated second, and cost per step vs area elements.
+
+1. Error vs dt on the phixtpm scene (rod-mass, H = 0.2, k = 0.05, w = 0.6, phi0 = pi): phi at
+   t = 10 s and the flip time, against the ODE path at rtol = 1e-13 (the ODE study shows that is
+   converged to ~1e-12). The observed order is the least-squares slope of log(error) vs log(dt).
+2. Cost per step vs the number of sampled area elements N (disk R = 0.1 m driven at l = 0.2 m,
+   w = 0.6, dry friction k = 0.05), against the same driven disk without friction (a bare
+   pymunk step with the drive, the pivot joint and rrbody's position/velocity hooks).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+from typing import Any
+
+from .common import (StudyResult, Target, fmt, loglog_slope, machine_text, md_table, module_available, save_figure,
+                     write_csv)
+
+NAME = "engine"
+TITLE = "Engine path (pymunk): error vs dt, cost per step vs area elements"
+
+DTS = [4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1.25e-4]
+ELEMENTS = [16, 64, 256, 1024, 4096]
+T_FIX = 10.0
+
+
+def run(out: Path, *, quick: bool = False) -> StudyResult:
+    ok, why = module_available("rrbody.engine")
+    if not ok:
+        print(f"[engine] skipped: rrbody.engine not importable ({why})", flush=True)
+        return StudyResult(NAME, TITLE, skipped=f"rrbody.engine not importable ({why})")
+    from rrbody.analysis import flip_time
+    from rrbody.bodies import Disk
+    from rrbody.drive import CircularDrive
+    from rrbody.engine import default_dt, engine_flip_time, simulate_engine
+    from rrbody.friction import Friction
+    from rrbody.ode import integrate_driven
+    from rrbody.scene import Scene, rod_mass_scene
+
+    t0 = time.perf_counter()
+    dts = DTS[:3] if quick else DTS
+    elements = ELEMENTS[:3] if quick else ELEMENTS
+    # ---- 1. error vs dt ----
+    sc = rod_mass_scene(0.2, 0.05, 0.6)
+    p, S = sc.kernel_params()
+    phi_ref = float(integrate_driven(p, S, (sc.phi0, sc.initial_phi_dot), t_end=T_FIX, rtol=1e-13).y_end[0])
+    tf_ref = flip_time(sc, rtol=1e-13).t_f
+    assert tf_ref is not None
+    dt_default = default_dt(sc)
+    rows: list[dict[str, Any]] = []
+    for dt in sorted(set(dts + [dt_default]), reverse=True):
+        w0 = time.perf_counter()
+        tr = simulate_engine(sc, t_max=T_FIX, dt_out=T_FIX, dt=dt)
+        wall = time.perf_counter() - w0
+        phi = float(tr.phi[-1])
+        do_tf = dt >= (1e-3 if quick else 2.5e-4)
+        tf_err, tf_wall = math.nan, math.nan
+        if do_tf:
+            w0 = time.perf_counter()
+            fr = engine_flip_time(sc, dt=dt)
+            tf_wall = time.perf_counter() - w0
+            tf_err = abs(fr.t_f - tf_ref) / tf_ref if fr.t_f is not None else math.inf
+        rows.append({"dt": dt, "default": dt == dt_default, "phi_err": abs(phi - phi_ref), "wall_s": wall,
+                     "cost_per_sim_s": wall / T_FIX, "us_per_step": wall / (T_FIX / dt) * 1e6,
+                     "tf_rel_err": tf_err, "tf_wall_s": tf_wall})
+        print(f"[engine] dt={dt:g}: phi err {abs(phi - phi_ref):.3g}, {wall:.2f} s, t_f err {tf_err:.3g}", flush=True)
+    order_phi = loglog_slope([r["dt"] for r in rows], [r["phi_err"] for r in rows])
+    tfr = [r for r in rows if math.isfinite(r["tf_rel_err"]) and r["tf_rel_err"] > 0]
+    order_tf = loglog_slope([r["dt"] for r in tfr], [r["tf_rel_err"] for r in tfr])
+
+    # ---- 2. cost per step vs area elements ----
+    drive = CircularDrive(omega=0.6, d=1.0)
+    t_sim = 2.0 if quick else 4.0
+    dt_e = 1e-3
+
+    def per_step(scene: Scene) -> float:
+        best = math.inf
+        for _ in range(3 if quick else 5):
+            tr = simulate_engine(scene, t_max=t_sim, dt_out=t_sim, dt=dt_e)
+            best = min(best, float(tr.meta["wall_s"]) / int(tr.meta["n_steps"]))
+        return best
+
+    # warm-up (first use of the sampled-friction hook loads its compiled kernels), not counted
+    simulate_engine(Scene(body=Disk(R=0.1, l=0.2), drive=drive, friction=Friction("dry", 0.05),
+                          friction_method="sampled", samples=16), t_max=0.5, dt_out=0.5, dt=dt_e)
+    bare = per_step(Scene(body=Disk(R=0.1, l=0.2), drive=drive, friction=Friction("none")))
+    erows = [{"elements": 0, "label": "bare (no friction)", "us_per_step": bare * 1e6, "ratio_to_bare": 1.0}]
+    for n in elements:
+        scn = Scene(body=Disk(R=0.1, l=0.2), drive=drive, friction=Friction("dry", 0.05), friction_method="sampled",
+                    samples=n)
+        n_actual = scn.kernel_params()[1].shape[0]
+        c = per_step(scn)
+        erows.append({"elements": n_actual, "label": f"{n_actual} elements", "us_per_step": c * 1e6,
+                      "ratio_to_bare": c / bare})
+        print(f"[engine] {n_actual} elements: {c * 1e6:.1f} us/step ({c / bare:.2f}x bare)", flush=True)
+    point = per_step(sc.with_())
+    erows.append({"elements": 1, "label": "rod-mass (point friction)", "us_per_step": point * 1e6,
+                  "ratio_to_bare": point / bare})
+    files = [str(write_csv(out / "engine_dt.csv", rows)), str(write_csv(out / "engine_elements.csv", erows))]
+    files.append(str(_plot(out / "engine.png", rows, erows)))
+    near256 = min((r for r in erows if r["elements"] > 1), key=lambda r: abs(math.log(r["elements"] / 256)))
+    targets = [Target("engine step with 256 area elements vs bare driven step", "<= 3x",
+                      f"{near256['ratio_to_bare']:.2f}x ({fmt(near256['us_per_step'])} us vs {fmt(bare * 1e6)} us "
+                      f"per step, {near256['elements']} elements)", near256["ratio_to_bare"] <= 3.0)]
+    md = [f"## {TITLE}", "", machine_text(), "",
+          f"Error vs dt: phixtpm scene (rod-mass H=0.2, k=0.05, w=0.6), phi({T_FIX:g} s) and t_f against the ODE "
+          f"path at rtol = 1e-13 (t_f = {tf_ref:.12g} s, phi({T_FIX:g} s) = {phi_ref:.12g} rad). "
+          f"Default engine dt for this scene: {fmt(dt_default)} s.", "",
+          md_table(["dt (s)", "default", "phi(10 s) abs err (rad)", "t_f rel err", "wall per simulated s (s)",
+                    "us per step", "flip-time wall (s)"],
+                   [(r["dt"], r["default"], r["phi_err"], r["tf_rel_err"], r["cost_per_sim_s"], r["us_per_step"],
+                     r["tf_wall_s"]) for r in rows]), "",
+          f"Observed order in dt: phi(10 s): {fmt(order_phi)}; t_f: {fmt(order_tf)}.", "",
+          f"Cost per step vs sampled area elements (driven disk R=0.1 m, l=0.2 m, w=0.6, dt={dt_e:g} s, "
+          f"{t_sim:g} simulated s, best of 5):", "",
+          md_table(["body / friction", "us per step", "x bare"],
+                   [(r["label"], r["us_per_step"], r["ratio_to_bare"]) for r in erows]), "",
+          "Plot: `engine.png`; data: `engine_dt.csv`, `engine_elements.csv`."]
+    res = StudyResult(NAME, TITLE, targets, "\n".join(md), files)
+    res.wall_s = time.perf_counter() - t0
+    d0 = [r for r in rows if r["default"]][0]
+    res.extra = {"order_phi": order_phi, "order_tf": order_tf, "highlights": [
+        f"engine path converges at order {fmt(order_phi)} in dt (phi(10 s)), {fmt(order_tf)} (t_f); default dt "
+        f"{fmt(d0['dt'])} s on phixtpm: t_f rel err {fmt(d0['tf_rel_err'])}, {fmt(d0['us_per_step'])} us per step."]}
+    return res
+
+
+def _plot(path: Path, rows: list[dict[str, Any]], erows: list[dict[str, Any]]) -> Path:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(14, 4.3))
+    a1.loglog([r["dt"] for r in rows], [r["phi_err"] for r in rows], "o-", label="phi(10 s) abs err (rad)")
+    tf = [r for r in rows if math.isfinite(r["tf_rel_err"]) and r["tf_rel_err"] > 0]
+    if tf:
+        a1.loglog([r["dt"] for r in tf], [r["tf_rel_err"] for r in tf], "s-", label="t_f rel err")
+    a1.set_xlabel("dt (s)")
+    a1.set_ylabel("error")
+    a1.legend(fontsize=8)
+    a1.set_title("engine error vs dt (phixtpm)", fontsize=10)
+    a2.loglog([r["cost_per_sim_s"] for r in rows], [r["phi_err"] for r in rows], "o-")
+    a2.set_xlabel("wall time per simulated second (s)")
+    a2.set_ylabel("phi(10 s) abs err (rad)")
+    a2.set_title("engine work-precision", fontsize=10)
+    er = [r for r in erows if r["elements"] > 1]
+    a3.loglog([r["elements"] for r in er], [r["us_per_step"] for r in er], "o-", label="dry, sampled elements")
+    a3.axhline(erows[0]["us_per_step"], color="k", ls=":", label="bare driven step")
+    a3.axhline(3 * erows[0]["us_per_step"], color="r", ls="--", lw=1, label="3x bare (target)")
+    a3.set_xlabel("area elements")
+    a3.set_ylabel("us per step")
+    a3.legend(fontsize=8)
+    a3.set_title("engine cost per step", fontsize=10)
+    from matplotlib.ticker import NullFormatter
+
+    for a in (a1, a2, a3):
+        a.grid(True, which="both", alpha=0.3)
+        a.xaxis.set_minor_formatter(NullFormatter())
+        a.yaxis.set_minor_formatter(NullFormatter())
+    fig.tight_layout()
+    save_figure(fig, path)
+    plt.close(fig)
+    return path

@@ -1,0 +1,41 @@
+"""Smoke test of the benchmark runner: `python -m benchmarks.run --quick --only ode` into a temp dir.
+
+Checks that every output is written and that the numbers in them behave as the study claims
+(errors shrink with the tolerance; the reference agrees with scipy). No wall-clock asserts.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from pathlib import Path
+
+from benchmarks.run import main
+
+
+def test_quick_ode_benchmark_writes_consistent_results(tmp_path: Path) -> None:
+    out = tmp_path / "results"
+    assert main(["--quick", "--only", "ode", "--out", str(out)]) == 0
+    for name in ("ode_rrbody.csv", "ode_scipy.csv", "ode_reference.csv", "ode_work_precision.png",
+                 "ode_summary.md", "ode_targets.json", "SUMMARY.md"):
+        assert (out / name).is_file(), name
+    rows = list(csv.DictReader(open(out / "ode_rrbody.csv")))
+    err = {float(r["rtol"]): float(r["err_tf"]) for r in rows if r["case"] == "phixtpm"}
+    assert set(err) == {1e-6, 1e-9, 1e-12}
+    # measured convergence on phixtpm (benchmarks/results/ode_rrbody.csv): t_f rel err ~4e-6 at
+    # rtol 1e-6 and ~5e-12 at 1e-12; allow 100x either way before calling it broken
+    assert err[1e-12] < 1e-9
+    assert err[1e-12] < err[1e-6]
+    assert err[1e-6] < 1e-3
+    # scipy DOP853 at rtol 1e-13 must agree with rrbody's reference: both are ~1e-12 accurate here
+    # (the full study's cross-check measures 2e-13), so 1e-9 only catches a wrong equation
+    summary = (out / "ode_summary.md").read_text()
+    assert "Cross-check of the reference" in summary
+    ref = list(csv.DictReader(open(out / "ode_reference.csv")))[0]
+    assert math.isclose(float(ref["t_f"]), 12.928094823, rel_tol=1e-9)  # the value the cross-check confirms
+    sp = [r for r in csv.DictReader(open(out / "ode_scipy.csv")) if r["method"] == "DOP853" and r["measure"] == "tf"]
+    assert sp and all(float(r["err"]) < 1e-3 for r in sp if r["err"] not in ("", "nan"))
+    targets = json.loads((out / "ode_targets.json").read_text())["targets"]
+    assert any(t["name"].startswith("default `flip-time` converged") for t in targets)
+    assert "## Targets (issue 7)" in (out / "SUMMARY.md").read_text()
