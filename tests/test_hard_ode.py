@@ -83,31 +83,37 @@ def test_max_steps_stops_with_partial_trajectory() -> None:
     assert 0 < len(tr) < 601 and np.all(np.isfinite(tr.phi))
 
 
-def test_energy_balance_driver_work_equals_kinetic_plus_dissipation() -> None:
-    # Work done by the driver through P = change of kinetic energy + energy dissipated by friction.
-    # The driver force is F_c = m a_cm - F_f (Newton for the CM); its power goes in at P. With a
-    # massless rod, F_c . v_P = F_c . v_cm holds only if the torque balance (the phi equation) does,
-    # so this checks the dynamics from the kinematics alone (per unit mass).
-    H, k, w = 0.2, 0.05, 0.6
-    sc = rod_mass_scene(H, k, w)
-    dt = 1e-3
-    tr = simulate(sc, t_max=30.0, dt_out=dt)
+def energy_balance_residual(tr, k: float, dt: float) -> tuple[np.ndarray, np.ndarray]:  # noqa: ANN001
+    """(W - dKE - D, D) per unit mass along a rod-mass trajectory sampled every dt (d = 1 m).
+
+    W: work done by the driver through P, with the driver force F_c = a_cm - F_f (Newton for the CM,
+    a_cm by central differences); dKE: kinetic energy change; D: energy dissipated by dry friction.
+    With a massless rod F_c . v_P = F_c . v_cm holds only if the torque balance (the phi equation)
+    does, so this checks the dynamics from the kinematics alone, whichever path produced them.
+    """
+    from scipy.integrate import cumulative_trapezoid
+
     mu_g = k * 1.0
     v = np.column_stack([tr.vx_cm, tr.vy_cm])
     speed = np.hypot(v[:, 0], v[:, 1])
     with np.errstate(invalid="ignore", divide="ignore"):
         Ff = -mu_g * np.where(speed[:, None] > 0, v / speed[:, None], 0.0)
     a = np.gradient(v, dt, axis=0, edge_order=2)
-    vP = sc.drive.velocity(tr.t)
-    p_drive = np.sum((a - Ff) * vP, axis=1)
-    dissip = mu_g * speed
+    vP = np.column_stack([-np.sin(0.6 * tr.t), np.cos(0.6 * tr.t)]) * 0.6
+    W = cumulative_trapezoid(np.sum((a - Ff) * vP, axis=1), tr.t, initial=0.0)
+    D = cumulative_trapezoid(mu_g * speed, tr.t, initial=0.0)
     ke = 0.5 * speed**2
-    from scipy.integrate import cumulative_trapezoid
+    return W - (ke - ke[0]) - D, D
 
-    W = cumulative_trapezoid(p_drive, tr.t, initial=0.0)
-    D = cumulative_trapezoid(dissip, tr.t, initial=0.0)
-    resid = W - (ke - ke[0]) - D
-    # trapezoid + central differences at dt = 1e-3 s: O(dt^2) ~ 1e-6 per unit energy scale (w d)^2;
-    # the friction force jumps where the CM passes through rest, costing O(dt) locally, hence 1e-4.
-    assert np.max(np.abs(resid)) < 1e-4 * (w * 1.0) ** 2 * 30
+
+@pytest.mark.parametrize("method,options", [("ode", {}), ("engine", {"dt": 2.5e-4})])
+def test_energy_balance_driver_work_equals_kinetic_plus_dissipation(method: str, options: dict) -> None:
+    H, k, w = 0.2, 0.05, 0.6
+    dt = 1e-3
+    tr = simulate(rod_mass_scene(H, k, w), method=method, t_max=30.0, dt_out=dt, **options)
+    resid, D = energy_balance_residual(tr, k, dt)
+    # The residual is the difference-quotient error of the check itself: measured 1.25e-5 (per unit
+    # mass, m^2/s^2) for both paths at dt = 1e-3 s, where a 4 % error in the friction force already
+    # gives 5.8e-3. 1e-4 leaves an 8x margin over the measurement and still catches such an error.
+    assert np.max(np.abs(resid)) < 1e-4
     assert D[-1] > 0.01  # the check is not vacuous: friction dissipated a sizeable amount
