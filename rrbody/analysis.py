@@ -9,8 +9,9 @@ Definitions
 - **RR exists** iff T_1 (first time theta = phi - omega t + pi has fallen by 2 pi) exists and
   omega T_1 < 2 pi. Exact in the frictionless limit (see :func:`frictionless_T1`).
 - **H_c(k)**: the RR/no-RR boundary met first when H grows from small values (RR exists for all
-  H below it), found by a grid scan and bisection. (Without friction RR reappears for H > 1.96,
-  where the body barely turns and drifts backwards; H_c is the paper's first boundary.)
+  H below it), found by a grid scan and bisection. Without friction it is the only boundary: for
+  every H above H_c(0) the mean spin over the first revolution is positive (tending to zero as
+  H -> infinity).
 """
 
 from __future__ import annotations

@@ -54,6 +54,16 @@ def test_rr_predicate_on_both_sides_of_Hc0() -> None:
     assert not reverse_rotation_exists(rod_mass_scene(Hc + 1e-6, 0.0, 0.3, friction="none"))
 
 
+@pytest.mark.parametrize("H", [0.8, 1.0 + 1e-9, 2.0, 10.0, 1e3])
+def test_no_reverse_rotation_anywhere_above_Hc0(H: float) -> None:
+    # 2 H K(m) - pi (H + 1) > 0 for every H > H_c(0) (it tends to 0+ as H -> inf): H_c(0) is the only
+    # RR boundary without friction, and the ODE test agrees (at H = 1 + 1e-9 the revolution takes
+    # ~20 driving periods: K diverges logarithmically at m = 1).
+    m = 4 * H / (H + 1) ** 2
+    assert 2 * H * ellipk(m) - math.pi * (H + 1) > 0
+    assert not reverse_rotation_exists(rod_mass_scene(H, 0.0, 0.3, friction="none"))
+
+
 def test_pendulum_energy_conserved() -> None:
     # E = H theta'^2 / 2 - w^2 cos(theta) is the exact first integral of the frictionless motion.
     H, w = 0.4, 1.1
