@@ -134,3 +134,67 @@ def test_cli_rejects_out_of_range_options(data) -> None:  # noqa: ANN001
     assert code == 2, (argv, out.getvalue())
     assert option in err.getvalue() and "Traceback" not in err.getvalue()
     assert out.getvalue() == ""
+
+
+_SIM_BASE = {"--H": "0.2", "--k": "0.05", "--omega": "0.6", "--t-max": "1"}
+_SIM_INVALID = {
+    "--dt-out": ["0", "-0.1", "nan", "1e300"],
+    "--fps": ["0", "1000", "nan"],
+    "--movie-speed": ["0", "-2", "inf"],
+    "--dt": ["0", "-1e-3", "nan", "1e9"],
+    "--iterations": ["0", "-5", "1e9"],
+    "--v0": ["1", "1,2,3", "a,b", "nan,0", "1e300,0"],
+    "--spin0": ["nan", "1e300"],
+    "--l": ["-1", "nan", "1e300"],
+    "--R0": ["0", "-0.3", "nan"],
+    "--delta": ["1", "-1", "2", "nan"],
+    "--body": ["cube", ""],
+    "--method": ["rk4", ""],
+    "--accuracy": ["best"],
+}
+_CRIT_INVALID = {"--tol": ["0", "1", "nan", "-1e-9"], "--k": ["-1", "nan"], "--omega": ["0", "nan", "-1"],
+                 "--phi0": ["pi/0", "x"], "--friction": ["wet"]}
+
+
+def _run_cli(argv: list[str]) -> tuple[int, str, str]:
+    import contextlib
+    import io
+
+    from rrbody.cli import main
+
+    err = io.StringIO()
+    out = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out):
+        try:
+            code = main(argv)
+        except SystemExit as e:
+            code = int(e.code or 0)
+    return code, out.getvalue(), err.getvalue()
+
+
+@settings(max_examples=80, deadline=None)
+@given(data=st.data())
+def test_cli_simulate_rejects_out_of_range_options(data, tmp_path_factory) -> None:  # noqa: ANN001
+    option = data.draw(st.sampled_from(sorted(_SIM_INVALID)))
+    value = data.draw(st.sampled_from(_SIM_INVALID[option]))
+    out = tmp_path_factory.mktemp("sim") / "t.csv"
+    args = dict(_SIM_BASE)
+    if option in ("--l", "--R0", "--delta"):  # shape options of an extended body
+        args.pop("--H")
+        args.update({"--body": "ellipse", "--R0": "0.3", "--l": "0.1"})
+    args[option] = value
+    argv = ["simulate", "--out", str(out)] + [x for kv in args.items() for x in kv]
+    code, stdout, stderr = _run_cli(argv)
+    assert code == 2, (argv, stdout)
+    assert option in stderr and "Traceback" not in stderr
+    assert stdout == "" and not out.exists()  # nothing written
+
+
+@settings(max_examples=40, deadline=None)
+@given(data=st.data())
+def test_cli_critical_h_rejects_out_of_range_options(data) -> None:  # noqa: ANN001
+    option = data.draw(st.sampled_from(sorted(_CRIT_INVALID)))
+    value = data.draw(st.sampled_from(_CRIT_INVALID[option]))
+    args = {"--k": "0.01", "--omega": "0.3", option: value}
+    code, stdout, stderr = _run_cli(["critical-h"] + [x for kv in args.items() for x in kv])
+    assert code == 2 and option in stderr and "Traceback" not in stderr and stdout == ""
