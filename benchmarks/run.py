@@ -32,6 +32,7 @@ STUDIES: dict[str, str] = {
     "engine": "benchmarks.engine",
     "sweeps": "benchmarks.sweeps",
     "render": "benchmarks.render",
+    "startup": "benchmarks.startup",
 }
 
 DEFAULT_OUT = Path(__file__).resolve().parent / "results"
