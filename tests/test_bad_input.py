@@ -114,26 +114,15 @@ _INVALID = {
 @settings(max_examples=80, deadline=None)
 @given(data=st.data())
 def test_cli_rejects_out_of_range_options(data) -> None:  # noqa: ANN001
-    import contextlib
-    import io
-
-    from rrbody.cli import main
-
     option = data.draw(st.sampled_from(sorted(_INVALID)))
     value = data.draw(st.sampled_from(_INVALID[option]))
     args = dict(_BASE)
     args[option] = value
     argv = ["flip-time"] + [x for kv in args.items() for x in kv]
-    err = io.StringIO()
-    out = io.StringIO()
-    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out):
-        try:
-            code = main(argv)
-        except SystemExit as e:
-            code = int(e.code or 0)
-    assert code == 2, (argv, out.getvalue())
-    assert option in err.getvalue() and "Traceback" not in err.getvalue()
-    assert out.getvalue() == ""
+    code, stdout, stderr = _run_cli(argv)
+    assert code == 2, (argv, stdout)
+    assert option in stderr and "Traceback" not in stderr
+    assert stdout == ""
 
 
 _SIM_BASE = {"--H": "0.2", "--k": "0.05", "--omega": "0.6", "--t-max": "1"}
