@@ -78,14 +78,13 @@ def flip_time(scene: Scene, *, rtol: float | None = None, accuracy: str = "defau
     horizon = math.inf if horizon is None else check_positive("t_max", horizon, unit="s")
     p, S = scene.kernel_params()
     y0 = (scene.phi0, scene.initial_phi_dot)
-    omega = scene.omega
     if not scene.friction.active:
         res = integrate_driven(p, S, y0, t_end=min(horizon, 2.0 * scene.drive.period), rtol=rtol_v,  # type: ignore[union-attr]
                                stop="rr", max_steps=max_steps)
-        rr = _rr_from_T1(res.T1, omega)
-        regime = ("no friction: reverse rotation is perennial, there is no flip" if rr
-                  else "no friction: no reverse rotation")
-        return FlipResult(None, res.phi_min, res.t_min, rr, res.T1 if math.isfinite(res.T1) else None, False,
+        _, regime, rr, settled, phi_min = classify_flip(scene, status=res.status, has_min=res.has_min,
+                                                        phi_min=res.phi_min, t_min=res.t_min, T1=res.T1,
+                                                        t_end=res.t_end)
+        return FlipResult(None, phi_min, res.t_min, rr, res.T1 if math.isfinite(res.T1) else None, settled,
                           regime, res.t_end, res.n_steps, res.n_minima, rtol_v, res.wall, res.minima)
     res = integrate_driven(p, S, y0, t_end=horizon, rtol=rtol_v, stop="flip", settle_turns=settle_turns,
                            settle_periods=settle_periods, max_steps=max_steps, progress=progress, desc="flip time")
@@ -103,9 +102,14 @@ def classify_flip(scene: Scene, *, status: str, has_min: bool, phi_min: float, t
 
     Shared by both integrator paths, so the ODE and the engine report flips by the same rules:
     ``t_f`` is the time of the lowest minimum when the run settled and phi fell below phi0;
-    otherwise None, with the regime saying why.
+    otherwise None, with the regime saying why. Without friction there is never a flip (the run
+    only answers the RR question) and ``phi_min`` is passed through as the run found it.
     """
     rr = _rr_from_T1(T1, scene.omega)
+    if not scene.friction.active:
+        regime = ("no friction: reverse rotation is perennial, there is no flip" if rr
+                  else "no friction: no reverse rotation")
+        return None, regime, rr, False, phi_min
     settled = status == "flip settled"
     turned_back = has_min and phi_min < scene.phi0
     t_f: float | None = None

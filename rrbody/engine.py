@@ -735,10 +735,10 @@ def engine_flip_time(scene: Scene, *, t_max: float | None = None, dt: float | No
     minima_arr = lambda r: np.array(r.minima, dtype=float).reshape(-1, 2)  # noqa: E731
     if not scene.friction.active:
         res = _run(scene, settings, t_end=min(horizon, 2.0 * scene.drive.period), stop="rr", max_steps=max_steps)
-        rr = math.isfinite(res.T1) and scene.omega * res.T1 < 2.0 * math.pi
-        regime = ("no friction: reverse rotation is perennial, there is no flip" if rr
-                  else "no friction: no reverse rotation")
-        return FlipResult(None, res.phi_min, res.t_min, rr, res.T1 if math.isfinite(res.T1) else None, False,
+        _, regime, rr, settled, phi_min = classify_flip(scene, status=res.status, has_min=res.has_min,
+                                                        phi_min=res.phi_min, t_min=res.t_min, T1=res.T1,
+                                                        t_end=res.t_end)
+        return FlipResult(None, phi_min, res.t_min, rr, res.T1 if math.isfinite(res.T1) else None, settled,
                           regime, res.t_end, res.n_steps, res.n_minima, math.nan, res.wall, minima_arr(res))
     res = _run(scene, settings, t_end=horizon, stop="flip", settle_turns=settle_turns, settle_periods=settle_periods,
                max_steps=max_steps, progress=progress)
