@@ -14,7 +14,7 @@ $(STAMP): pyproject.toml
 
 venv: $(STAMP)
 
-## make demo: set up, then run the main job (Movie S1 when available, else the phixtpm figure)
+## make demo: set up, then run the main job: Movie S1 -> movies/movie_s1.mp4
 demo: $(STAMP)
 	$(BIN)/rrbody demo
 

@@ -11,7 +11,6 @@ import json
 import math
 import sys
 from collections.abc import Callable, Sequence
-from pathlib import Path
 from typing import Any
 
 from . import __version__
@@ -319,35 +318,15 @@ def cmd_critical_h(args: argparse.Namespace) -> int:
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
-    """The main job: Movie S1 where the renderer exists, else the phixtpm figure."""
-    root = _repo_root()
-    try:
-        from .render import mp4  # noqa: F401
-        name = "movie-s1"
-    except ImportError:
-        name = "phixtpm"
-    if (root / "scenes" / f"{name.replace('-', '_')}.py").exists():
-        return _run_scene(name, force=True)
-    from .demo import phixtpm_figure
-
-    out = phixtpm_figure(root / "results" / "phixtpm")
-    print(f"wrote {out}")
-    return 0
-
-
-def _repo_root() -> Path:
-    return Path(__file__).resolve().parent.parent
-
-
-def _run_scene(name: str, *, force: bool) -> int:
+    """The main job: the Movie S1 scene (movies/movie_s1.mp4 and results/movie-s1/)."""
     from .scenes import run_scene
 
-    run_scene(name, force=force)
+    run_scene("movie-s1", force=True)
     return 0
 
 
 def cmd_scene(args: argparse.Namespace) -> int:
-    from .scenes import list_scenes, run_scene
+    from .scenes import list_scenes, run_scene, scenes_dir
 
     if args.list or args.name is None:
         for n, doc in list_scenes():
@@ -363,7 +342,7 @@ def cmd_scene(args: argparse.Namespace) -> int:
         from .report import write_report
 
         wall = time.perf_counter() - t0
-        print(f"all scenes: {wall:.1f} s; wrote {write_report(_repo_root() / 'results', run_time_s=wall)}")
+        print(f"all scenes: {wall:.1f} s; wrote {write_report(scenes_dir().parent / 'results', run_time_s=wall)}")
     return 0
 
 
