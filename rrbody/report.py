@@ -208,12 +208,19 @@ def write_report(results: str | Path = "results", *, out: str | Path | None = No
     return atomic_write_text(path, "\n".join(L) + "\n", force=force, name="REPORT.md")
 
 
+def _heading(L: list[str], title: str, summary: dict[str, Any] | None) -> bool:
+    """Append a section heading; if the scene has not been run, say so and return False."""
+    L.append(title)
+    L.append("")
+    if not summary:
+        L.append("*(not run)*\n")
+        return False
+    return True
+
+
 def _section_phixtpm(L: list[str], res: Path) -> None:
     s = read_summary(res, "phixtpm")
-    L.append("## phixtpm: phi(t) for three frictions")
-    L.append("")
-    if not s:
-        L.append("*(not run)*\n")
+    if not _heading(L, "## phixtpm: phi(t) for three frictions", s):
         return
     L.append("Paper: transient RR (phi decreasing on average) then perennial normal rotation; the RR lasts longer for "
              "smaller friction. H = 0.2, omega = 0.6 rad/s, phi0 = pi.")
@@ -229,10 +236,7 @@ def _section_phixtpm(L: list[str], res: Path) -> None:
 
 def _section_sss(L: list[str], res: Path) -> None:
     s = read_summary(res, "sss")
-    L.append("## SSs: phi(t) and the CM history (red before t_f, blue after)")
-    L.append("")
-    if not s:
-        L.append("*(not run)*\n")
+    if not _heading(L, "## SSs: phi(t) and the CM history (red before t_f, blue after)", s):
         return
     L.append(f"k = 0.003 s^-2, H = 0.6, omega = 0.6 rad/s: t_f = {s['t_f']:.4f} s, phi(t_f) = {s['phi_min']:.4f} rad. "
              "Paper: petal-shaped CM paths with cusps during RR, rounder paths after the flip. "
@@ -241,10 +245,7 @@ def _section_sss(L: list[str], res: Path) -> None:
 
 
 def _section_seco1(L: list[str], res: Path, s: dict[str, Any] | None) -> None:
-    L.append("## seco1: t_f vs phi0 (RR interval centred on pi, independent of friction)")
-    L.append("")
-    if not s:
-        L.append("*(not run)*\n")
+    if not _heading(L, "## seco1: t_f vs phi0 (RR interval centred on pi, independent of friction)", s):
         return
     L.append("| k (s^-2) | RR interval in phi0 (rad) | centre - pi | t_f at phi0 = pi (s) |")
     L.append("|---|---|---|---|")
@@ -265,10 +266,7 @@ def _section_seco1(L: list[str], res: Path, s: dict[str, Any] | None) -> None:
 
 def _section_normal(L: list[str], res: Path) -> None:
     s = read_summary(res, "normal-and-phase-portrait")
-    L.append("## NormalAndPhasePortrait: normal rotation, transient normal rotation, phase portrait")
-    L.append("")
-    if not s:
-        L.append("*(not run)*\n")
+    if not _heading(L, "## NormalAndPhasePortrait: normal rotation, transient normal rotation, phase portrait", s):
         return
     L.append(f"(a) k = 0.003, H = 0.6, omega = 0.6, phi0 = pi/2: RR = {s['a_normal']['reverse_rotation']} "
              f"(paper: normal rotation from t = 0). k = 0.003, H = 0.8, omega = 2, phi0 = pi (paper: a transient normal "
@@ -282,10 +280,7 @@ def _section_normal(L: list[str], res: Path) -> None:
 
 
 def _section_tfxwpm2(L: list[str], res: Path, s: dict[str, Any] | None) -> None:
-    L.append("## tfxwpm2: t_f vs omega and vs mu")
-    L.append("")
-    if not s:
-        L.append("*(not run)*\n")
+    if not _heading(L, "## tfxwpm2: t_f vs omega and vs mu", s):
         return
     lo, hi, so = s["fit_low"], s["fit_high"], s["small_omega"]
     L.append(f"k = 7.5 s^-2, H = 0.25, phi0 = pi. Power-law fits t_f = A omega^b (least squares in log-log): low omega "
@@ -339,10 +334,7 @@ def _rel(a: float, b: float) -> float:
 
 
 def _section_hc(L: list[str], res: Path, s: dict[str, Any] | None) -> None:
-    L.append("## Hc: critical geometry vs friction, q-exponential fits")
-    L.append("")
-    if not s:
-        L.append("*(not run)*\n")
+    if not _heading(L, "## Hc: critical geometry vs friction, q-exponential fits", s):
         return
     L.append(f"omega = 0.3 rad/s, phi0 = pi; H_c by scan + bisection to {s['tol']:g} in H. Fit protocol (the one "
              "that reproduces the paper): H_c(0) fixed at the exact 0.79272623, q and lambda free, unweighted least "
@@ -376,10 +368,7 @@ def _section_hc(L: list[str], res: Path, s: dict[str, Any] | None) -> None:
 
 def _section_contour(L: list[str], res: Path) -> None:
     s = read_summary(res, "tfvshvsomega")
-    L.append("## tfvsHvsomega: contour of t_f over (omega, H) at k = 1.5 s^-2")
-    L.append("")
-    if not s:
-        L.append("*(not run)*\n")
+    if not _heading(L, "## tfvsHvsomega: contour of t_f over (omega, H) at k = 1.5 s^-2", s):
         return
     L.append(f"Paper: opposite H-trend of t_f at low and high omega. Ours: at omega = {s['low_omega']:g} rad/s t_f "
              f"{s['low_trend']} with H; at omega = {s['high_omega']:g} rad/s t_f {s['high_trend']} with H "
