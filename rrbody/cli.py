@@ -15,9 +15,10 @@ from typing import Any
 
 from . import __version__
 
-__all__ = ["main", "build_parser", "scene_from_args"]
+__all__ = ["main", "entry", "build_parser", "scene_from_args"]
 
 EXIT_BAD_INPUT = 2
+INTERRUPTED = "rrbody: interrupted; no partial output was left behind"
 
 
 class CliError(ValueError):
@@ -403,8 +404,11 @@ def build_parser() -> argparse.ArgumentParser:
     from .report import add_parser as add_report_parser
     from .sweep import add_parser as add_sweep_parser
 
+    from .worker import add_parser as add_worker_parser
+
     add_sweep_parser(sub)
     add_report_parser(sub)
+    add_worker_parser(sub)
 
     dm = sub.add_parser("demo", help="the main job (what `make demo` runs)")
     dm.set_defaults(func=cmd_demo, json=False)
@@ -423,9 +427,34 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"rrbody {args.command}: error: {_option_name(str(e))}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
-        print("rrbody: interrupted; no partial output was left behind", file=sys.stderr)
+        print(INTERRUPTED, file=sys.stderr)
         return 130
 
 
+def entry(argv: Sequence[str] | None = None) -> int:
+    """The ``rrbody`` console command: ``main`` run in the warm worker when one is up (see
+    ``rrbody.worker``), otherwise in this process, which then starts a worker for the next call."""
+    from . import worker
+
+    argv = list(sys.argv[1:] if argv is None else argv)
+    try:
+        settings = worker.settings()
+    except ValueError as e:
+        print(f"rrbody: error: {e}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    if settings is not None and argv and argv[0] in worker.SERVED:
+        code = worker.forward(argv, settings)
+        if code is not None:
+            return code
+        try:
+            code = main(argv)
+        except SystemExit:  # argparse errors: a worker still helps the corrected call
+            worker.spawn(settings)
+            raise
+        worker.spawn(settings)
+        return code
+    return main(argv)
+
+
 if __name__ == "__main__":  # pragma: no cover
-    raise SystemExit(main())
+    raise SystemExit(entry())
