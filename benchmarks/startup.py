@@ -3,8 +3,9 @@
 Measured as wall time of fresh processes (best of 5, after one warm-up run that fills the numba
 cache): (1) `rrbody flip-time --H 0.2 --k 0.05 --omega 0.6 --json` answered by the warm worker
 (`rrbody.worker`, started once before timing); (2) the same call in its own process
-(`RRBODY_WORKER=off`); (3) a Python process that only imports numba and calls a one-line cached
-@njit function (the floor any numba-based process pays); (4) `python -c "import numpy"` (the
+(`RRBODY_WORKER=off`), and once with an empty numba cache (the first, compiling call); (3) a
+Python process that only imports numba and calls a one-line cached @njit function (the floor any
+numba-based process pays); (4) `python -c "import numpy"` (the
 interpreter and numpy alone). The solve itself is in the ODE study.
 """
 
@@ -53,6 +54,11 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     with tempfile.TemporaryDirectory(prefix="rrbs") as tmp:
         script = Path(tmp) / "trivial_numba.py"
         script.write_text(_TRIVIAL)
+        # the very first call compiles every kernel it needs: an empty numba cache of its own
+        first_env = dict(os.environ, RRBODY_WORKER="off", NUMBA_CACHE_DIR=str(Path(tmp) / "numba"))
+        t1 = time.perf_counter()
+        subprocess.run(rrbody_cmd, check=True, capture_output=True, env=first_env)
+        first = time.perf_counter() - t1
         cold = _best_wall(rrbody_cmd, repeats)
         warm_env = dict(os.environ, RRBODY_WORKER="on", RRBODY_WORKER_DIR=str(Path(tmp) / "w"))
         subprocess.run([*rrbody_cmd[:3], "worker", "start"], check=True, capture_output=True, env=warm_env)
@@ -68,6 +74,7 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     rows = [{"process": f"rrbody flip-time (phixtpm, --json), warm worker ({served} calls served)",
              "best_wall_s": warm},
             {"process": "rrbody flip-time (phixtpm, --json), own process (RRBODY_WORKER=off)", "best_wall_s": cold},
+            {"process": "the same, very first call: empty numba cache, compiles (one run)", "best_wall_s": first},
             {"process": "numba import + one cached one-line @njit call", "best_wall_s": floor},
             {"process": "python -c 'import numpy'", "best_wall_s": numpy_only}]
     files = [str(write_csv(out / "startup.csv", rows))]

@@ -437,23 +437,25 @@ def entry(argv: Sequence[str] | None = None) -> int:
     from . import worker
 
     argv = list(sys.argv[1:] if argv is None else argv)
+    if not argv or argv[0] not in worker.SERVED:
+        return main(argv)
     try:
         settings = worker.settings()
     except ValueError as e:
         print(f"rrbody: error: {e}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    if settings is not None and argv and argv[0] in worker.SERVED:
-        code = worker.forward(argv, settings)
-        if code is not None:
-            return code
-        try:
-            code = main(argv)
-        except SystemExit:  # argparse errors: a worker still helps the corrected call
-            worker.spawn(settings)
-            raise
-        worker.spawn(settings)
+    if settings is None:
+        return main(argv)
+    code = worker.forward(argv, settings)
+    if code is not None:
         return code
-    return main(argv)
+    try:
+        code = main(argv)
+    except SystemExit:  # argparse errors: a worker still helps the corrected call
+        worker.spawn(settings)
+        raise
+    worker.spawn(settings)
+    return code
 
 
 if __name__ == "__main__":  # pragma: no cover

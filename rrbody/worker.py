@@ -26,6 +26,7 @@ Safety rules:
 
 from __future__ import annotations
 
+# Only what a forwarding call needs is imported here: every `rrbody` call imports this module.
 import argparse
 import contextlib
 import fcntl
@@ -36,16 +37,11 @@ import signal
 import socket
 import stat
 import struct
-import subprocess
 import sys
-import tempfile
-import threading
 import time
-import traceback
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, NoReturn
+from typing import Any, NamedTuple, NoReturn
 
 __all__ = ["SERVED", "WorkerSettings", "settings", "forward", "spawn", "ping", "stop", "serve", "add_parser"]
 
@@ -62,8 +58,7 @@ _PACKAGE_DIR = Path(__file__).resolve().parent
 _MAX_SOCKET_PATH = 100
 
 
-@dataclass(frozen=True)
-class WorkerSettings:
+class WorkerSettings(NamedTuple):
     """Where the worker for this installation and environment lives, and how long it idles."""
 
     folder: Path
@@ -109,6 +104,8 @@ def _folder(environ: Mapping[str, str]) -> Path:
         return Path(environ["RRBODY_WORKER_DIR"])
     if environ.get("XDG_RUNTIME_DIR"):
         return Path(environ["XDG_RUNTIME_DIR"]) / "rrbody"
+    import tempfile
+
     return Path(tempfile.gettempdir()) / f"rrbody-{os.getuid()}"
 
 
@@ -215,6 +212,8 @@ def _starting(s: WorkerSettings) -> bool:
 def spawn(s: WorkerSettings, environ: Mapping[str, str] = os.environ) -> bool:
     """Start a worker in the background (its own session, no terminal) unless one is running or
     warming up. Returns True if a new worker process was started."""
+    import subprocess
+
     if _starting(s):
         return False
     env = dict(environ)
@@ -333,6 +332,9 @@ def _text_stream(fd: int, mode: str, *, line_buffered: bool) -> Any:
 def _run_child(conn: socket.socket, request: dict[str, Any], fds: list[int]) -> NoReturn:
     """In the forked child: become the caller's process, run the command, send its exit code.
     Never returns (the caller wraps it in ``os._exit`` as well, should anything escape)."""
+    import threading
+    import traceback
+
     code = 1
     try:
         for sig in (signal.SIGTERM, signal.SIGHUP, signal.SIGQUIT, signal.SIGCHLD):
