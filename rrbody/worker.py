@@ -260,7 +260,7 @@ def forward(argv: Sequence[str], s: WorkerSettings) -> int | None:
         lines = sock.makefile("rb")
         started = lines.readline()
         if not started or "started" not in json.loads(started):
-            return None
+            raise ValueError("no start")
     except (OSError, ValueError):
         sock.close()
         return None
