@@ -194,18 +194,27 @@ def stop(s: WorkerSettings, timeout: float = 5.0) -> bool:
     return not s.socket.exists()
 
 
-def _starting(s: WorkerSettings) -> bool:
-    """True if a worker holds the lock (it is warming up or serving)."""
-    try:
-        fd = os.open(s.lock, os.O_RDWR | os.O_CREAT, 0o600)
-    except OSError:
-        return True  # cannot tell: do not start another
+def _take_lock(path: Path) -> int | None:
+    """The descriptor holding ``path``'s exclusive lock, or None if a worker holds it already.
+    The lock lasts while the descriptor is open (in any process that inherited it)."""
+    fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o600)
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
     except BlockingIOError:
+        os.close(fd)
+        return None
+    return fd
+
+
+def _starting(s: WorkerSettings) -> bool:
+    """True if a worker holds the lock (it is warming up or serving)."""
+    try:
+        fd = _take_lock(s.lock)
+    except OSError:
+        return True  # cannot tell: do not start another
+    if fd is None:
         return True
-    finally:
-        os.close(fd)  # closing releases a lock we may have taken
+    os.close(fd)  # releases the lock we just took
     return False
 
 
@@ -415,10 +424,8 @@ def _warm_up() -> None:
 
 def serve(sock_path: Path, lock_path: Path, idle_s: float, package_dir: Path | None = None) -> int:
     """The worker's main loop (run by ``spawn``); returns when idle for ``idle_s`` or stopped."""
-    lock_fd = os.open(lock_path, os.O_RDWR | os.O_CREAT, 0o600)
-    try:
-        fcntl.flock(lock_fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except BlockingIOError:
+    lock_fd = _take_lock(lock_path)
+    if lock_fd is None:
         return 0  # another worker for the same key is up
     import rrbody
 

@@ -19,6 +19,7 @@ import tempfile
 import time
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -76,13 +77,8 @@ def folder() -> Iterator[Path]:
     # short path on purpose: AF_UNIX socket paths are limited to ~100 bytes
     path = Path(tempfile.mkdtemp(prefix="rrw"))
     yield path
-    for s in path.glob("*/*.sock"):
-        with socket.socket(socket.AF_UNIX) as c:
-            try:
-                c.connect(str(s))
-                worker._reply(c, {"op": "stop"}, 5.0)
-            except OSError:
-                pass
+    for sock in path.glob("*/*.sock"):  # any worker a failed test left running
+        worker.stop(worker.WorkerSettings(sock.parent, sock.stem, worker.DEFAULT_IDLE_S))
     shutil.rmtree(path, ignore_errors=True)
 
 
@@ -97,10 +93,14 @@ def running(folder: Path) -> dict[str, str]:
     return env
 
 
-def _served(env: dict[str, str]) -> int:
-    info = worker.ping(_settings(env))
+def _info(s: worker.WorkerSettings) -> dict[str, Any]:
+    info = worker.ping(s)
     assert info is not None, "the worker is not running"
-    return int(info["served"])
+    return info
+
+
+def _served(env: dict[str, str]) -> int:
+    return int(_info(_settings(env))["served"])
 
 
 def test_forwarded_flip_time_equals_plain_run(running: dict[str, str]) -> None:
@@ -152,12 +152,12 @@ def test_ctrl_c_reaches_the_run(running: dict[str, str], tmp_path: Path) -> None
     out, err = proc.communicate(timeout=60)
     assert proc.returncode == 130 and "interrupted" in err
     assert list(tmp_path.iterdir()) == []  # no partial output
-    pid = worker.ping(_settings(running))["pid"]
+    pid = _info(_settings(running))["pid"]
     assert _wait_for(lambda: _children(pid) == [], 10.0)
 
 
 def test_sigterm_and_vanished_caller(running: dict[str, str], tmp_path: Path) -> None:
-    pid = worker.ping(_settings(running))["pid"]
+    pid = _info(_settings(running))["pid"]
     proc = _start_long(running, tmp_path)
     proc.send_signal(signal.SIGTERM)
     proc.communicate(timeout=60)
@@ -179,9 +179,9 @@ def test_first_plain_run_starts_a_worker_and_stale_socket_is_ignored(folder: Pat
     p = _run(FLIP, env)
     assert p.returncode == 0 and json.loads(p.stdout)["reverse_rotation"] is True
     assert _wait_for(lambda: worker.ping(s) is not None)
-    assert worker.ping(s)["served"] == 0
+    assert _info(s)["served"] == 0
     assert _run(FLIP, env).stdout.split('"wall_s"')[0] == p.stdout.split('"wall_s"')[0]
-    assert worker.ping(s)["served"] == 1
+    assert _info(s)["served"] == 1
     assert worker.stop(s) and worker.ping(s) is None
     assert not s.socket.exists()
 
