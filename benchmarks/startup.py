@@ -5,8 +5,8 @@ cache): (1) `rrbody flip-time --H 0.2 --k 0.05 --omega 0.6 --json` answered by t
 (`rrbody.worker`, started once before timing); (2) the same call in its own process
 (`RRBODY_WORKER=off`), and once with an empty numba cache (the first, compiling call); (3) a
 Python process that only imports numba and calls a one-line cached @njit function (the floor any
-numba-based process pays); (4) `python -c "import numpy"` (the
-interpreter and numpy alone). The solve itself is in the ODE study.
+numba-based process pays); (4) `python -c "import numpy"` (the interpreter and numpy alone). The
+solve itself is in the ODE study.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """A warm worker process that answers quick ``rrbody`` calls without paying numba's start-up.
 
-Why: a new Python process pays about 1.2 s before its first cached numba kernel runs (importing
+Why: a new Python process pays about 1.1 s before its first cached numba kernel runs (importing
 numba ~0.3 s, setting up its compilation target ~0.6 s, of which scipy.linalg ~0.25 s; measured
 by ``make bench``, study ``startup``), while ``rrbody flip-time`` solves in a few milliseconds.
 
