@@ -1,8 +1,9 @@
 """A warm worker process that answers quick ``rrbody`` calls without paying numba's start-up.
 
-Why: a new Python process pays about 1.1 s before its first cached numba kernel runs (importing
-numba ~0.3 s, setting up its compilation target ~0.6 s, of which scipy.linalg ~0.25 s; measured
-by ``make bench``, study ``startup``), while ``rrbody flip-time`` solves in a few milliseconds.
+Why: a new Python process pays about 1.1 s before its first cached numba kernel runs (``make
+bench``, study ``startup``; a cProfile of one call puts ~0.3 s in importing numba and ~0.6 s in
+setting up its compilation target, scipy.linalg included), while ``rrbody flip-time`` solves in a
+few milliseconds.
 
 How: the first ``rrbody flip-time`` / ``critical-h`` / ``simulate`` runs in its own process as
 usual, then starts a worker in the background. The worker imports rrbody, loads the compiled
