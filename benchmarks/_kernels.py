@@ -9,9 +9,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from rrbody._icr import icr_wrench
-from rrbody.dynamics import driven_rhs
-from rrbody.friction import sampled_wrench
+from rrbody.physics.icr import icr_wrench
+from rrbody.physics.dynamics import driven_rhs
+from rrbody.physics.wrench import sampled_wrench
 
 
 @njit(cache=True)

@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from rrbody.physics.bind import kernel_params
 from .common import StudyResult, Target, fmt, machine_text, md_table, module_available, save_figure, write_csv
 
 NAME = "area"
@@ -48,21 +49,21 @@ def _err(w: tuple[float, float, float], ref: tuple[float, float, float], R: floa
 
 
 def run(out: Path, *, quick: bool = False) -> StudyResult:
-    ok, why = module_available("rrbody._icr")
+    ok, why = module_available("rrbody.physics.icr")
     if ok:
-        from rrbody import area as A
+        from rrbody.physics import area as A
 
         try:
-            A.area_samples(__import__("rrbody.bodies", fromlist=["Disk"]).Disk(R=0.1), 48)
+            A.area_samples(__import__("rrbody.model.bodies", fromlist=["Disk"]).Disk(R=0.1), 48)
         except Exception as e:  # noqa: BLE001
             ok, why = False, f"area_samples not usable yet: {e}"
     if not ok:
         print(f"[area] skipped: rrbody.area / rrbody._icr not ready ({why})", flush=True)
         return StudyResult(NAME, TITLE, skipped=f"rrbody.area/_icr not importable or incomplete ({why})")
-    from rrbody.bodies import Disk, Ellipse
-    from rrbody.friction import Friction
-    from rrbody.drive import CircularDrive
-    from rrbody.scene import Scene, rod_mass_scene
+    from rrbody.model.bodies import Disk, Ellipse
+    from rrbody.model.friction import Friction
+    from rrbody.model.drive import CircularDrive
+    from rrbody.model.scene import Scene, rod_mass_scene
 
     from ._kernels import loop_icr as _loop_icr
     from ._kernels import loop_rhs as _loop_rhs
@@ -108,12 +109,12 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     drive = CircularDrive(omega=0.6, d=1.0)
     point = rod_mass_scene(0.2, 0.05, 0.6)
     disk = Scene(body=Disk(R=0.1, l=0.2), drive=drive, friction=Friction("dry", 0.05), friction_method="icr")
-    p0, S0 = point.kernel_params()
-    p1, S1 = disk.kernel_params()
+    p0, S0 = kernel_params(point)
+    p1, S1 = kernel_params(disk)
     t_point = _per_call(lambda mm: _loop_rhs(p0, S0, mm), 1_000_000)
     t_disk = _per_call(lambda mm: _loop_rhs(p1, S1, mm), 100_000)
     # does the RHS really see the ICR friction? compare with friction switched off
-    from rrbody.dynamics import driven_rhs
+    from rrbody.physics.dynamics import driven_rhs
 
     y = np.array([3.0, -2.0])
     o1 = np.empty(2)

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TypeVar
 
-from rrbody.io import atomic_path, atomic_write_text
+from rrbody.model.io import atomic_path, atomic_write_text
 
 __all__ = ["Target", "StudyResult", "machine_info", "machine_text", "best_time", "best_wall_cpu", "write_csv", "write_text",
            "md_table", "fmt", "module_available", "save_figure", "loglog_slope"]

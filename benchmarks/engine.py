@@ -17,6 +17,7 @@ from typing import Any
 
 from .common import (StudyResult, Target, fmt, loglog_slope, machine_text, md_table, module_available, save_figure,
                      write_csv)
+from rrbody.physics.bind import kernel_params
 
 NAME = "engine"
 TITLE = "Engine path (pymunk): error vs dt, cost per step vs area elements"
@@ -31,20 +32,20 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     if not ok:
         print(f"[engine] skipped: rrbody.engine not importable ({why})", flush=True)
         return StudyResult(NAME, TITLE, skipped=f"rrbody.engine not importable ({why})")
-    from rrbody.analysis import flip_time
-    from rrbody.bodies import Disk
-    from rrbody.drive import CircularDrive
+    from rrbody.analysis.flip import flip_time
+    from rrbody.model.bodies import Disk
+    from rrbody.model.drive import CircularDrive
     from rrbody.engine import default_dt, engine_flip_time, simulate_engine
-    from rrbody.friction import Friction
-    from rrbody.ode import integrate_driven
-    from rrbody.scene import Scene, rod_mass_scene
+    from rrbody.model.friction import Friction
+    from rrbody.integrate.ode import integrate_driven
+    from rrbody.model.scene import Scene, rod_mass_scene
 
     t0 = time.perf_counter()
     dts = DTS[:3] if quick else DTS
     elements = ELEMENTS[:3] if quick else ELEMENTS
     # ---- 1. error vs dt ----
     sc = rod_mass_scene(0.2, 0.05, 0.6)
-    p, S = sc.kernel_params()
+    p, S = kernel_params(sc)
     phi_ref = float(integrate_driven(p, S, (sc.phi0, sc.initial_phi_dot), t_end=T_FIX, rtol=1e-13).y_end[0])
     tf_ref = flip_time(sc, rtol=1e-13).t_f
     assert tf_ref is not None
@@ -90,7 +91,7 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     for n in elements:
         scn = Scene(body=Disk(R=0.1, l=0.2), drive=drive, friction=Friction("dry", 0.05), friction_method="sampled",
                     samples=n)
-        n_actual = scn.kernel_params()[1].shape[0]
+        n_actual = kernel_params(scn)[1].shape[0]
         c = per_step(scn)
         erows.append({"elements": n_actual, "label": f"{n_actual} elements", "us_per_step": c * 1e6,
                       "ratio_to_bare": c / bare})

@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from rrbody.physics.bind import kernel_params
 from .common import StudyResult, Target, best_time, best_wall_cpu, fmt, machine_text, md_table, save_figure, write_csv
 
 NAME = "ode"
@@ -135,7 +136,7 @@ def scipy_run(case: Case, method: str, rtol: float, t_end: float, *, events: boo
 # rrbody side
 # ---------------------------------------------------------------------------------------------
 def _scene(case: Case) -> Any:
-    from rrbody.scene import rod_mass_scene
+    from rrbody.model.scene import rod_mass_scene
 
     return rod_mass_scene(case.H, case.k, case.omega)
 
@@ -146,7 +147,7 @@ def rr_flip(case: Case, rtol: float | None, *, repeats: int = 3, t_max: float | 
     ``t_max`` bounds runs that never settle: at loose tolerances the fast case's computed body
     never flips at all (rtol 1e-4: still unsettled after 3700 s and 2e6 steps).
     """
-    from rrbody.analysis import flip_time
+    from rrbody.analysis.flip import flip_time
 
     sc = _scene(case)
     if rtol is None:
@@ -155,10 +156,10 @@ def rr_flip(case: Case, rtol: float | None, *, repeats: int = 3, t_max: float | 
 
 
 def rr_phi(case: Case, rtol: float, *, repeats: int = 3) -> tuple[float, float]:
-    from rrbody.ode import integrate_driven
+    from rrbody.integrate.ode import integrate_driven
 
     sc = _scene(case)
-    p, S = sc.kernel_params()
+    p, S = kernel_params(sc)
     y0 = (sc.phi0, sc.initial_phi_dot)
     wall, res = best_time(lambda: integrate_driven(p, S, y0, t_end=case.t_fix, rtol=rtol, stop="t_end"),
                           max_repeats=repeats)
@@ -177,7 +178,7 @@ def _rel(a: float | None, ref: float) -> float:
 
 # ---------------------------------------------------------------------------------------------
 def run(out: Path, *, quick: bool = False) -> StudyResult:
-    from rrbody.simulation import ACCURACY
+    from rrbody.analysis.simulate import ACCURACY
 
     t_study = time.perf_counter()
     cases = [c for c in CASES if c.name == "phixtpm"] if quick else CASES
@@ -226,7 +227,7 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
                             "err_tf": _rel(res.t_f, tf_ref), "wall_tf_s": w_tf, "n_steps": res.n_steps, "settled": res.settled,
                             "phi_fix": phi, "err_phi": abs(phi - phi_ref), "wall_phi_s": w_phi})
         # ---- the default settings of `rrbody flip-time` (wall and CPU time: the machine is shared) ----
-        from rrbody.analysis import flip_time
+        from rrbody.analysis.flip import flip_time
 
         sc_def = _scene(case)
         w_def, c_def, res_def = best_wall_cpu(lambda: flip_time(sc_def, t_max=2.0 * ref.t_stop), repeats=3)

@@ -33,12 +33,12 @@ TARGET_SECONDS = 120.0
 
 
 def run(out: Path, *, quick: bool = False) -> StudyResult:
-    ok, why = module_available("rrbody.sweep")
+    ok, why = module_available("rrbody.analysis.sweep")
     if not ok:
-        print(f"[sweeps] skipped: rrbody.sweep not importable ({why})", flush=True)
-        return StudyResult(NAME, TITLE, skipped=f"rrbody.sweep not importable ({why})")
-    from rrbody import analysis
-    from rrbody.sweep import Sweep, run_sweep
+        print(f"[sweeps] skipped: rrbody.analysis.sweep not importable ({why})", flush=True)
+        return StudyResult(NAME, TITLE, skipped=f"rrbody.analysis.sweep not importable ({why})")
+    from rrbody.analysis import flip as analysis
+    from rrbody.analysis.sweep import Sweep, run_sweep
 
     t0 = time.perf_counter()
     # the target workload itself (worker start-up, ~1 s of imports and numba cache, included)
@@ -106,8 +106,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
             per_hc.append({"k": k, "rr_tests": n_tests, "wall_s": w})
     finally:
         analysis.reverse_rotation_exists = orig  # type: ignore[assignment]
-    from rrbody.scene import rod_mass_scene
-    from rrbody.simulation import ACCURACY
+    from rrbody.model.scene import rod_mass_scene
+    from rrbody.analysis.simulate import ACCURACY
 
     # how loose may the RR test's rtol be for H_c to 1e-6? (reference: rtol 1e-13, tol 1e-9)
     tol_rows = []

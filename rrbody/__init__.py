@@ -9,17 +9,17 @@ from __future__ import annotations
 from importlib import import_module
 from typing import Any
 
-__version__ = "0.1.0"
+from rrbody._version import __version__
 
 _LAZY = {
-    "RodMass": "rrbody.bodies", "Disk": "rrbody.bodies", "Ellipse": "rrbody.bodies",
-    "CircularDrive": "rrbody.drive", "Friction": "rrbody.friction",
-    "Scene": "rrbody.scene", "rod_mass_scene": "rrbody.scene",
-    "Trajectory": "rrbody.trajectory",
-    "simulate": "rrbody.simulation", "ACCURACY": "rrbody.simulation",
-    "flip_time": "rrbody.analysis", "FlipResult": "rrbody.analysis",
-    "reverse_rotation_exists": "rrbody.analysis", "critical_h": "rrbody.analysis",
-    "parse_angle": "rrbody.angles",
+    "RodMass": "rrbody.model.bodies", "Disk": "rrbody.model.bodies", "Ellipse": "rrbody.model.bodies",
+    "CircularDrive": "rrbody.model.drive", "Friction": "rrbody.model.friction",
+    "Scene": "rrbody.model.scene", "rod_mass_scene": "rrbody.model.scene",
+    "Trajectory": "rrbody.model.trajectory",
+    "simulate": "rrbody.analysis.simulate", "ACCURACY": "rrbody.analysis.simulate",
+    "flip_time": "rrbody.analysis.flip", "FlipResult": "rrbody.integrate.events",
+    "reverse_rotation_exists": "rrbody.analysis.flip", "critical_h": "rrbody.analysis.flip",
+    "parse_angle": "rrbody.model.angles",
 }
 
 __all__ = ["__version__", *_LAZY]

@@ -19,13 +19,13 @@ from pathlib import Path
 
 import numpy as np
 
-from rrbody.analysis import flip_time
-from rrbody.bodies import Disk, Ellipse, RodMass
-from rrbody.drive import CircularDrive
-from rrbody.friction import Friction
-from rrbody.report import save_figure, write_summary, write_table
-from rrbody.scene import Scene
-from rrbody.simulation import simulate
+from rrbody.analysis.flip import flip_time
+from rrbody.model.bodies import Disk, Ellipse, RodMass
+from rrbody.model.drive import CircularDrive
+from rrbody.model.friction import Friction
+from rrbody.analysis.report import save_figure, write_summary, write_table
+from rrbody.model.scene import Scene
+from rrbody.analysis.simulate import simulate
 
 OMEGA, D, PHI0 = 0.6, 1.0, math.pi  # rad/s, m, rad (paper caption)
 K_MAIN, L_MAIN = 0.0033, 0.2  # s^-2, m

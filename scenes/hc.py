@@ -12,9 +12,9 @@ from pathlib import Path
 
 import numpy as np
 
-from rrbody.analysis import critical_h, frictionless_critical_h
-from rrbody.fits import fit_q_exponential, q_exponential
-from rrbody.report import save_figure, write_summary, write_table
+from rrbody.analysis.flip import critical_h, frictionless_critical_h
+from rrbody.analysis.fits import fit_q_exponential, q_exponential
+from rrbody.analysis.report import save_figure, write_summary, write_table
 
 OMEGA = 0.3  # rad/s (paper caption)
 K_MAX_FIT = 1.0  # s^-2: the fitted range [0, K_MAX_FIT]

@@ -25,10 +25,10 @@ DT_OUT = 0.02
 
 
 def main(out_dir: Path, *, force: bool = True) -> None:
-    from rrbody.analysis import flip_time
+    from rrbody.analysis.flip import flip_time
     from rrbody.render.mp4 import render_movie, render_poster
-    from rrbody.scene import rod_mass_scene
-    from rrbody.simulation import simulate
+    from rrbody.model.scene import rod_mass_scene
+    from rrbody.analysis.simulate import simulate
 
     out_dir.mkdir(parents=True, exist_ok=True)
     MOVIES.mkdir(parents=True, exist_ok=True)

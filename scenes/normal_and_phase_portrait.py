@@ -14,11 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
-from rrbody.analysis import flip_time
-from rrbody.portraits import initial_point, theta_series, valid_initial_line
-from rrbody.report import save_figure, write_summary, write_table
-from rrbody.scene import rod_mass_scene
-from rrbody.simulation import simulate
+from rrbody.analysis.flip import flip_time
+from rrbody.analysis.portraits import initial_point, theta_series, valid_initial_line
+from rrbody.analysis.report import save_figure, write_summary, write_table
+from rrbody.model.scene import rod_mass_scene
+from rrbody.analysis.simulate import simulate
 
 A_NORMAL = {"k": 0.003, "H": 0.6, "omega": 0.6, "phi0": math.pi / 2}
 A_TRANSIENT = {"k": 0.003, "H": 0.8, "omega": 2.0, "phi0": math.pi}

@@ -11,10 +11,10 @@ from pathlib import Path
 
 import numpy as np
 
-from rrbody.analysis import flip_time
-from rrbody.report import save_figure, write_summary, write_table
-from rrbody.scene import rod_mass_scene
-from rrbody.simulation import simulate
+from rrbody.analysis.flip import flip_time
+from rrbody.analysis.report import save_figure, write_summary, write_table
+from rrbody.model.scene import rod_mass_scene
+from rrbody.analysis.simulate import simulate
 
 H, OMEGA, PHI0 = 0.2, 0.6, math.pi  # paper caption
 KS = (0.033, 0.05, 0.1)  # s^-2, "from bottom to top"

@@ -17,13 +17,13 @@ from pathlib import Path
 import numpy as np
 import pymunk
 
-from rrbody.analysis import flip_time
-from rrbody.bodies import Disk, Ellipse
-from rrbody.drive import CircularDrive
+from rrbody.analysis.flip import flip_time
+from rrbody.model.bodies import Disk, Ellipse
+from rrbody.model.drive import CircularDrive
 from rrbody.engine import EngineSettings, attach
-from rrbody.friction import Friction
-from rrbody.report import save_figure, write_summary, write_table
-from rrbody.scene import Scene, rod_mass_scene
+from rrbody.model.friction import Friction
+from rrbody.analysis.report import save_figure, write_summary, write_table
+from rrbody.model.scene import Scene, rod_mass_scene
 
 DT = 2e-3  # s: engine step (second order: t_f good to ~1e-5 relative here, docs/engine.md)
 T_MAX = 30.0  # s: past every body's flip

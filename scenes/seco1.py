@@ -12,11 +12,11 @@ from pathlib import Path
 
 import numpy as np
 
-from rrbody.analysis import reverse_rotation_exists
-from rrbody.report import save_figure, write_summary, write_table
-from rrbody.scene import rod_mass_scene
-from rrbody.simulation import simulate
-from rrbody.sweep import Sweep, run_fresh_or_resume
+from rrbody.analysis.flip import reverse_rotation_exists
+from rrbody.analysis.report import save_figure, write_summary, write_table
+from rrbody.model.scene import rod_mass_scene
+from rrbody.analysis.simulate import simulate
+from rrbody.analysis.sweep import Sweep, run_fresh_or_resume
 
 H, OMEGA = 0.25, 100.0  # paper caption (main panel)
 KS = (7.5, 12.5, 17.5)  # s^-2

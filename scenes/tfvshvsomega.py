@@ -11,8 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rrbody.report import save_figure, write_summary, write_table
-from rrbody.sweep import Sweep, run_fresh_or_resume
+from rrbody.analysis.report import save_figure, write_summary, write_table
+from rrbody.analysis.sweep import Sweep, run_fresh_or_resume
 
 K = 1.5  # s^-2, paper caption
 H_GRID = np.linspace(0.05, 0.75, 29)

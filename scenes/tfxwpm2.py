@@ -13,9 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
-from rrbody.fits import fit_power_law
-from rrbody.report import paper_small_omega_C, save_figure, small_omega_C, write_summary, write_table
-from rrbody.sweep import Sweep, run_fresh_or_resume
+from rrbody.analysis.fits import fit_power_law
+from rrbody.analysis.report import paper_small_omega_C, save_figure, small_omega_C, write_summary, write_table
+from rrbody.analysis.sweep import Sweep, run_fresh_or_resume
 
 K, H = 7.5, 0.25  # s^-2, paper caption
 G_OVER_D = 25.0  # s^-2: k = 25 mu in the mu panels
@@ -66,8 +66,8 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     #    bounded scalar minimisation; the omega tolerance 1e-4 rad/s is far below the grid step.
     from scipy.optimize import minimize_scalar
 
-    from rrbody.analysis import flip_time
-    from rrbody.scene import rod_mass_scene
+    from rrbody.analysis.flip import flip_time
+    from rrbody.model.scene import rod_mass_scene
 
     opt = minimize_scalar(lambda w: float(flip_time(rod_mass_scene(H, K, float(w))).t_f),
                           bounds=(w_all[j] - 0.1, w_all[j] + 0.1), method="bounded", options={"xatol": 1e-4})

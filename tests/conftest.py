@@ -24,7 +24,7 @@ class CliRun:
 
 @pytest.fixture
 def cli(capsys: pytest.CaptureFixture[str]) -> Callable[..., CliRun]:
-    from rrbody.cli import main
+    from rrbody.cli.main import main
 
     def run(*argv: str) -> CliRun:
         try:

@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from rrbody import area
-from rrbody.bodies import Disk, Ellipse, RodMass
-from rrbody.friction import sampled_wrench as sampled_kernel
+from rrbody.physics import area
+from rrbody.model.bodies import Disk, Ellipse, RodMass
+from rrbody.physics.wrench import sampled_wrench as sampled_kernel
 
 LAW_DRY = 1
 
@@ -212,10 +212,3 @@ def test_small_n_and_bad_arguments() -> None:
     assert area.area_samples(Disk(R=1.0), 1).shape == (3, 3)
     assert area.icr_supported(Disk(R=1.0), "dry") and not area.icr_supported(RodMass(l=1.0), "dry")
     assert not area.icr_supported(Disk(R=1.0), "none")
-
-
-def test_rhs_cost_ratio_runs() -> None:
-    # the benchmark behind docs/extended.md's cost table (no timing asserted: wall-clock is noisy)
-    res = area.rhs_cost_ratio(Disk(R=0.4036, l=0.2), calls=1000, repeats=1)
-    assert set(res) == {"point_ns", "icr_ns", "ratio", "nodes"}
-    assert res["nodes"] == 24 and res["point_ns"] > 0 and res["icr_ns"] > 0

@@ -149,7 +149,7 @@ def _run_cli(argv: list[str]) -> tuple[int, str, str]:
     import contextlib
     import io
 
-    from rrbody.cli import main
+    from rrbody.cli.main import main
 
     err = io.StringIO()
     out = io.StringIO()

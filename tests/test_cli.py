@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from rrbody.trajectory import COLUMNS, Trajectory
+from rrbody.model.trajectory import COLUMNS, Trajectory
 
 from .reference import scipy_flip_time
 

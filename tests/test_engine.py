@@ -16,14 +16,14 @@ import numpy as np
 import pymunk
 import pytest
 
-from rrbody.analysis import flip_time
-from rrbody.bodies import Disk, Ellipse, RodMass
-from rrbody.drive import CircularDrive
+from rrbody.analysis.flip import flip_time
+from rrbody.model.bodies import Disk, Ellipse, RodMass
+from rrbody.model.drive import CircularDrive
 from rrbody.engine import (COARSE_FRACTION, EngineSettings, attach, engine_flip_time, simulate_engine,
                            valid_dt_range)
-from rrbody.friction import Friction
-from rrbody.scene import Scene, rod_mass_scene
-from rrbody.simulation import simulate
+from rrbody.model.friction import Friction
+from rrbody.model.scene import Scene, rod_mass_scene
+from rrbody.analysis.simulate import simulate
 
 DTS = (4e-3, 2e-3, 1e-3)
 

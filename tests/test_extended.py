@@ -8,15 +8,16 @@ import math
 import numpy as np
 import pytest
 
-from rrbody import _params as P
-from rrbody.analysis import flip_time
-from rrbody.bodies import Disk, Ellipse, RodMass
-from rrbody.drive import CircularDrive
-from rrbody.dynamics import driven_rhs
-from rrbody.friction import Friction
-from rrbody.ode import integrate_driven
-from rrbody.scene import Scene, rod_mass_scene
-from rrbody.simulation import simulate
+from rrbody.physics.bind import kernel_params
+from rrbody.physics import params as P
+from rrbody.analysis.flip import flip_time
+from rrbody.model.bodies import Disk, Ellipse, RodMass
+from rrbody.model.drive import CircularDrive
+from rrbody.physics.dynamics import driven_rhs
+from rrbody.model.friction import Friction
+from rrbody.integrate.ode import integrate_driven
+from rrbody.model.scene import Scene, rod_mass_scene
+from rrbody.analysis.simulate import simulate
 
 W = 0.6
 DRIVE = CircularDrive(omega=W, d=1.0)
@@ -59,7 +60,7 @@ def test_flip_time_converges_with_icr_nodes() -> None:
     # 1.1e-6 s for this needle; docs/extended.md)
     body = Ellipse(R0=0.3, delta=0.9, l=0.2)
     sc = _scene(body, k=0.0033)
-    p, S = sc.kernel_params()
+    p, S = kernel_params(sc)
 
     def tf(nodes: float, rtol: float) -> float:
         q = p.copy()
@@ -140,7 +141,7 @@ def test_phi0_pi_start_is_finite(body) -> None:
     # d omega I_cm / I_P but the RHS must be finite whatever the friction method
     for method in ("icr", "sampled"):
         sc = _scene(body, friction_method=method, samples=1024)
-        p, S = sc.kernel_params()
+        p, S = kernel_params(sc)
         out = np.empty(2)
         driven_rhs(0.0, np.array([math.pi, sc.initial_phi_dot]), p, S, out)
         assert np.all(np.isfinite(out))
@@ -193,11 +194,11 @@ def test_energy_balance_driver_work_equals_kinetic_change_plus_dissipation(body)
     # per unit mass: dK/dt = F_drive . v_P - P_fric, K = (v_cm^2 + (I_cm/m) Omega^2)/2, with the
     # drive force F_drive = a_cm - F_fric and P_fric = -(F_fric . v_cm + tau_cm Omega) >= 0.
     # Integrated by the trapezoid rule on a 1 ms grid (error ~ dt^2 |K'''| T ~ 1e-7 here).
-    from rrbody.area import icr_wrench
+    from rrbody.physics.area import icr_wrench
 
     sc = _scene(body, k=0.05)
     tr = simulate(sc, t_max=10.0, dt_out=1e-3, rtol=1e-12)
-    p, S = sc.kernel_params()
+    p, S = kernel_params(sc)
     icm, l, mu_g = body.inertia_per_mass, body.l, sc.friction.coeff
     n = len(tr)
     p_drive = np.empty(n)

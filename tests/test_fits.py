@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from rrbody.fits import fit_power_law, fit_q_exponential, q_exponential
-from rrbody.report import paper_small_omega_C, small_omega_C
+from rrbody.analysis.fits import fit_power_law, fit_q_exponential, q_exponential
+from rrbody.analysis.report import paper_small_omega_C, small_omega_C
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
@@ -79,8 +79,8 @@ def test_small_omega_closed_form_matches_quadrature() -> None:
 
 
 def test_small_omega_limit_matches_the_ode() -> None:
-    from rrbody.analysis import flip_time
-    from rrbody.scene import rod_mass_scene
+    from rrbody.analysis.flip import flip_time
+    from rrbody.model.scene import rod_mass_scene
 
     w, k, H = 0.03, 7.5, 0.25
     r = flip_time(rod_mass_scene(H, k, w))

@@ -8,8 +8,9 @@ import math
 import numpy as np
 import pytest
 
+from rrbody.physics.bind import kernel_params
 from rrbody import flip_time, rod_mass_scene
-from rrbody.dynamics import driven_rhs
+from rrbody.physics.dynamics import driven_rhs
 
 from .reference import quasi_static_tf_times_omega, scipy_flip_time
 
@@ -52,7 +53,7 @@ def test_phi0_pi_start_is_finite_and_zero_torque() -> None:
     # At phi0 = pi the CM starts at rest: the dry term is 0/0; its self-consistent limit is 0.
     for friction in ("dry", "viscous"):
         sc = rod_mass_scene(0.3, 0.5, 0.9, math.pi, friction=friction)
-        p, S = sc.kernel_params()
+        p, S = kernel_params(sc)
         out = np.empty(2)
         driven_rhs(0.0, np.array([sc.phi0, sc.initial_phi_dot]), p, S, out)
         assert np.all(np.isfinite(out))

@@ -8,8 +8,9 @@ import tracemalloc
 import numpy as np
 import pytest
 
+from rrbody.physics.bind import kernel_params
 from rrbody import critical_h, flip_time, rod_mass_scene, simulate
-from rrbody.ode import integrate_driven
+from rrbody.integrate.ode import integrate_driven
 
 from .reference import quasi_static_tf_times_omega
 
@@ -68,7 +69,7 @@ def test_rr_interval_edges_in_phi0_give_finite_answers() -> None:
 def test_memory_bounded_without_dense_output() -> None:
     # > 1e6 steps with no output grid: memory must not grow with the horizon.
     sc = rod_mass_scene(0.25, 7.5, 300.0)
-    p, S = sc.kernel_params()
+    p, S = kernel_params(sc)
     tracemalloc.start()
     res = integrate_driven(p, S, (sc.phi0, sc.initial_phi_dot), t_end=400.0, rtol=1e-12, max_minima=1000)
     _, peak = tracemalloc.get_traced_memory()

@@ -9,12 +9,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rrbody.bodies import Ellipse
-from rrbody.drive import CircularDrive
-from rrbody.friction import Friction
-from rrbody.scene import Scene, rod_mass_scene
-from rrbody.simulation import simulate
-from rrbody.trajectory import Trajectory
+from rrbody.model.bodies import Ellipse
+from rrbody.model.drive import CircularDrive
+from rrbody.model.friction import Friction
+from rrbody.model.scene import Scene, rod_mass_scene
+from rrbody.analysis.simulate import simulate
+from rrbody.model.trajectory import Trajectory
 
 imageio_ffmpeg = pytest.importorskip("imageio_ffmpeg")
 

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from rrbody.report import write_report
-from rrbody.scenes import list_scenes, scenes_dir
+from rrbody.analysis.report import write_report
+from rrbody.cli.scenes import list_scenes, scenes_dir
 
 FIGURE_SCENES = ("phixtpm", "sss", "seco1", "normal-and-phase-portrait", "tfxwpm2", "hc", "tfvshvsomega",
                  "extended-phi", "movie-s1", "movie-s2")

@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import rrbody.sweep as sw
-from rrbody.sweep import Sweep, SweepInterrupted, checkpoint_path, load_sweep, read_meta, run_sweep
+import rrbody.analysis.sweep as sw
+from rrbody.analysis.sweep import Sweep, SweepInterrupted, checkpoint_path, load_sweep, read_meta, run_sweep
 
 
 def small_sweep(k: float = 7.5) -> Sweep:
@@ -80,8 +80,8 @@ def test_two_d_grid_netcdf(tmp_path: Path) -> None:
     meta = read_meta(out)
     assert meta["spec"]["base"] == {"k": 1.5} and meta["rrbody_version"]
     # the grid value at (omega=2, H=0.3) is the flip time of that scene
-    from rrbody.analysis import flip_time
-    from rrbody.scene import rod_mass_scene
+    from rrbody.analysis.flip import flip_time
+    from rrbody.model.scene import rod_mass_scene
 
     assert float(ds["t_f"].sel(omega=2.0, H=0.3)) == flip_time(rod_mass_scene(0.3, 1.5, 2.0)).t_f
 

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from rrbody import rod_mass_scene, simulate
-from rrbody.io import atomic_path
-from rrbody.trajectory import Trajectory
+from rrbody.model.io import atomic_path
+from rrbody.model.trajectory import Trajectory
 
 
 def test_round_trip_is_exact(tmp_path: Path) -> None:

@@ -25,9 +25,9 @@ from typing import Any
 
 import numpy as np
 
-from .._checks import check_int, check_positive, check_real
-from ..io import atomic_path, check_writable
-from ..trajectory import Trajectory
+from rrbody.model.checks import check_int, check_positive, check_real
+from rrbody.model.io import atomic_path, check_writable
+from rrbody.model.trajectory import Trajectory
 
 __all__ = ["render_movie", "render_poster", "frame_times", "MovieFigure", "RED", "BLUE"]
 
@@ -423,33 +423,3 @@ def render_poster(traj: Trajectory, path: str | Path, *, tau: float | None = Non
 
 
 # ---- cost measurement: python -m rrbody.render.mp4 [seconds_of_movie] ------------------------------
-def _bench(movie_seconds: float = 20.0) -> None:  # pragma: no cover - a measurement, not a test
-    """Print ms per frame at 1280x720, 30 fps, for drawing alone and for drawing + H.264 encoding,
-    on the Movie S1 scene (k = 0.003 s^-2, H = 0.6, omega = 0.6 rad/s, phi0 = pi, 2.5x speed)."""
-    import tempfile
-    import time
-
-    from ..scene import rod_mass_scene
-    from ..simulation import simulate
-
-    speed, fps = 2.5, 30
-    traj = simulate(rod_mass_scene(0.6, 0.003, 0.6, math.pi), t_max=speed * movie_seconds, dt_out=0.02)
-    times = frame_times(0.0, float(traj.t[-1]), fps=fps, speed=speed)
-    fig = MovieFigure(traj, size=(1280, 720), t_f=_resolve_tf(traj, None), speed=speed)
-    c0 = time.perf_counter()
-    for tau in times:
-        fig.frame(float(tau))
-    draw = (time.perf_counter() - c0) / len(times) * 1e3
-    with tempfile.TemporaryDirectory() as d:
-        c0 = time.perf_counter()
-        render_movie(traj, Path(d) / "bench.mp4", fps=fps, speed=speed)
-        total = (time.perf_counter() - c0) / len(times) * 1e3
-        mb = (Path(d) / "bench.mp4").stat().st_size / 1e6
-    print(f"{len(times)} frames (1280x720, {movie_seconds:g} s of movie): draw {draw:.1f} ms/frame; "
-          f"draw + encode (render_movie) {total:.1f} ms/frame; {mb:.2f} MB")
-
-
-if __name__ == "__main__":  # pragma: no cover
-    import sys
-
-    _bench(float(sys.argv[1]) if len(sys.argv) > 1 else 20.0)

@@ -38,8 +38,8 @@ from typing import Any
 
 import numpy as np
 
-from ..io import atomic_path, check_writable
-from ..trajectory import Trajectory, _jsonable
+from rrbody.model.io import atomic_path, check_writable
+from rrbody.model.trajectory import Trajectory, _jsonable
 
 __all__ = ["record", "TIMELINE", "TRAIL_BLOCK", "MAX_WORLD_ROWS", "MAX_TRAIL_POINTS", "expected_entities"]
 

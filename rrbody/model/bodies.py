@@ -17,7 +17,7 @@ from typing import ClassVar, Literal
 
 import numpy as np
 
-from ._checks import MAX_LENGTH, check_choice, check_nonnegative, check_positive, check_range
+from rrbody.model.checks import MAX_LENGTH, check_choice, check_nonnegative, check_positive, check_range
 
 __all__ = ["Body", "RodMass", "Disk", "Ellipse", "BODY_KINDS"]
 

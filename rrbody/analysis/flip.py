@@ -17,45 +17,18 @@ Definitions
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
 
-from ._checks import check_positive, check_range
-from .scene import Scene, rod_mass_scene
-from .simulation import resolve_rtol
+from rrbody.physics.bind import kernel_params
+from rrbody.integrate.events import FlipResult, classify_flip, rr_from_T1
+from rrbody.model.checks import check_positive, check_range
+from rrbody.model.scene import Scene, rod_mass_scene
+from rrbody.analysis.simulate import resolve_rtol
 
 __all__ = ["FlipResult", "flip_time", "classify_flip", "reverse_rotation_exists", "critical_h", "frictionless_T1",
            "frictionless_critical_h"]
-
-
-@dataclass
-class FlipResult:
-    """Outcome of :func:`flip_time` (s, rad). ``t_f`` is None when there is no flip to report."""
-
-    t_f: float | None
-    phi_min: float
-    t_phi_min: float
-    reverse_rotation: bool
-    T1: float | None
-    settled: bool
-    regime: str
-    t_stop: float
-    n_steps: int
-    n_minima: int
-    rtol: float
-    wall_s: float
-    minima: np.ndarray
-
-    def as_dict(self) -> dict[str, Any]:
-        d = asdict(self)
-        d.pop("minima")
-        return d
-
-
-def _rr_from_T1(T1: float, omega: float) -> bool:
-    return math.isfinite(T1) and omega * T1 < 2.0 * math.pi
 
 
 def flip_time(scene: Scene, *, rtol: float | None = None, accuracy: str = "default", t_max: float | None = None,
@@ -69,14 +42,14 @@ def flip_time(scene: Scene, *, rtol: float | None = None, accuracy: str = "defau
     """
     if not scene.driven:
         raise ValueError("flip_time needs a driven scene (drive is None: a free body has no flip)")
-    from .ode import integrate_driven
+    from rrbody.integrate.ode import integrate_driven
 
     rtol_v = resolve_rtol(rtol, accuracy)
     settle_turns = check_range("settle_turns", settle_turns, 0.5, 100.0)
     settle_periods = check_range("settle_periods", settle_periods, 0.0, 1e6)
     horizon = t_max if t_max is not None else scene.t_max
     horizon = math.inf if horizon is None else check_positive("t_max", horizon, unit="s")
-    p, S = scene.kernel_params()
+    p, S = kernel_params(scene)
     y0 = (scene.phi0, scene.initial_phi_dot)
     if not scene.friction.active:
         res = integrate_driven(p, S, y0, t_end=min(horizon, 2.0 * scene.drive.period), rtol=rtol_v,  # type: ignore[union-attr]
@@ -96,47 +69,14 @@ def flip_time(scene: Scene, *, rtol: float | None = None, accuracy: str = "defau
                       res.wall, res.minima)
 
 
-def classify_flip(scene: Scene, *, status: str, has_min: bool, phi_min: float, t_min: float, T1: float,
-                  t_end: float) -> tuple[float | None, str, bool, bool, float]:
-    """Turn a run's lowest minimum into the reported flip: (t_f, regime, RR exists, settled, phi_min).
-
-    Shared by both integrator paths, so the ODE and the engine report flips by the same rules:
-    ``t_f`` is the time of the lowest minimum when the run settled and phi fell below phi0;
-    otherwise None, with the regime saying why. Without friction there is never a flip (the run
-    only answers the RR question) and ``phi_min`` is passed through as the run found it.
-    """
-    rr = _rr_from_T1(T1, scene.omega)
-    if not scene.friction.active:
-        regime = ("no friction: reverse rotation is perennial, there is no flip" if rr
-                  else "no friction: no reverse rotation")
-        return None, regime, rr, False, phi_min
-    settled = status == "flip settled"
-    turned_back = has_min and phi_min < scene.phi0
-    t_f: float | None = None
-    if not settled:
-        regime = (f"not settled: {status} at t={t_end:.6g} s; " +
-                  (f"the lowest minimum so far is at t={t_min:.6g} s, so t_f >= that" if has_min
-                   else "phi has had no minimum yet"))
-    elif not turned_back:
-        regime = "no reverse rotation: phi never falls below phi0 (normal rotation from the start)"
-    elif rr:
-        regime = "reverse rotation (theta made a full backward turn in the first period), then normal rotation"
-        t_f = t_min
-    else:
-        regime = (f"incomplete reverse rotation: phi fell by {scene.phi0 - phi_min:.4g} rad before turning "
-                  "forward (no full backward turn of theta in the first period)")
-        t_f = t_min
-    return t_f, regime, rr, settled, (phi_min if has_min else scene.phi0)
-
-
 def reverse_rotation_exists(scene: Scene, *, rtol: float | None = None, accuracy: str = "default") -> bool:
     """SPEC section 4: T_1 exists and omega T_1 < 2 pi. Integrates at most one driving period."""
-    from .ode import integrate_driven
+    from rrbody.integrate.ode import integrate_driven
 
-    p, S = scene.kernel_params()
+    p, S = kernel_params(scene)
     res = integrate_driven(p, S, (scene.phi0, scene.initial_phi_dot), t_end=1.01 * scene.drive.period,  # type: ignore[union-attr]
                            rtol=resolve_rtol(rtol, accuracy), stop="rr")
-    return _rr_from_T1(res.T1, scene.omega)
+    return rr_from_T1(res.T1, scene.omega)
 
 
 def critical_h(k: float, omega: float, *, phi0: float = math.pi, friction: str = "dry", tol: float = 1e-9,

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._checks import MAX_LENGTH, MAX_RATE, check_positive
+from rrbody.model.checks import MAX_LENGTH, MAX_RATE, check_positive
 
 __all__ = ["CircularDrive"]
 

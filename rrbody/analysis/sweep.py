@@ -40,7 +40,6 @@ Either the rod-mass keywords of :func:`rrbody.scene.rod_mass_scene` (``H``, ``k`
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import copy
 import csv
@@ -54,7 +53,7 @@ from typing import Any
 
 import numpy as np
 
-from . import __version__
+from rrbody._version import __version__
 
 __all__ = ["Sweep", "QUANTITIES", "run_sweep", "load_sweep", "make_scene", "evaluate_point", "checkpoint_path",
            "SweepInterrupted", "add_parser", "read_meta", "run_fresh_or_resume"]
@@ -156,7 +155,7 @@ class Sweep:
 
     def spec(self) -> dict[str, Any]:
         """JSON-ready description; two sweeps with equal specs compute identical results."""
-        from .trajectory import _jsonable
+        from rrbody.model.trajectory import _jsonable
 
         return _jsonable({"base": self.base, "axes": self.axes, "quantity": self.quantity, "mode": self.mode,
                           "options": self.options, "rrbody_version": __version__})
@@ -177,7 +176,7 @@ def _set_path(d: dict[str, Any], path: str, value: float) -> None:
 
 def make_scene(sweep: Sweep, values: dict[str, float]) -> Any:
     """The Scene of one sweep point (base parameters overridden by the axis ``values``)."""
-    from .scene import Scene, rod_mass_scene
+    from rrbody.model.scene import Scene, rod_mass_scene
 
     if "scene" in sweep.base:
         desc = copy.deepcopy(sweep.base["scene"])
@@ -194,7 +193,7 @@ def make_scene(sweep: Sweep, values: dict[str, float]) -> Any:
 
 def evaluate_point(sweep: Sweep, values: dict[str, float]) -> dict[str, Any]:
     """Compute the sweep's quantity at one point; errors become a row with an ``error`` message."""
-    from .analysis import critical_h, flip_time, reverse_rotation_exists
+    from rrbody.analysis.flip import critical_h, flip_time, reverse_rotation_exists
 
     opts = dict(sweep.options)
     try:
@@ -260,7 +259,7 @@ def _read_checkpoint(path: Path, spec: dict[str, Any]) -> dict[int, dict[str, An
             continue  # a partial line from an interrupted write: recompute that point
     clean = "\n".join(good) + "\n"
     if clean != text:
-        from .io import atomic_write_text
+        from rrbody.model.io import atomic_write_text
 
         atomic_write_text(path, clean, force=True, name="checkpoint")
     return rows
@@ -318,7 +317,7 @@ def run_sweep(sweep: Sweep, out: str | os.PathLike[str], *, resume: bool = False
     points per task (default: about 4 tasks per worker, at most 256 points). ``_stop_after``:
     test hook, raise :class:`SweepInterrupted` once that many points are checkpointed.
     """
-    from .io import atomic_write_text, check_writable
+    from rrbody.model.io import atomic_write_text, check_writable
 
     out_p = Path(out)
     if out_p.suffix not in (".csv", ".nc"):
@@ -400,7 +399,7 @@ def _meta(sweep: Sweep) -> dict[str, Any]:
 
 
 def _write_output(sweep: Sweep, done: dict[int, dict[str, Any]], out: Path, *, force: bool) -> None:
-    from .io import atomic_path, atomic_write_text
+    from rrbody.model.io import atomic_path, atomic_write_text
 
     missing = [i for i in range(sweep.size) if i not in done]
     if missing:
@@ -468,91 +467,6 @@ def load_sweep(path: str | os.PathLike[str]) -> Any:
         if not first.startswith(_HEADER):
             raise ValueError(f"{str(p)!r} is not an rrbody sweep CSV")
         return list(csv.DictReader(fh))
-
-
-# ---- command line ----------------------------------------------------------------------------
-def _parse_axis(text: str) -> tuple[str, tuple[float, ...]]:
-    """NAME=v1,v2,... or NAME=start:stop:num[:log]."""
-    name, sep, rest = text.partition("=")
-    if not sep or not name:
-        raise argparse.ArgumentTypeError(f"--axis must be NAME=v1,v2,... or NAME=start:stop:num[:log], got {text!r}")
-    try:
-        if ":" in rest:
-            parts = rest.split(":")
-            start, stop, num = float(parts[0]), float(parts[1]), int(parts[2])
-            log = len(parts) > 3 and parts[3] == "log"
-            if num < 1 or (log and (start <= 0 or stop <= 0)):
-                raise ValueError
-            vals = np.geomspace(start, stop, num) if log else np.linspace(start, stop, num)
-        else:
-            vals = np.asarray([float(v) for v in rest.split(",") if v])
-    except (ValueError, IndexError):
-        raise argparse.ArgumentTypeError(f"--axis must be NAME=v1,v2,... or NAME=start:stop:num[:log] "
-                                         f"(num >= 1, log needs start, stop > 0), got {text!r}") from None
-    return name.strip(), tuple(float(v) for v in vals)
-
-
-def add_parser(sub: Any) -> None:
-    """Register ``rrbody sweep`` on the CLI's subparsers."""
-    from .cli import _angle, _finite
-
-    s = sub.add_parser("sweep", help="flip time / H_c / RR over a grid or list of rod-mass parameters",
-                       description="Sweep a rod-mass scene. Example: rrbody sweep --quantity flip_time --H 0.25 "
-                                   "--k 7.5 --axis omega=0.1:100:40:log --out tf.csv  (2-D: two --axis; "
-                                   "--out x.nc for NetCDF)")
-    s.add_argument("--quantity", choices=tuple(QUANTITIES), default="flip_time")
-    s.add_argument("--axis", action="append", type=_parse_axis, required=True,
-                   help="NAME=v1,v2,... or NAME=start:stop:num[:log]; NAME in H, k, omega, phi0, d (repeatable)")
-    s.add_argument("--list", dest="zip_axes", action="store_true", help="zip the axes (one point per index)")
-    s.add_argument("--H", type=_finite("--H"))
-    s.add_argument("--k", type=_finite("--k"))
-    s.add_argument("--omega", type=_finite("--omega"))
-    s.add_argument("--phi0", type=_angle, default=math.pi)
-    s.add_argument("--d", type=_finite("--d"), default=1.0)
-    s.add_argument("--friction", choices=("dry", "viscous", "none"), default="dry")
-    s.add_argument("--accuracy", choices=("draft", "default", "paper"), default="default")
-    s.add_argument("--rtol", type=_finite("--rtol"), default=None)
-    s.add_argument("--t-max", type=_finite("--t-max"), default=None, help="flip_time horizon cap (s)")
-    s.add_argument("--tol", type=_finite("--tol"), default=None, help="critical_h tolerance on H")
-    s.add_argument("--out", required=True, help="output .csv or .nc (2-D grids)")
-    s.add_argument("--resume", action="store_true", help="continue an interrupted sweep from its checkpoint")
-    s.add_argument("--force", action="store_true", help="overwrite an existing output / start afresh")
-    s.add_argument("--scheduler", default=None, help="Dask scheduler address, e.g. tcp://127.0.0.1:8786")
-    s.add_argument("--workers", type=int, default=None, help="local processes (default: all cores)")
-    s.add_argument("--batch-size", type=int, default=None, help="points per task")
-    s.add_argument("--json", action="store_true")
-    s.set_defaults(func=cmd_sweep)
-
-
-def cmd_sweep(args: argparse.Namespace) -> int:
-    """Handler of ``rrbody sweep``."""
-    import sys
-
-    axes = dict(args.axis)
-    base: dict[str, Any] = {"phi0": args.phi0, "d": args.d, "friction": args.friction}
-    for k in ("H", "k", "omega"):
-        v = getattr(args, k)
-        if v is not None:
-            base[k] = v
-    for k in axes:
-        base.pop(k, None)
-    options: dict[str, Any] = {"accuracy": args.accuracy}
-    if args.rtol is not None:
-        options["rtol"] = args.rtol
-    if args.t_max is not None and args.quantity == "flip_time":
-        options["t_max"] = args.t_max
-    if args.tol is not None and args.quantity == "critical_h":
-        options["tol"] = args.tol
-    sweep = Sweep(base=base, axes=axes, quantity=args.quantity, mode="list" if args.zip_axes else "grid",
-                  options=options)
-    out = run_sweep(sweep, args.out, resume=args.resume, force=args.force, scheduler=args.scheduler,
-                    workers=args.workers, batch_size=args.batch_size,
-                    progress=not args.json and sys.stderr.isatty())
-    if args.json:
-        print(json.dumps({"out": str(out), "points": sweep.size, "shape": list(sweep.shape)}))
-    else:
-        print(f"wrote {out} ({sweep.size} points, shape {sweep.shape})")
-    return 0
 
 
 def _nc_engine() -> str:

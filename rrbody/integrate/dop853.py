@@ -33,7 +33,7 @@ def _load_scipy_tableau():  # noqa: ANN202
 
 _co = _load_scipy_tableau()
 
-from .dynamics import rhs
+from rrbody.physics.dynamics import rhs
 
 __all__ = ["TABLEAU", "rk_step", "error_norm", "ORDER"]
 

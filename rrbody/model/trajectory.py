@@ -14,13 +14,17 @@ import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .io import atomic_path
+from rrbody._version import __version__
+from rrbody.model.io import atomic_path
 
-__all__ = ["Trajectory", "COLUMNS"]
+if TYPE_CHECKING:
+    from rrbody.model.scene import Scene
+
+__all__ = ["Trajectory", "COLUMNS", "driven_trajectory"]
 
 COLUMNS: tuple[str, ...] = ("t", "phi", "phi_dot", "x_cm", "y_cm", "vx_cm", "vy_cm", "x_p", "y_p", "body_angle",
                             "spin")
@@ -98,3 +102,21 @@ class Trajectory:
         head = json.loads(first[len(_META_PREFIX):])
         cols = {c: (data[:, i] if data.size else np.empty(0)) for i, c in enumerate(COLUMNS)}
         return cls(**cols, events=head.get("events", {}), meta=head.get("meta", {}))
+
+
+def driven_trajectory(scene: "Scene", t: np.ndarray, phi: np.ndarray, phi_dot: np.ndarray) -> Trajectory:
+    """Assemble a Trajectory of a driven body from samples of phi(t), phi'(t) (rad, rad/s)."""
+    drive = scene.drive
+    if drive is None:
+        raise ValueError("driven_trajectory needs a driven scene (drive is None)")
+    l = scene.body.l
+    P = drive.position(t)
+    V = drive.velocity(t)
+    e = np.column_stack([np.cos(phi), np.sin(phi)])
+    eperp = np.column_stack([-np.sin(phi), np.cos(phi)])
+    cm = P - l * e
+    vcm = V - l * phi_dot[:, None] * eperp
+    beta = scene.phi0 - scene.body.alpha0
+    return Trajectory(t=t, phi=phi, phi_dot=phi_dot, x_cm=cm[:, 0], y_cm=cm[:, 1], vx_cm=vcm[:, 0],
+                      vy_cm=vcm[:, 1], x_p=P[:, 0], y_p=P[:, 1], body_angle=phi - beta, spin=phi_dot.copy(),
+                      meta={"scene": scene.describe(), "rrbody_version": __version__})

@@ -22,15 +22,14 @@ import math
 import numpy as np
 from numba import njit
 
-from . import _params as P
-from ._checks import check_int, check_positive, check_real
-from ._icr import ECC_ETA, NODE_COUNTS
-from ._icr import icr_wrench as _icr_kernel
-from .bodies import Body, Disk, Ellipse
-from .dynamics import driven_rhs
+from rrbody.physics import params as P
+from rrbody.model.checks import check_int, check_positive, check_real
+from rrbody.physics.icr import ECC_ETA, NODE_COUNTS
+from rrbody.physics.icr import icr_wrench as _icr_kernel
+from rrbody.model.bodies import Body, Disk, Ellipse
 
 __all__ = ["icr_supported", "icr_nodes", "area_samples", "icr_wrench", "sampled_wrench", "disk_closed_form",
-           "disk_closed_form_ratio", "rhs_cost_ratio"]
+           "disk_closed_form_ratio"]
 
 _LAW_CODES = {"none": 0, "dry": 1, "viscous": 2}
 
@@ -110,7 +109,7 @@ def icr_wrench(body: Body, alpha: float, vx: float, vy: float, spin: float, *, l
 def sampled_wrench(body: Body, alpha: float, vx: float, vy: float, spin: float, *, law: str = "dry",
                    coeff: float = 1.0, samples: int = 4096) -> tuple[float, float, float]:
     """(Fx, Fy, tau_cm) per unit mass from :func:`area_samples` (m/s^2 world frame, m^2/s^2)."""
-    from .friction import sampled_wrench as _kernel
+    from rrbody.physics.wrench import sampled_wrench as _kernel
 
     alpha, vx, vy, spin = _motion(alpha, vx, vy, spin)
     S = area_samples(body, samples)
@@ -176,59 +175,3 @@ def disk_closed_form(R: float, vx: float, vy: float, spin: float, *, mu_g: float
     fx = -mu_g * f * vx / speed if speed > 0.0 else 0.0
     fy = -mu_g * f * vy / speed if speed > 0.0 else 0.0
     return fx, fy, -math.copysign(mu_g * R * t, spin) if spin != 0.0 else 0.0
-
-
-def rhs_cost_ratio(body: Body, *, calls: int = 200_000, repeats: int = 5) -> dict[str, float]:
-    """Measure the cost (ns per call) of the driven right-hand side with ``body`` under dry friction
-    by the ICR quadrature (omega = 0.6 rad/s, d = 1 m, k = 0.0033 s^-2, phi0 = pi: the paper's
-    ExtendedPhi setting), against the rod-mass one, at the states of the body's own run.
-
-    Returns ``{"point_ns", "icr_ns", "ratio", "nodes"}`` (best of ``repeats``). Used for the
-    performance numbers in docs/extended.md (SPEC issue 7 target: ratio <= ~5).
-    """
-    import time
-
-    from .drive import CircularDrive
-    from .friction import Friction
-    from .scene import Scene, rod_mass_scene
-
-    calls = check_int("calls", calls, 1)
-    repeats = check_int("repeats", repeats, 1)
-    ext = Scene(body=body, drive=CircularDrive(omega=0.6, d=1.0), friction=Friction.from_k("dry", 0.0033, 1.0))
-    pt = rod_mass_scene(H=0.2, k=0.0033, omega=0.6)
-    p_e, S_e = ext.kernel_params()
-    p_p, S_p = pt.kernel_params()
-    # the states the integrator actually visits: 1024 samples of the body's own run over 100 s
-    from .simulation import simulate
-
-    tr = simulate(ext, t_max=100.0, dt_out=100.0 / 1023, rtol=1e-8)
-    states = np.ascontiguousarray(np.column_stack([tr.phi, tr.phi_dot, tr.t]))
-    _rhs_loop(p_p, S_p, states, 10)
-    _rhs_loop(p_e, S_e, states, 10)
-    out = {}
-    for name, p, S in (("point_ns", p_p, S_p), ("icr_ns", p_e, S_e)):
-        best = math.inf
-        for _ in range(repeats):
-            t0 = time.perf_counter()
-            _rhs_loop(p, S, states, calls)
-            best = min(best, time.perf_counter() - t0)
-        out[name] = best / calls * 1e9
-    out["ratio"] = out["icr_ns"] / out["point_ns"]
-    out["nodes"] = float(p_e[P.NQ])
-    return out
-
-
-@njit(cache=True)
-def _rhs_loop(p, S, states, calls):  # noqa: ANN001, ANN202
-    """Evaluate the driven right-hand side ``calls`` times over ``states`` rows (phi, phi', t)."""
-    y = np.empty(2)
-    out = np.empty(2)
-    acc = 0.0
-    n = states.shape[0]
-    for i in range(calls):
-        j = i % n
-        y[0] = states[j, 0]
-        y[1] = states[j, 1]
-        driven_rhs(states[j, 2], y, p, S, out)
-        acc += out[1]
-    return acc

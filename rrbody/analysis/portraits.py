@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from ._checks import check_positive
+from rrbody.model.checks import check_positive
 
 __all__ = ["valid_initial_line", "theta_series", "initial_point"]
 

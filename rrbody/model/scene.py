@@ -13,13 +13,10 @@ import math
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-import numpy as np
-
-from . import _params as P
-from ._checks import MAX_LENGTH, MAX_RATE, MAX_TIME, check_choice, check_int, check_positive, check_range
-from .bodies import BODY_KINDS, Body, RodMass
-from .drive import CircularDrive
-from .friction import Friction
+from rrbody.model.checks import MAX_LENGTH, MAX_RATE, MAX_TIME, check_choice, check_int, check_positive, check_range
+from rrbody.model.bodies import BODY_KINDS, Body, RodMass
+from rrbody.model.drive import CircularDrive
+from rrbody.model.friction import Friction
 
 __all__ = ["Scene", "rod_mass_scene", "FRICTION_METHODS"]
 
@@ -128,56 +125,11 @@ class Scene:
             return self.spin0
         return self.omega * self.body.l * self.d * math.cos(self.phi0) / self.inertia_about_pivot
 
-    @property
-    def area_model(self) -> int:
-        """Which friction integration the kernels use (see :mod:`rrbody._params`)."""
-        if self.body.is_point and self.friction_method == "icr":
-            raise ValueError(f"friction_method 'icr' needs an extended body (disk or ellipse), got body "
-                             f"{self.body.kind!r}; a point mass feels friction at its CM ('auto')")
-        if self.body.is_point or not self.friction.active:
-            return P.BODY_POINT
-        if self.friction_method == "sampled":
-            return P.BODY_SAMPLED
-        from .area import icr_supported  # extended-body module; imported only when an area is needed
-
-        if self.friction_method == "icr" and not icr_supported(self.body, self.friction.law):
-            raise ValueError(f"friction_method 'icr' does not apply to body {self.body.kind!r} with friction "
-                             f"{self.friction.law!r}; use 'sampled' or 'auto'")
-        return P.BODY_ICR if icr_supported(self.body, self.friction.law) else P.BODY_SAMPLED
-
     def velocity_scale(self) -> float:
         """A characteristic speed (m/s) for tolerances: drive speed plus spin times size."""
         ra, rb = self.body.semi_axes
         spin = abs(self.initial_phi_dot)
         return self.omega * self.d + (self.body.l + max(ra, rb)) * max(spin, self.omega) + math.hypot(*self.v0)
-
-    def kernel_params(self) -> tuple[np.ndarray, np.ndarray]:
-        """The parameter vector ``p`` and area-sample array ``S`` for the compiled kernels."""
-        p = np.zeros(P.SIZE)
-        p[P.OMEGA] = self.omega
-        p[P.D] = self.d
-        p[P.L] = self.body.l
-        p[P.IP] = self.inertia_about_pivot
-        p[P.ICM] = self.body.inertia_per_mass
-        p[P.BETA] = self.phi0 - self.body.alpha0
-        p[P.LAW] = float(self.friction.code if self.friction.active else 0)
-        p[P.COEFF] = self.friction.coeff
-        p[P.VEPS] = 1e-12 * self.velocity_scale()
-        ra, rb = self.body.semi_axes
-        p[P.RA] = ra
-        p[P.RB] = rb
-        model = self.area_model
-        p[P.BODY] = float(model)
-        S = np.zeros((0, 3))
-        if model == P.BODY_SAMPLED:
-            from .area import area_samples
-
-            S = area_samples(self.body, self.samples)
-        elif model == P.BODY_ICR:
-            from .area import icr_nodes
-
-            p[P.NQ] = float(icr_nodes(self.body))
-        return p, S
 
     def with_(self, **changes: Any) -> "Scene":
         """A copy with some fields changed (validated again)."""

@@ -52,8 +52,9 @@ from typing import Any
 
 import numpy as np
 
-from ._checks import check_int, check_positive, check_range
-from .scene import Scene
+from rrbody.physics.bind import kernel_params
+from rrbody.model.checks import check_int, check_positive, check_range
+from rrbody.model.scene import Scene
 
 __all__ = ["EngineSettings", "EngineHandle", "attach", "simulate_engine", "engine_flip_time", "valid_dt_range",
            "COARSE_FRACTION", "MAX_FRACTION"]
@@ -180,7 +181,7 @@ class EngineHandle:
         self._i = i_cm  # I_cm / m used by pymunk (m^2)
         # friction: the sampled area elements of the ODE path (BODY_POINT for a point mass)
         fscene = scene if body.is_point else scene.with_(friction_method="sampled")
-        self._p, self._S = fscene.kernel_params()
+        self._p, self._S = kernel_params(fscene)
         self._friction = scene.friction.active
         self._mu_g = scene.friction.coeff if scene.friction.law == "dry" else 0.0
         self._free = scene.drive is None
@@ -222,7 +223,7 @@ class EngineHandle:
             vel_h = (vx0, vy0, w0)
             if self._staggered:
                 # half kick: the state at t = dt/2 from phi''(0) of the shared right-hand side
-                from .dynamics import driven_rhs
+                from rrbody.physics.dynamics import driven_rhs
 
                 f0 = np.empty(2)
                 driven_rhs(0.0, np.array([phi0, w0]), self._p, self._S, f0)
@@ -331,7 +332,7 @@ class EngineHandle:
         """Friction (fx, fy, tau) per unit mass at the velocity (ex, ey, ew) and the factor s in [0, 1]
         that keeps the impulse dt*s*(f, tau) from carrying the kinetic energy of the current velocity
         (vx, vy, w) past its minimum along the impulse (no chatter, never a gain for a free body)."""
-        from .friction import body_wrench
+        from rrbody.physics.wrench import body_wrench
 
         fx, fy, tau = body_wrench(self._p, self._S, self.body.angle, ex, ey, ew)
         num = -(vx * fx + vy * fy + w * tau)
@@ -661,8 +662,7 @@ def simulate_engine(scene: Scene, *, t_max: float, dt_out: float, progress: bool
     ``minima`` (parabola through the three engine samples around each discrete minimum of phi),
     ``phi_min``, ``t_phi_min``, ``T1``; free: ``t_stop``, ``stop_position``, ``distance``, ``turn``.
     """
-    from .simulation import driven_trajectory
-    from .trajectory import Trajectory
+    from rrbody.model.trajectory import Trajectory, driven_trajectory
 
     max_steps = check_int("max_steps", max_steps, 1)
     settings = _settings(scene, dt, iterations, point_inertia=point_inertia, staggered=staggered)
@@ -695,7 +695,7 @@ def simulate_engine(scene: Scene, *, t_max: float, dt_out: float, progress: bool
         ang = o[:, 3]
         xp = o[:, 1] + body.l * np.cos(ang + beta)
         yp = o[:, 2] + body.l * np.sin(ang + beta)
-        from . import __version__
+        from rrbody._version import __version__
 
         traj = Trajectory(t=o[:, 0], phi=ang + beta, phi_dot=o[:, 6].copy(), x_cm=o[:, 1], y_cm=o[:, 2],
                           vx_cm=o[:, 4], vy_cm=o[:, 5], x_p=xp, y_p=yp, body_angle=ang, spin=o[:, 6].copy(),
@@ -720,7 +720,7 @@ def engine_flip_time(scene: Scene, *, t_max: float | None = None, dt: float | No
     rule (:func:`rrbody.analysis.flip_time`): t_f is the time of the lowest minimum of phi, located
     by a parabola through the three engine samples around it. ``t_max`` None: run until settled.
     ``FlipResult.rtol`` is NaN (the engine has a step, not a tolerance)."""
-    from .analysis import FlipResult, classify_flip
+    from rrbody.integrate.events import FlipResult, classify_flip
 
     if not scene.driven:
         raise ValueError("engine_flip_time needs a driven scene (drive is None: a free body has no flip)")
@@ -750,136 +750,3 @@ def engine_flip_time(scene: Scene, *, t_max: float | None = None, dt: float | No
         regime += f" [{cm['warning']}]"
     return FlipResult(t_f, phi_min, res.t_min, rr, res.T1 if math.isfinite(res.T1) else None, settled, regime,
                       res.t_end, res.n_steps, res.n_minima, math.nan, res.wall, minima_arr(res))
-
-
-# ---- measurements quoted in docs/engine.md: `python -m rrbody.engine` ----------------------------
-def _measure_cost(scene: Scene, n: int = 20_000, dt: float = 1e-3, repeat: int = 3) -> float:
-    """Best-of-``repeat`` wall time per ``space.step`` (s) for ``scene`` attached alone."""
-    import pymunk
-
-    best = math.inf
-    for _ in range(repeat):
-        space = pymunk.Space()
-        attach(space, scene, settings=EngineSettings(dt=dt))
-        space.step(dt)  # compile / warm caches outside the timing
-        t0 = time.perf_counter()
-        for _ in range(n):
-            space.step(dt)
-        best = min(best, (time.perf_counter() - t0) / n)
-    return best
-
-
-def _measure_plain_pymunk(n: int = 20_000, dt: float = 1e-3, repeat: int = 3) -> float:
-    """Per-step cost (s) of a pymunk body on a pivot to a kinematic body, with no Python hooks."""
-    import pymunk
-
-    best = math.inf
-    for _ in range(repeat):
-        space = pymunk.Space()
-        drv = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
-        drv.velocity = (0.0, 0.6)
-        b = pymunk.Body(1.0, 0.01)
-        b.position = (0.8, 0.0)
-        space.add(drv, b, pymunk.PivotJoint(drv, b, (0.0, 0.0), (0.2, 0.0)))
-        t0 = time.perf_counter()
-        for _ in range(n):
-            space.step(dt)
-        best = min(best, (time.perf_counter() - t0) / n)
-    return best
-
-
-def _main() -> None:  # pragma: no cover - a measurement script
-    from .analysis import flip_time
-    from .bodies import Disk, Ellipse, RodMass
-    from .drive import CircularDrive
-    from .friction import Friction
-    from .scene import rod_mass_scene
-    from .simulation import simulate
-
-    drive = CircularDrive(0.6)
-    print("## Cost per engine step (best of 3 x 20000 steps, dt = 1e-3 s)")
-    plain = _measure_plain_pymunk()
-    bare = _measure_cost(Scene(body=RodMass(l=0.2), drive=drive, friction=Friction("none")))
-    print(f"plain pymunk (pivot + kinematic body, no Python hooks): {plain * 1e6:.2f} us")
-    print(f"bare driven body (rod-mass, no friction, rrbody hooks): {bare * 1e6:.2f} us")
-    for label, sc in [("rod-mass, dry point friction", Scene(body=RodMass(l=0.2), drive=drive,
-                                                               friction=Friction("dry", 0.05))),
-                      ("disk, dry, 256 area elements", Scene(body=Disk(R=0.1, l=0.2), drive=drive,
-                                                             friction=Friction("dry", 0.05), samples=256)),
-                      ("disk, dry, 4096 area elements", Scene(body=Disk(R=0.1, l=0.2), drive=drive,
-                                                              friction=Friction("dry", 0.05), samples=4096))]:
-        c = _measure_cost(sc)
-        n_el = sc.with_(friction_method="sampled").kernel_params()[1].shape[0] if not sc.body.is_point else 1
-        print(f"{label} ({n_el} elements): {c * 1e6:.2f} us = {c / bare:.2f} x bare")
-
-    print("\n## Convergence against the ODE path (rtol 1e-12, same 256 sampled elements), omega = 0.6, "
-          "k = 0.05, l = 0.2, phi0 = pi")
-    print("| body | law | t_f (ODE, s) | dt (s) | max abs phi error (rad) | order | t_f error (s) | order |")
-    print("|---|---|---|---|---|---|---|---|")
-    bodies = {"rod": RodMass(l=0.2), "disk R=0.1": Disk(R=0.1, l=0.2),
-              "ellipse R0=0.1 delta=0.5": Ellipse(R0=0.1, delta=0.5, l=0.2)}
-    for name, body in bodies.items():
-        for law in ("dry", "viscous"):
-            sc = Scene(body=body, drive=drive, friction=Friction.from_k(law, 0.05, 1.0), phi0=math.pi,
-                       friction_method="sampled", samples=256)
-            ref_f = flip_time(sc, rtol=1e-12)
-            assert ref_f.t_f is not None
-            horizon = 1.2 * ref_f.t_f + 2.0
-            ref = simulate(sc, t_max=horizon, dt_out=0.125, rtol=1e-12)
-            prev: tuple[float, float] | None = None
-            for dt in (4e-3, 2e-3, 1e-3):
-                tr = simulate(sc, method="engine", t_max=horizon, dt_out=0.125, dt=dt)
-                ep = float(np.max(np.abs(tr.phi - ref.phi)))
-                et = abs(tr.events["t_phi_min"] - ref_f.t_f)
-                o1 = f"{math.log2(prev[0] / ep):.2f}" if prev else ""
-                o2 = f"{math.log2(prev[1] / et):.2f}" if prev else ""
-                print(f"| {name} | {law} | {ref_f.t_f:.6f} | {dt:g} | {ep:.3g} | {o1} | {et:.3g} | {o2} |")
-                prev = (ep, et)
-    sc = rod_mass_scene(0.2, 0.05, 0.6, math.pi)
-    ref_f = flip_time(sc, rtol=1e-12)
-    assert ref_f.t_f is not None
-    print("\n## Plain pymunk (staggered=False), rod-mass dry, same case")
-    for dt in (2e-3, 1e-3, 5e-4):
-        r = engine_flip_time(sc, dt=dt, staggered=False)
-        assert r.t_f is not None
-        print(f"dt = {dt:g}: t_f = {r.t_f:.7f} s, relative error {(r.t_f - ref_f.t_f) / ref_f.t_f:.3g}")
-    print("\n## Done-when: flip-time --method engine --dt 1e-3 --H 0.2 --k 0.05 --omega 0.6 --phi0 pi")
-    for dt in (1e-3, 0.02):
-        r = engine_flip_time(sc, dt=dt)
-        assert r.t_f is not None
-        print(f"dt = {dt:g}: t_f = {r.t_f:.7f} s (ODE {ref_f.t_f:.7f} s), relative error "
-              f"{(r.t_f - ref_f.t_f) / ref_f.t_f:.3g}, {r.n_steps} steps, {r.wall_s:.2f} s wall")
-    print("\n## Stiff dry friction: H = 0.2, k = 100, omega = 0.1 (k/omega^2 = 1e4), 8 s window")
-    stiff = rod_mass_scene(0.2, 100.0, 0.1, math.pi)
-    sf = flip_time(stiff, rtol=1e-12)
-    assert sf.t_f is not None
-    for dt in (1e-2, 3e-3, 1e-3):
-        tr = simulate(stiff, method="engine", t_max=8.0, dt_out=0.5, dt=dt)
-        print(f"dt = {dt:g}: t_f relative error {(tr.events['t_phi_min'] - sf.t_f) / sf.t_f:.3g}, "
-              f"coarse = {tr.meta['coarse']}")
-    print("\n## Free bodies against rrbody.free (256 elements; v0 = (1, 0.5) m/s, spin0 = 10 rad/s, mu g = 1)")
-    for fb in (RodMass(l=0.1), Disk(R=0.1), Ellipse(R0=0.1, delta=0.5, l=0.05)):
-        fsc = Scene(body=fb, drive=None, friction=Friction("dry", 1.0), v0=(1.0, 0.5), spin0=10.0,
-                    friction_method="sampled", samples=256)
-        fode = simulate(fsc, t_max=2.0, dt_out=0.01, rtol=1e-12).events
-        for dt in (2e-3, 1e-3, 5e-4, 2.5e-4):
-            ev = simulate(fsc, method="engine", t_max=2.0, dt_out=0.01, dt=dt).events
-            print(f"{fb.kind} dt = {dt:g}: t_stop error {ev['t_stop'] - fode['t_stop']:.3g} s "
-                  f"({(ev['t_stop'] - fode['t_stop']) / dt:.2f} dt), stop position error "
-                  f"{math.dist(ev['stop_position'], fode['stop_position']):.3g} m, turn error "
-                  f"{ev['turn'] - fode['turn']:.3g} rad")
-    print("\n## Point-mass representation I_cm = eps m l^2 (dt = 5e-4 s, shifts against eps = 1e-12)")
-    base = engine_flip_time(sc, dt=5e-4, point_inertia=1e-12)
-    base_tr = simulate_engine(sc, t_max=20.0, dt_out=0.05, dt=5e-4, point_inertia=1e-12)
-    assert base.t_f is not None
-    for eps in (1e-3, 1e-4, 1e-6, 1e-9):
-        r = engine_flip_time(sc, dt=5e-4, point_inertia=eps)
-        tr = simulate_engine(sc, t_max=20.0, dt_out=0.05, dt=5e-4, point_inertia=eps)
-        assert r.t_f is not None
-        dtf = (r.t_f - base.t_f) / base.t_f
-        dphi = float(np.max(np.abs(tr.phi - base_tr.phi)))
-        print(f"eps = {eps:g}: t_f shift {dtf:.3g} relative ({dtf / eps:.3f} eps); max |phi shift| over 0-20 s "
-              f"{dphi:.3g} rad ({dphi / eps:.1f} eps)")
-
-if __name__ == "__main__":  # pragma: no cover
-    _main()

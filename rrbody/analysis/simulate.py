@@ -13,17 +13,18 @@ from typing import Any
 
 import numpy as np
 
-from . import __version__
-from ._checks import check_int, check_positive, check_range
-from .scene import Scene
-from .trajectory import Trajectory
+from rrbody.physics.bind import kernel_params
+from rrbody._version import __version__
+from rrbody.model.checks import check_int, check_positive, check_range
+from rrbody.model.scene import Scene
+from rrbody.model.trajectory import Trajectory, driven_trajectory
 
 __all__ = ["simulate", "METHODS", "ACCURACY", "register_method", "default_dt_out", "resolve_rtol"]
 
 #: accuracy presets -> ODE relative tolerance (chosen from benchmarks/results: see README)
 ACCURACY: dict[str, float] = {"draft": 1e-9, "default": 1e-13, "paper": 1e-14}
 
-METHODS: dict[str, str] = {"ode": "rrbody.simulation:_simulate_ode", "engine": "rrbody.engine:simulate_engine"}
+METHODS: dict[str, str] = {"ode": "rrbody.analysis.simulate:_simulate_ode", "engine": "rrbody.engine:simulate_engine"}
 _LOADED: dict[str, Callable[..., Trajectory]] = {}
 
 
@@ -86,12 +87,12 @@ def _simulate_ode(scene: Scene, *, t_max: float, dt_out: float, progress: bool =
     rtol_v = resolve_rtol(rtol, accuracy)
     max_steps = check_int("max_steps", max_steps, 1)
     if not scene.driven:
-        from .free import simulate_free
+        from rrbody.integrate.free import simulate_free
 
         return simulate_free(scene, t_max=t_max, dt_out=dt_out, rtol=rtol_v, max_steps=max_steps, progress=progress)
-    from .ode import integrate_driven
+    from rrbody.integrate.ode import integrate_driven
 
-    p, S = scene.kernel_params()
+    p, S = kernel_params(scene)
     res = integrate_driven(p, S, (scene.phi0, scene.initial_phi_dot), t_end=t_max, rtol=rtol_v, stop="t_end",
                            dt_out=dt_out, max_steps=max_steps, progress=progress, desc="ode")
     traj = driven_trajectory(scene, res.out[:, 0], res.out[:, 1], res.out[:, 2])
@@ -109,21 +110,3 @@ def _simulate_ode(scene: Scene, *, t_max: float, dt_out: float, progress: bool =
     if res.status not in ("reached t_end",):
         traj.meta["warning"] = f"integration stopped early: {res.status} at t={res.t_end:.6g} s"
     return traj
-
-
-def driven_trajectory(scene: Scene, t: np.ndarray, phi: np.ndarray, phi_dot: np.ndarray) -> Trajectory:
-    """Assemble a Trajectory of a driven body from samples of phi(t), phi'(t) (rad, rad/s)."""
-    drive = scene.drive
-    if drive is None:
-        raise ValueError("driven_trajectory needs a driven scene (drive is None)")
-    l = scene.body.l
-    P = drive.position(t)
-    V = drive.velocity(t)
-    e = np.column_stack([np.cos(phi), np.sin(phi)])
-    eperp = np.column_stack([-np.sin(phi), np.cos(phi)])
-    cm = P - l * e
-    vcm = V - l * phi_dot[:, None] * eperp
-    beta = scene.phi0 - scene.body.alpha0
-    return Trajectory(t=t, phi=phi, phi_dot=phi_dot, x_cm=cm[:, 0], y_cm=cm[:, 1], vx_cm=vcm[:, 0],
-                      vy_cm=vcm[:, 1], x_p=P[:, 0], y_p=P[:, 1], body_angle=phi - beta, spin=phi_dot.copy(),
-                      meta={"scene": scene.describe(), "rrbody_version": __version__})

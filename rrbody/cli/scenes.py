@@ -16,7 +16,7 @@ __all__ = ["scenes_dir", "list_scenes", "run_scene"]
 
 
 def scenes_dir() -> Path:
-    return Path(__file__).resolve().parent.parent / "scenes"
+    return Path(__file__).resolve().parents[2] / "scenes"
 
 
 def list_scenes() -> list[tuple[str, str]]:

@@ -1,7 +1,7 @@
 """Layout of the float64 parameter vector ``p`` that every compiled kernel receives.
 
 Kernels take parameters as arguments (no closures) so one compiled function serves every scene.
-:func:`rrbody.scene.Scene.kernel_params` fills this vector; nothing else writes it.
+:func:`rrbody.physics.bind.kernel_params` fills this vector from a :class:`rrbody.model.scene.Scene`; nothing else writes it.
 """
 
 OMEGA = 0      # drive rate (rad/s); 0 for a free body

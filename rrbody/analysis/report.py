@@ -16,7 +16,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from . import __version__
+from rrbody._version import __version__
 
 __all__ = ["save_figure", "write_table", "write_summary", "read_summary", "write_report", "small_omega_C",
            "paper_small_omega_C", "add_parser", "cmd_report"]
@@ -27,7 +27,7 @@ def save_figure(fig: Any, out_dir: Path, name: str, *, force: bool = True) -> li
     """Save a matplotlib figure as ``<name>.png`` (150 dpi) and ``<name>.svg`` in ``out_dir``; closes it."""
     import matplotlib.pyplot as plt
 
-    from .io import atomic_path
+    from rrbody.model.io import atomic_path
 
     out = []
     for ext, kw in (("png", {"dpi": 150}), ("svg", {})):
@@ -45,8 +45,8 @@ def write_table(path: Path, columns: Sequence[str], rows: Sequence[Sequence[Any]
 
     Floats are written with ``repr`` (round-trip exact); None becomes an empty field.
     """
-    from .io import atomic_path
-    from .trajectory import _jsonable
+    from rrbody.model.io import atomic_path
+    from rrbody.model.trajectory import _jsonable
 
     with atomic_path(path, force=force, name=Path(path).name) as tmp, open(tmp, "w", newline="") as fh:
         if meta is not None:
@@ -60,8 +60,8 @@ def write_table(path: Path, columns: Sequence[str], rows: Sequence[Sequence[Any]
 
 def write_summary(out_dir: Path, summary: dict[str, Any], *, force: bool = True) -> Path:
     """``summary.json``: the scene's key numbers (read by :func:`write_report`)."""
-    from .io import atomic_write_text
-    from .trajectory import _jsonable
+    from rrbody.model.io import atomic_write_text
+    from rrbody.model.trajectory import _jsonable
 
     data = _jsonable({**summary, "rrbody_version": __version__})
     return atomic_write_text(Path(out_dir) / "summary.json", json.dumps(data, indent=1) + "\n", force=force,
@@ -132,7 +132,7 @@ def write_report(results: str | Path = "results", *, out: str | Path | None = No
     ``run_time_s``: wall time of the ``rrbody scene all`` run that produced the results (stored
     in ``results/run_time.json`` for later report runs).
     """
-    from .io import atomic_write_text
+    from rrbody.model.io import atomic_write_text
 
     res = Path(results)
     if not res.is_dir():
@@ -411,7 +411,7 @@ def add_parser(sub: Any) -> None:
 
 
 def default_results() -> Path:
-    return Path(__file__).resolve().parent.parent / "results"
+    return Path(__file__).resolve().parents[2] / "results"
 
 
 def cmd_report(args: argparse.Namespace) -> int:

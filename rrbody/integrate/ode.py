@@ -31,9 +31,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from numba import njit
 
-from . import _params as P
-from ._dop853 import TABLEAU, error_norm, rk_step, step_factor
-from .dynamics import SYSTEM_DRIVEN, driven_rhs
+from rrbody.physics import params as P
+from rrbody.integrate.dop853 import TABLEAU, error_norm, rk_step, step_factor
+from rrbody.physics.dynamics import SYSTEM_DRIVEN, driven_rhs
 
 __all__ = ["DrivenResult", "integrate_driven", "STOP_RULES"]
 

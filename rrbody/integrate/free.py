@@ -31,12 +31,13 @@ import time
 import numpy as np
 from numba import njit
 
-from . import __version__
-from . import _params as P
-from ._dop853 import TABLEAU, error_norm, rk_step, step_factor
-from .dynamics import SYSTEM_FREE, free_rhs
-from .scene import Scene
-from .trajectory import Trajectory
+from rrbody.physics.bind import kernel_params
+from rrbody._version import __version__
+from rrbody.physics import params as P
+from rrbody.integrate.dop853 import TABLEAU, error_norm, rk_step, step_factor
+from rrbody.physics.dynamics import SYSTEM_FREE, free_rhs
+from rrbody.model.scene import Scene
+from rrbody.model.trajectory import Trajectory
 
 __all__ = ["simulate_free", "STEP_FRACTION", "STOP_SPEED_FRACTION"]
 
@@ -175,7 +176,7 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     if scene.driven:
         raise ValueError("simulate_free needs a free scene (drive=None); use rrbody.simulate for driven ones")
     A, B, C, E3, E5 = TABLEAU
-    p, S = scene.kernel_params()
+    p, S = kernel_params(scene)
     body = scene.body
     icm = body.inertia_per_mass
     rmax = max(body.semi_axes)

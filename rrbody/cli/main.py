@@ -13,52 +13,13 @@ import sys
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from . import __version__
+from rrbody._version import __version__
+from rrbody.cli.args import CliError, _angle, _finite, _float_list
 
 __all__ = ["main", "entry", "build_parser", "scene_from_args"]
 
 EXIT_BAD_INPUT = 2
 INTERRUPTED = "rrbody: interrupted; no partial output was left behind"
-
-
-class CliError(ValueError):
-    """A bad option value (reported as `rrbody: error: ...`, exit 2)."""
-
-
-def _float_list(name: str, n: int) -> Callable[[str], tuple[float, ...]]:
-    def parse(text: str) -> tuple[float, ...]:
-        parts = [s for s in text.replace(" ", "").split(",") if s]
-        try:
-            vals = tuple(float(s) for s in parts)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{name} must be {n} comma-separated numbers, got {text!r}") from None
-        if len(vals) != n or not all(math.isfinite(v) for v in vals):
-            raise argparse.ArgumentTypeError(f"{name} must be {n} finite comma-separated numbers, got {text!r}")
-        return vals
-
-    return parse
-
-
-def _finite(name: str) -> Callable[[str], float]:
-    def parse(text: str) -> float:
-        try:
-            v = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}") from None
-        if not math.isfinite(v):
-            raise argparse.ArgumentTypeError(f"{name} must be finite, got {text!r}")
-        return v
-
-    return parse
-
-
-def _angle(text: str) -> float:
-    from .angles import parse_angle
-
-    try:
-        return parse_angle(text, name="--phi0")
-    except ValueError as e:
-        raise argparse.ArgumentTypeError(str(e)) from None
 
 
 # ---- shared option groups --------------------------------------------------------------------
@@ -130,10 +91,10 @@ def check_option_ranges(a: argparse.Namespace) -> None:
 
 def scene_from_args(a: argparse.Namespace) -> Any:
     """Build a validated Scene from parsed options (ValueError names the option)."""
-    from .bodies import Disk, Ellipse, RodMass
-    from .drive import CircularDrive
-    from .friction import Friction
-    from .scene import Scene
+    from rrbody.model.bodies import Disk, Ellipse, RodMass
+    from rrbody.model.drive import CircularDrive
+    from rrbody.model.friction import Friction
+    from rrbody.model.scene import Scene
 
     check_option_ranges(a)
     if a.k is not None and a.mu is not None:
@@ -210,7 +171,7 @@ def _option_name(msg: str) -> str:
 
 def _emit(args: argparse.Namespace, payload: dict[str, Any], text: str) -> None:
     if args.json:
-        from .trajectory import _jsonable
+        from rrbody.model.trajectory import _jsonable
 
         print(json.dumps(_jsonable(payload)))
     else:
@@ -223,8 +184,8 @@ def _progress(args: argparse.Namespace) -> bool:
 
 # ---- subcommands -----------------------------------------------------------------------------
 def cmd_simulate(args: argparse.Namespace) -> int:
-    from .io import check_writable
-    from .simulation import simulate
+    from rrbody.model.io import check_writable
+    from rrbody.analysis.simulate import simulate
 
     scene = scene_from_args(args)  # checks every option's range first, --fps and --movie-speed included
     if scene.t_max is None:
@@ -246,12 +207,12 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     if args.out:
         written["out"] = str(traj.save(args.out, force=args.force))
     if args.movie:
-        from .render.mp4 import render_movie
+        from rrbody.render.mp4 import render_movie
 
         written["movie"] = str(render_movie(traj, args.movie, force=args.force, progress=_progress(args),
                                             fps=args.fps, speed=args.movie_speed))
     if args.rerun or args.rerun_spawn:
-        from .render.rerun import record
+        from rrbody.render.rerun import record
 
         written["rerun"] = str(record(traj, args.rerun, spawn=args.rerun_spawn, force=args.force))
     ev = traj.events
@@ -275,12 +236,12 @@ def cmd_flip_time(args: argparse.Namespace) -> int:
     if not scene.driven:
         raise CliError("--no-drive: a free body has no flip time (use `rrbody simulate`)")
     if args.method == "engine":
-        from .engine import engine_flip_time
+        from rrbody.engine import engine_flip_time
 
         opts = {k: v for k, v in (("dt", args.dt), ("iterations", args.iterations)) if v is not None}
         res = engine_flip_time(scene, t_max=args.t_max, max_steps=args.max_steps, progress=_progress(args), **opts)
     else:
-        from .analysis import flip_time
+        from rrbody.analysis.flip import flip_time
 
         res = flip_time(scene, rtol=args.rtol, accuracy=args.accuracy, t_max=args.t_max, max_steps=args.max_steps,
                         progress=_progress(args))
@@ -296,7 +257,7 @@ def cmd_flip_time(args: argparse.Namespace) -> int:
 
 
 def cmd_critical_h(args: argparse.Namespace) -> int:
-    from .analysis import critical_h
+    from rrbody.analysis.flip import critical_h
 
     check_option_ranges(args)
     if args.k is not None and args.mu is not None:
@@ -320,14 +281,14 @@ def cmd_critical_h(args: argparse.Namespace) -> int:
 
 def cmd_demo(args: argparse.Namespace) -> int:
     """The main job: the Movie S1 scene (movies/movie_s1.mp4 and results/movie-s1/)."""
-    from .scenes import run_scene
+    from rrbody.cli.scenes import run_scene
 
     run_scene("movie-s1", force=True)
     return 0
 
 
 def cmd_scene(args: argparse.Namespace) -> int:
-    from .scenes import list_scenes, run_scene, scenes_dir
+    from rrbody.cli.scenes import list_scenes, run_scene, scenes_dir
 
     if args.list or args.name is None:
         for n, doc in list_scenes():
@@ -340,7 +301,7 @@ def cmd_scene(args: argparse.Namespace) -> int:
     for n in names:
         run_scene(n, force=args.force, report=(args.name == "all"))
     if args.name == "all":
-        from .report import write_report
+        from rrbody.analysis.report import write_report
 
         wall = time.perf_counter() - t0
         print(f"all scenes: {wall:.1f} s; wrote {write_report(scenes_dir().parent / 'results', run_time_s=wall)}")
@@ -401,14 +362,11 @@ def build_parser() -> argparse.ArgumentParser:
     sc.add_argument("--force", action="store_true", default=True, help=argparse.SUPPRESS)
     sc.set_defaults(func=cmd_scene, json=False)
 
-    from .report import add_parser as add_report_parser
-    from .sweep import add_parser as add_sweep_parser
-
-    from .worker import add_parser as add_worker_parser
+    from rrbody.analysis.report import add_parser as add_report_parser
+    from rrbody.cli.sweep import add_parser as add_sweep_parser
 
     add_sweep_parser(sub)
     add_report_parser(sub)
-    add_worker_parser(sub)
 
     dm = sub.add_parser("demo", help="the main job (what `make demo` runs)")
     dm.set_defaults(func=cmd_demo, json=False)
@@ -432,30 +390,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def entry(argv: Sequence[str] | None = None) -> int:
-    """The ``rrbody`` console command: ``main`` run in the warm worker when one is up (see
-    ``rrbody.worker``), otherwise in this process, which then starts a worker for the next call."""
-    from . import worker
-
-    argv = list(sys.argv[1:] if argv is None else argv)
-    if not argv or argv[0] not in worker.SERVED:
-        return main(argv)
-    try:
-        settings = worker.settings()
-    except ValueError as e:
-        print(f"rrbody: error: {e}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    if settings is None:
-        return main(argv)
-    code = worker.forward(argv, settings)
-    if code is not None:
-        return code
-    try:
-        code = main(argv)
-    except SystemExit:  # argparse errors: a worker still helps the corrected call
-        worker.spawn(settings)
-        raise
-    worker.spawn(settings)
-    return code
+    """The ``rrbody`` console command."""
+    return main(argv)
 
 
 if __name__ == "__main__":  # pragma: no cover

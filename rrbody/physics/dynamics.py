@@ -15,8 +15,8 @@ import math
 import numpy as np
 from numba import njit
 
-from . import _params as P
-from .friction import body_wrench, point_force
+from rrbody.physics import params as P
+from rrbody.physics.wrench import body_wrench, point_force
 
 __all__ = ["rhs", "driven_rhs", "driven_kinematics", "SYSTEM_DRIVEN", "SYSTEM_FREE"]
 

@@ -1,0 +1,5 @@
+"""The ``rrbody`` command line (top layer): argument helpers, subcommands, scene runner."""
+
+from rrbody.cli.main import build_parser, entry, main
+
+__all__ = ["main", "entry", "build_parser"]

@@ -1,0 +1,1 @@
+"""Integration layer: the stepping loop, its methods and the event detector."""

@@ -1,0 +1,1 @@
+"""Physics layer: the effects and the compiled kernels they use (friction wrench, ICR quadrature, area tables)."""

@@ -1,0 +1,54 @@
+"""Bind a scene to the compiled kernels: its parameter vector ``p`` and area samples ``S``.
+
+The layout of ``p`` is :mod:`rrbody.physics.params`; this module is the only writer.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rrbody.model.scene import Scene
+from rrbody.physics import params as P
+from rrbody.physics.area import area_samples, icr_nodes, icr_supported
+
+__all__ = ["area_model", "kernel_params"]
+
+
+def area_model(scene: Scene) -> int:
+    """Which friction integration the kernels use for ``scene``: P.BODY_POINT, P.BODY_SAMPLED or P.BODY_ICR."""
+    if scene.body.is_point and scene.friction_method == "icr":
+        raise ValueError(f"friction_method 'icr' needs an extended body (disk or ellipse), got body "
+                         f"{scene.body.kind!r}; a point mass feels friction at its CM ('auto')")
+    if scene.body.is_point or not scene.friction.active:
+        return P.BODY_POINT
+    if scene.friction_method == "sampled":
+        return P.BODY_SAMPLED
+    if scene.friction_method == "icr" and not icr_supported(scene.body, scene.friction.law):
+        raise ValueError(f"friction_method 'icr' does not apply to body {scene.body.kind!r} with friction "
+                         f"{scene.friction.law!r}; use 'sampled' or 'auto'")
+    return P.BODY_ICR if icr_supported(scene.body, scene.friction.law) else P.BODY_SAMPLED
+
+
+def kernel_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
+    """The parameter vector ``p`` and area-sample array ``S`` (rows x_b, y_b, w) for the compiled kernels."""
+    p = np.zeros(P.SIZE)
+    p[P.OMEGA] = scene.omega
+    p[P.D] = scene.d
+    p[P.L] = scene.body.l
+    p[P.IP] = scene.inertia_about_pivot
+    p[P.ICM] = scene.body.inertia_per_mass
+    p[P.BETA] = scene.phi0 - scene.body.alpha0
+    p[P.LAW] = float(scene.friction.code if scene.friction.active else 0)
+    p[P.COEFF] = scene.friction.coeff
+    p[P.VEPS] = 1e-12 * scene.velocity_scale()
+    ra, rb = scene.body.semi_axes
+    p[P.RA] = ra
+    p[P.RB] = rb
+    model = area_model(scene)
+    p[P.BODY] = float(model)
+    S = np.zeros((0, 3))
+    if model == P.BODY_SAMPLED:
+        S = area_samples(scene.body, scene.samples)
+    elif model == P.BODY_ICR:
+        p[P.NQ] = float(icr_nodes(scene.body))
+    return p, S
