@@ -23,7 +23,8 @@ from rrbody.analysis import flip_time
 from rrbody.bodies import Disk, Ellipse, RodMass
 from rrbody.drive import CircularDrive
 from rrbody.friction import Friction
-from rrbody.report import save_figure, write_summary, write_table
+from rrbody.render.figures import save_figure
+from rrbody.report import write_summary, write_table
 from rrbody.scene import Scene
 from rrbody.simulation import simulate
 

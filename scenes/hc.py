@@ -1,6 +1,6 @@
 """Hc: critical geometry H_c vs k = mu g/d, dry and viscous, with q-exponential fits (paper Fig. Hc).
 
-H_c(k) is the largest H for which reverse rotation exists (SPEC section 4) at omega = 0.3 rad/s,
+H_c(k) is the largest H for which reverse rotation exists (the README's "Definitions rrbody fixes") at omega = 0.3 rad/s,
 phi0 = pi, found by scan + bisection (rrbody.analysis.critical_h) on a uniform grid of k. The fit
 protocol that reproduces the paper's q and lambda: H_c(0) fixed at the exact frictionless value,
 unweighted least squares over k in [0, 1] s^-2 (101 points per law); other ranges are reported too.
@@ -14,7 +14,8 @@ import numpy as np
 
 from rrbody.analysis import critical_h, frictionless_critical_h
 from rrbody.fits import fit_q_exponential, q_exponential
-from rrbody.report import save_figure, write_summary, write_table
+from rrbody.render.figures import save_figure
+from rrbody.report import write_summary, write_table
 
 OMEGA = 0.3  # rad/s (paper caption)
 K_MAX_FIT = 1.0  # s^-2: the fitted range [0, K_MAX_FIT]

@@ -12,7 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from rrbody.analysis import flip_time
-from rrbody.report import save_figure, write_summary, write_table
+from rrbody.render.figures import save_figure
+from rrbody.report import write_summary, write_table
 from rrbody.scene import rod_mass_scene
 from rrbody.simulation import simulate
 

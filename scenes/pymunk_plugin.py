@@ -1,6 +1,6 @@
 """pymunk plugin: three driven dry-friction bodies and a falling ball in one ordinary pymunk Space (no paper figure).
 
-Shows the engine path as a plugin (issue 4): ``rrbody.engine.attach`` adds a kinematic driver on the
+Shows the engine path as a plugin: ``rrbody.engine.attach`` adds a kinematic driver on the
 circle, a PivotJoint and the per-step area-friction hook to a user's own ``pymunk.Space``; the user's
 loop just calls ``space.step(dt)``. The space has gravity for its own ball; the attached bodies slide
 on a horizontal plane and ignore it. Outputs: phi(t) of each body (CSV), a figure (PNG/SVG) of phi(t)
@@ -22,7 +22,8 @@ from rrbody.bodies import Disk, Ellipse
 from rrbody.drive import CircularDrive
 from rrbody.engine import EngineSettings, attach
 from rrbody.friction import Friction
-from rrbody.report import save_figure, write_summary, write_table
+from rrbody.render.figures import save_figure
+from rrbody.report import write_summary, write_table
 from rrbody.scene import Scene, rod_mass_scene
 
 DT = 2e-3  # s: engine step (second order: t_f good to ~1e-5 relative here, docs/engine.md)

@@ -1,7 +1,7 @@
 """seco1: flip time vs phi0 for k = 7.5, 12.5, 17.5 s^-2 (H = 0.25, omega = 100 rad/s); inset: 250 s CM history (paper Fig. seco1).
 
 The phi0 interval with reverse rotation is centred on pi and does not depend on friction: its
-edges are located by bisection on the RR test (SPEC section 4) for each k and without friction.
+edges are located by bisection on the RR test (the README's "Definitions rrbody fixes") for each k and without friction.
 Inset: k = 0.0015 s^-2, H = 0.2, omega = 0.6 rad/s, phi0 = pi, CM position over 250 s.
 """
 
@@ -13,7 +13,8 @@ from pathlib import Path
 import numpy as np
 
 from rrbody.analysis import reverse_rotation_exists
-from rrbody.report import save_figure, write_summary, write_table
+from rrbody.render.figures import save_figure
+from rrbody.report import write_summary, write_table
 from rrbody.scene import rod_mass_scene
 from rrbody.simulation import simulate
 from rrbody.sweep import Sweep, run_fresh_or_resume

@@ -11,7 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rrbody.report import save_figure, write_summary, write_table
+from rrbody.render.figures import save_figure
+from rrbody.report import write_summary, write_table
 from rrbody.sweep import Sweep, run_fresh_or_resume
 
 K = 1.5  # s^-2, paper caption

@@ -14,7 +14,8 @@ from pathlib import Path
 import numpy as np
 
 from rrbody.fits import fit_power_law
-from rrbody.report import paper_small_omega_C, save_figure, small_omega_C, write_summary, write_table
+from rrbody.render.figures import save_figure
+from rrbody.report import paper_small_omega_C, small_omega_C, write_summary, write_table
 from rrbody.sweep import Sweep, run_fresh_or_resume
 
 K, H = 7.5, 0.25  # s^-2, paper caption

@@ -341,8 +341,15 @@ class MovieFigure:
             A["outline"].set_data(cx + c * o[:, 0] - s * o[:, 1], cy + s * o[:, 0] + c * o[:, 1])
         A["cm"].set_data([cx], [cy])
         A["p"].set_data([px], [py])
-        A["lab_p"].xy = (px, py)
+        # labels sit beyond each point along the rod (CM) and the crank (P), so no line crosses them
+        ux, uy, r = cx - px, cy - py, math.hypot(cx - px, cy - py)
+        ux, uy = (ux / r, uy / r) if r > 0 else (0.0, -1.0)
         A["lab_cm"].xy = (cx, cy)
+        A["lab_cm"].xyann = (14.0 * ux - 8.0, 14.0 * uy - 5.0)
+        r = math.hypot(px, py)
+        vx, vy = (px / r, py / r) if r > 0 else (-ux, -uy)
+        A["lab_p"].xy = (px, py)
+        A["lab_p"].xyann = (11.0 * vx - 4.0, 11.0 * vy - 5.0)
         if self.arrows:
             A["v"].set_offsets([[cx, cy]])
             A["v"].set_UVC([st[7] * self._vscale], [st[8] * self._vscale])
