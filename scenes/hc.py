@@ -71,21 +71,28 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     for law in ("viscous", "dry"):
         m = ks <= K_MAX_FIT + 1e-12
         f = fits[law]
-        ax.plot(ks[m], hc[law][m], "o", ms=3, color=colors[law],
+        ax.plot(ks[m], hc[law][m], "o", ms=3, color=colors[law], clip_on=False,
                 label=f"{law}: q = {f.params['q']:.3f}, $\\lambda$ = {f.params['lam']:.2f}")
         ax.plot(kk, q_exponential(kk, H0, f.params["lam"], f.params["q"]), "-", color="k", lw=1)
     ax.set_xlabel(r"$\mu g/d$ (s$^{-2}$)")
     ax.set_ylabel(r"$H_c$")
-    ax.set_title(r"Hc: $\omega$ = 0.3 rad/s, $\phi_0=\pi$; lines: q-exponential fits")
-    ax.set_xlim(0, K_MAX_FIT)
+    ax.set_title(r"Critical geometry: $\omega$ = 0.3 rad/s, $\phi_0=\pi$; lines: q-exponential fits")
+    ax.set_xlim(-0.02, K_MAX_FIT + 0.02)  # room for the markers at k = 0 and k = 1
     ax.set_ylim(0, 0.82)
     ax.legend(loc="upper right")
     ins = ax.inset_axes((0.45, 0.4, 0.33, 0.3))
+    inside, beyond = ks[1:] <= K_MAX_FIT + 1e-12, ks[1:] >= K_MAX_FIT - 1e-12
     for law in ("viscous", "dry"):
         ins.loglog(ks[1:], hc[law][1:], ".", ms=2, color=colors[law])
         f = fits[law]
-        ins.loglog(ks[1:], q_exponential(ks[1:], H0, f.params["lam"], f.params["q"]), "k-", lw=0.7)
-    ins.set_xlabel(r"$\mu g/d$ (s$^{-2}$); fitted up to 1", fontsize=7)
+        model = q_exponential(ks[1:], H0, f.params["lam"], f.params["q"])
+        # the fit is solid over its range and dashed where it is only extrapolated
+        ins.loglog(ks[1:][inside], model[inside], "k-", lw=0.7)
+        ins.loglog(ks[1:][beyond], model[beyond], "k--", lw=0.7)
+    ins.axvline(K_MAX_FIT, color="0.5", ls=":", lw=0.8)
+    ins.text(0.97 * K_MAX_FIT, 0.05, "fit range", fontsize=6, ha="right", va="bottom", color="0.35",
+             transform=ins.get_xaxis_transform())
+    ins.set_xlabel(r"$\mu g/d$ (s$^{-2}$); dashed: extrapolated fit", fontsize=7)
     ins.set_ylabel(r"$H_c$", fontsize=7)
     ins.tick_params(labelsize=6)
     save_figure(fig, out_dir, "hc", force=force)

@@ -98,7 +98,7 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     ax.set_ylabel(r"$t_f$ (s)")
     ax.set_xlim(phi0s[0], phi0s[-1])
     ax.set_ylim(bottom=0)
-    ax.set_title(r"seco1: H = 0.25, $\omega$ = 100 rad/s (RR starts only)")
+    ax.set_title(r"H = 0.25, $\omega$ = 100 rad/s (RR starts only)")
     ax.legend(loc="upper left", fontsize=8)
     ins = ax.inset_axes((0.745, 0.47, 0.25, 0.4))
     circ = np.linspace(0, 2 * math.pi, 200)
@@ -107,7 +107,8 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     ins.set_aspect("equal")
     ins.set_xticks([])
     ins.set_yticks([])
-    ins.set_title("inset: CM, 250 s,\nk = 0.0015, H = 0.2, $\\omega$ = 0.6", fontsize=6)
+    ins.set_title("inset: CM history, 0 < t < 250 s\n"
+                  r"$\mu g/d$ = 0.0015 s$^{-2}$, H = 0.2, $\omega$ = 0.6 rad/s", fontsize=6)
     save_figure(fig, out_dir, "seco1", force=force)
     # 6. Summary for the report.
     write_summary(out_dir, {"H": H, "omega": OMEGA, "rr_interval_frictionless": list(interval0), "per_k": per_k,

@@ -24,7 +24,7 @@ class Mechanics:
     """Per-sample arrays (same length as the trajectory), per unit mass.
 
     ``fx, fy``: friction force on the body (m/s^2); ``tau_cm``: friction torque about the CM
-    (m^2/s^2); ``kinetic``: 1/2 |v_cm|^2 + 1/2 (I_cm/m) spin^2 (J/kg); ``friction_power``:
+    (m^2/s^2); ``kinetic``: 1/2 v_cm . v_cm + 1/2 (I_cm/m) spin^2 (J/kg); ``friction_power``:
     F . v_cm + tau_cm spin (W/kg, <= 0: friction only removes energy); ``dissipated``: the
     energy friction has removed since the first sample, the integral of -friction_power by the
     trapezoidal rule on the samples (J/kg).
