@@ -259,7 +259,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         from .render.mp4 import render_movie
 
         written["movie"] = str(render_movie(traj, args.movie, force=args.force, progress=_progress(args),
-                                            fps=args.fps, speed=args.movie_speed, flip=flip))
+                                            fps=args.fps, speed=args.movie_speed, flip=flip,
+                                            arrows=args.movie_arrows))
     if args.rerun or args.rerun_spawn:
         from .render.rerun import record
 
@@ -381,6 +382,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--movie-speed", type=_finite("--movie-speed"), default=1.0,
                    help="simulated seconds per second of movie (default 1: real time)")
     s.add_argument("--fps", type=_finite("--fps"), default=30.0, help="movie frames per second (default 30)")
+    s.add_argument("--movie-arrows", action="store_true",
+                   help="draw the CM velocity and the friction force as arrows in the movie")
     s.add_argument("--rerun", help="write a rerun recording (.rrd) of the run")
     s.add_argument("--rerun-spawn", action="store_true", help="open the rerun viewer (needs a screen)")
     s.add_argument("--force", action="store_true", help="overwrite existing output files")
