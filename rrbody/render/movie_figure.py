@@ -259,8 +259,8 @@ class MovieFigure:
                        loc="lower left", fontsize=9, framealpha=0.85)
         A["time"] = axr.text(0.02, 0.97, "", transform=axr.transAxes, ha="left", va="top", fontsize=15,
                              family="monospace", animated=True)
-        # the banner sits in the phi panel's upper right, clear of the curve at its lowest point (the flip)
-        A["banner"] = fig.text(0.33, 0.78, "", ha="center", va="center", fontsize=17, color="white", weight="bold",
+        # the banner sits mid-height in the phi panel, clear of its key and of the curve at the flip (its minimum)
+        A["banner"] = fig.text(0.30, 0.60, "", ha="center", va="center", fontsize=17, color="white", weight="bold",
                                animated=True, visible=False,
                                bbox={"boxstyle": "round,pad=0.5", "fc": BLUE, "ec": "none", "alpha": 0.9})
         self.axl, self.axr, self.A = axl, axr, A
