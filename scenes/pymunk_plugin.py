@@ -5,8 +5,8 @@ circle, a PivotJoint and the per-step area-friction hook to a user's own ``pymun
 loop just calls ``space.step(dt)``. The space has gravity for its own ball; the attached bodies slide
 on a horizontal plane and ignore it. Outputs: phi(t) of each body (CSV), a figure (PNG/SVG) of phi(t)
 from the engine beside the ODE path, the CM paths on their drive circles (d = 1, 2, 3 m), the
-engine-minus-ODE difference of phi, and the ball's fall against -g t^2/2; and summary.json with each body's flip time next to the ODE path's (with the exact
-area integral, and with the engine's own 256 sampled elements: the difference between those two is
+engine-minus-ODE difference of phi, and the ball's fall against -g t^2/2; and summary.json with each
+body's flip time next to the ODE path's (with the exact area integral, and with the engine's own 256 sampled elements: the difference between those two is
 the area-sampling error, the rest is the engine's dt error).
 """
 
@@ -108,7 +108,8 @@ def main(out_dir: Path, *, force: bool = True) -> None:
         c.semilogy(every_t, np.abs(phi[k][::every] - ode_phi[k]) + 1e-16, lw=0.9, color=col,
                    label=f"{k}: t$_f$ engine vs ODE {rel:+.1e} (relative)")
     a.plot([], [], "--", color="k", lw=0.7, label="ODE path (same area elements)")
-    a.set(xlabel="t (s)", ylabel=r"$\phi$ (rad)", title=r"$\phi(t)$: engine (solid) and ODE (dashed); dotted: ODE $t_f$")
+    a.set(xlabel="t (s)", ylabel=r"$\phi$ (rad)",
+          title=r"$\phi(t)$: engine (solid) and ODE (dashed); dotted: ODE $t_f$")
     a.legend(fontsize=8)
     b.plot([0], [0], "k+", ms=8)
     b.set(xlabel="x (m)", ylabel="y (m)", title="CM paths around their drive circles (dotted)", aspect="equal")
