@@ -2,33 +2,56 @@
 PY ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
-STAMP := $(VENV)/.installed
+# extras each target installs (pyproject.toml, [project.optional-dependencies]); the core alone
+# (numpy, scipy, numba, tqdm) computes flip times and trajectories
+DEMO_EXTRAS := movie
+TEST_EXTRAS := test,engine,movie,rerun,dask,data
+DOCS_EXTRAS := docs,movie
 
-.PHONY: demo test bench scenes clean venv
+.PHONY: demo test bench scenes docs docs-check clean venv
 
-$(STAMP): pyproject.toml
+$(BIN)/python:
 	$(PY) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[test,dask]'
-	touch $(STAMP)
 
-venv: $(STAMP)
+# one stamp per set of extras: reinstalled only when pyproject.toml changes
+$(VENV)/.installed-demo: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install --quiet -e '.[$(DEMO_EXTRAS)]'
+	touch $@
 
-## make demo: set up, then run the main job: Movie S1 -> movies/movie_s1.mp4
-demo: $(STAMP)
+$(VENV)/.installed-test: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install --quiet -e '.[$(TEST_EXTRAS)]'
+	touch $@
+
+$(VENV)/.installed-docs: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install --quiet -e '.[$(DOCS_EXTRAS)]'
+	touch $@
+
+venv: $(VENV)/.installed-test
+
+## make demo: set up (core + movie extra), then run the main job: Movie S1 -> movies/movie_s1.mp4
+demo: $(VENV)/.installed-demo
 	$(BIN)/rrbody demo
 
-## make test: set up, then the whole test suite (2 workers)
-test: $(STAMP)
+## make test: set up (test, engine, movie, rerun, dask, data extras), then the whole test suite (2 workers)
+test: $(VENV)/.installed-test
 	$(BIN)/python -m pytest -n 2 --durations=15 tests
 
 ## make bench: work-precision benchmarks -> benchmarks/results/
-bench: $(STAMP)
+bench: $(VENV)/.installed-test
 	$(BIN)/python -m benchmarks.run
 
 ## make scenes: every paper figure and the report -> results/
-scenes: $(STAMP)
+scenes: $(VENV)/.installed-test
 	$(BIN)/rrbody scene all
 
+## make docs: the documentation site -> docs/_build/html (from the committed results/; warnings are errors)
+docs: $(VENV)/.installed-docs
+	$(BIN)/python -m sphinx -W --keep-going -q -b html docs docs/_build/html
+
+## make docs-check: load every page of the built site in headless Chromium (needs chromium + chromium-driver)
+docs-check: $(VENV)/.installed-docs
+	$(BIN)/python docs/check_site.py docs/_build/html
+
 clean:
-	rm -rf $(VENV) build *.egg-info
+	rm -rf $(VENV) build *.egg-info docs/_build

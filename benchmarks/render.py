@@ -14,7 +14,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from .common import StudyResult, Target, fmt, machine_text, md_table, module_available, write_csv
+from rrbody.common import StudyResult, Target, fmt, machine_text, md_table, module_available, write_csv
 
 NAME = "render"
 TITLE = "Rendering: ms per 1280x720 movie frame"
@@ -25,6 +25,7 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     if not ok:
         print(f"[render] skipped: rrbody.render.mp4 not importable ({why})", flush=True)
         return StudyResult(NAME, TITLE, skipped=f"rrbody.render.mp4 not importable ({why})")
+    from rrbody.render.flip import flip_mark
     from rrbody.render.mp4 import MovieFigure, frame_times, render_movie
     from rrbody.model.scene import rod_mass_scene
     from rrbody.analysis.simulate import simulate
@@ -55,7 +56,7 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
             {"what": f"render_movie marginal cost per frame ({na} -> {nb} frames)", "frames": nb - na,
              "ms_per_frame": (wb - wa) / (nb - na) * 1e3}]
     w0 = time.perf_counter()
-    fig = MovieFigure(traj, size=(1280, 720), t_f=traj.events.get("t_phi_min"))
+    fig = MovieFigure(traj, size=(1280, 720), flip=flip_mark(traj))
     setup = time.perf_counter() - w0
     w0 = time.perf_counter()
     for tau in times:

@@ -23,7 +23,8 @@ from rrbody.analysis.flip import flip_time
 from rrbody.model.bodies import Disk, Ellipse, RodMass
 from rrbody.model.drive import CircularDrive
 from rrbody.model.friction import Friction
-from rrbody.analysis.report import save_figure, write_summary, write_table
+from rrbody.render.figures import save_figure
+from rrbody.analysis.report import write_summary, write_table
 from rrbody.model.scene import Scene
 from rrbody.analysis.simulate import simulate
 
@@ -87,7 +88,7 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     ax.set_xlabel("t (s)")
     ax.set_ylabel(r"$\phi$ (rad)")
     ax.set_xlim(0, t_main)
-    ax.set_title(r"ExtendedPhi: $\mu g/d$ = 0.0033 s$^{-2}$, $\omega$ = 0.6 rad/s, H = 0.607, l = 0.2 m, "
+    ax.set_title(r"$\mu g/d$ = 0.0033 s$^{-2}$, $\omega$ = 0.6 rad/s, H = 0.607, l = 0.2 m, "
                  r"$\phi_0=\pi$", fontsize=10)
     ax.legend(loc="upper left", bbox_to_anchor=(0.0, 0.535), fontsize=7.5)
     ins = ax.inset_axes((0.07, 0.61, 0.36, 0.33))
@@ -95,7 +96,9 @@ def main(out_dir: Path, *, force: bool = True) -> None:
         ins.plot(trajs_in[n].t, trajs_in[n].phi, color=c, lw=1.0, label=f"{lab}, $t_f$ = {flips_in[n].t_f:.1f} s")
     ins.set_title(r"$\mu g/d$ = 0.033 s$^{-2}$, H = 0.2", fontsize=7)
     ins.tick_params(labelsize=7)
-    ins.legend(fontsize=6, loc="upper left")
+    ins.set_xlabel("t (s)", fontsize=7, labelpad=1)
+    ins.set_ylabel(r"$\phi$ (rad)", fontsize=7, labelpad=1)
+    ins.legend(fontsize=6, loc="upper right")
     save_figure(fig, out_dir, "extended_phi", force=force)
     # 6. Summary for the report.
     write_summary(out_dir, {

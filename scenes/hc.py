@@ -1,7 +1,7 @@
 """Hc: critical geometry H_c vs k = mu g/d, dry and viscous, with q-exponential fits (paper Fig. Hc).
 
-H_c(k) is the largest H for which reverse rotation exists (SPEC section 4) at omega = 0.3 rad/s,
-phi0 = pi, found by scan + bisection (rrbody.analysis.critical_h) on a uniform grid of k. The fit
+H_c(k) is the largest H for which reverse rotation exists (the README's "Definitions rrbody fixes")
+at omega = 0.3 rad/s, phi0 = pi, found by scan + bisection (rrbody.analysis.critical_h) on a uniform grid of k. The fit
 protocol that reproduces the paper's q and lambda: H_c(0) fixed at the exact frictionless value,
 unweighted least squares over k in [0, 1] s^-2 (101 points per law); other ranges are reported too.
 """
@@ -14,7 +14,8 @@ import numpy as np
 
 from rrbody.analysis.flip import critical_h, frictionless_critical_h
 from rrbody.analysis.fits import fit_q_exponential, q_exponential
-from rrbody.analysis.report import save_figure, write_summary, write_table
+from rrbody.render.figures import save_figure
+from rrbody.analysis.report import write_summary, write_table
 
 OMEGA = 0.3  # rad/s (paper caption)
 K_MAX_FIT = 1.0  # s^-2: the fitted range [0, K_MAX_FIT]
@@ -70,21 +71,28 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     for law in ("viscous", "dry"):
         m = ks <= K_MAX_FIT + 1e-12
         f = fits[law]
-        ax.plot(ks[m], hc[law][m], "o", ms=3, color=colors[law],
+        ax.plot(ks[m], hc[law][m], "o", ms=3, color=colors[law], clip_on=False,
                 label=f"{law}: q = {f.params['q']:.3f}, $\\lambda$ = {f.params['lam']:.2f}")
         ax.plot(kk, q_exponential(kk, H0, f.params["lam"], f.params["q"]), "-", color="k", lw=1)
     ax.set_xlabel(r"$\mu g/d$ (s$^{-2}$)")
     ax.set_ylabel(r"$H_c$")
-    ax.set_title(r"Hc: $\omega$ = 0.3 rad/s, $\phi_0=\pi$; lines: q-exponential fits")
-    ax.set_xlim(0, K_MAX_FIT)
+    ax.set_title(r"Critical geometry: $\omega$ = 0.3 rad/s, $\phi_0=\pi$; lines: q-exponential fits")
+    ax.set_xlim(-0.02, K_MAX_FIT + 0.02)  # room for the markers at k = 0 and k = 1
     ax.set_ylim(0, 0.82)
     ax.legend(loc="upper right")
     ins = ax.inset_axes((0.45, 0.4, 0.33, 0.3))
+    inside, beyond = ks[1:] <= K_MAX_FIT + 1e-12, ks[1:] >= K_MAX_FIT - 1e-12
     for law in ("viscous", "dry"):
         ins.loglog(ks[1:], hc[law][1:], ".", ms=2, color=colors[law])
         f = fits[law]
-        ins.loglog(ks[1:], q_exponential(ks[1:], H0, f.params["lam"], f.params["q"]), "k-", lw=0.7)
-    ins.set_xlabel(r"$\mu g/d$ (s$^{-2}$); fitted up to 1", fontsize=7)
+        model = q_exponential(ks[1:], H0, f.params["lam"], f.params["q"])
+        # the fit is solid over its range and dashed where it is only extrapolated
+        ins.loglog(ks[1:][inside], model[inside], "k-", lw=0.7)
+        ins.loglog(ks[1:][beyond], model[beyond], "k--", lw=0.7)
+    ins.axvline(K_MAX_FIT, color="0.5", ls=":", lw=0.8)
+    ins.text(0.97 * K_MAX_FIT, 0.05, "fit range", fontsize=6, ha="right", va="bottom", color="0.35",
+             transform=ins.get_xaxis_transform())
+    ins.set_xlabel(r"$\mu g/d$ (s$^{-2}$); dashed: extrapolated fit", fontsize=7)
     ins.set_ylabel(r"$H_c$", fontsize=7)
     ins.tick_params(labelsize=6)
     save_figure(fig, out_dir, "hc", force=force)

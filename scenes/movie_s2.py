@@ -40,10 +40,10 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     # 2. the run to t = 80 s
     traj = simulate(scene, t_max=T_END, dt_out=DT_OUT)
     traj.save(out_dir / "movie_s2_trajectory.csv", force=force)
-    # 3. the movie (t_f = 0: everything after the "flip", i.e. blue) and a poster of its last frame
+    # 3. the movie (no flip: blue throughout, said in the caption) and a poster of its last frame
     path = render_movie(traj, MOVIES / "movie_s2.mp4", force=force, progress=sys.stderr.isatty(), fps=FPS,
-                        speed=SPEED, t_f=0.0)
-    render_poster(traj, out_dir / "movie_s2_poster.png", force=force, t_f=0.0)
+                        speed=SPEED, flip=flip, arrows=True)
+    render_poster(traj, out_dir / "movie_s2_poster.png", force=force, flip=flip)
     print(f"Movie S2: {flip.regime}; 0..{T_END:g} s at x{SPEED} -> {path} ({path.stat().st_size / 1e6:.2f} MB)")
 
 

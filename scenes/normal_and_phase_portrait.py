@@ -16,7 +16,8 @@ import numpy as np
 
 from rrbody.analysis.flip import flip_time
 from rrbody.analysis.portraits import initial_point, theta_series, valid_initial_line
-from rrbody.analysis.report import save_figure, write_summary, write_table
+from rrbody.render.figures import save_figure
+from rrbody.analysis.report import write_summary, write_table
 from rrbody.model.scene import rod_mass_scene
 from rrbody.analysis.simulate import simulate
 

@@ -12,7 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from rrbody.analysis.flip import flip_time
-from rrbody.analysis.report import save_figure, write_summary, write_table
+from rrbody.render.figures import save_figure
+from rrbody.analysis.report import write_summary, write_table
 from rrbody.model.scene import rod_mass_scene
 from rrbody.analysis.simulate import simulate
 
@@ -48,7 +49,7 @@ def main(out_dir: Path, *, force: bool = True) -> None:
         ax.plot([r.t_f], [r.phi_min], "o", color=c, ms=5)
     ax.set_xlabel("t (s)")
     ax.set_ylabel(r"$\phi$ (rad)")
-    ax.set_title(r"phixtpm: H = 0.2, $\omega$ = 0.6 rad/s, $\phi_0=\pi$ (dots: flip time)")
+    ax.set_title(r"H = 0.2, $\omega$ = 0.6 rad/s, $\phi_0=\pi$ (dots: flip time)")
     ax.legend(loc="upper left", fontsize=9)
     ax.set_xlim(0, t_max)
     save_figure(fig, out_dir, "phixtpm", force=force)

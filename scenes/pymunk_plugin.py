@@ -1,11 +1,12 @@
 """pymunk plugin: three driven dry-friction bodies and a falling ball in one ordinary pymunk Space (no paper figure).
 
-Shows the engine path as a plugin (issue 4): ``rrbody.engine.attach`` adds a kinematic driver on the
+Shows the engine path as a plugin: ``rrbody.engine.attach`` adds a kinematic driver on the
 circle, a PivotJoint and the per-step area-friction hook to a user's own ``pymunk.Space``; the user's
 loop just calls ``space.step(dt)``. The space has gravity for its own ball; the attached bodies slide
 on a horizontal plane and ignore it. Outputs: phi(t) of each body (CSV), a figure (PNG/SVG) of phi(t)
-and the CM paths, and summary.json with each body's flip time next to the ODE path's (with the exact
-area integral, and with the engine's own 256 sampled elements: the difference between those two is
+from the engine beside the ODE path, the CM paths on their drive circles (d = 1, 2, 3 m), the
+engine-minus-ODE difference of phi, and the ball's fall against -g t^2/2; and summary.json with each
+body's flip time next to the ODE path's (with the exact area integral, and with the engine's own 256 sampled elements: the difference between those two is
 the area-sampling error, the rest is the engine's dt error).
 """
 
@@ -22,8 +23,10 @@ from rrbody.model.bodies import Disk, Ellipse
 from rrbody.model.drive import CircularDrive
 from rrbody.engine import EngineSettings, attach
 from rrbody.model.friction import Friction
-from rrbody.analysis.report import save_figure, write_summary, write_table
+from rrbody.render.figures import save_figure
+from rrbody.analysis.report import write_summary, write_table
 from rrbody.model.scene import Scene, rod_mass_scene
+from rrbody.analysis.simulate import simulate
 
 DT = 2e-3  # s: engine step (second order: t_f good to ~1e-5 relative here, docs/engine.md)
 T_MAX = 30.0  # s: past every body's flip
@@ -58,12 +61,14 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     t = DT * np.arange(n + 1)
     phi = {k: np.empty(n + 1) for k in handles}
     cm = {k: np.empty((n + 1, 2)) for k in handles}
+    ball_y = np.empty(n + 1)
     for i in range(n + 1):
         if i:
             space.step(DT)
         for k, h in handles.items():
             phi[k][i] = h.phi
             cm[k][i] = tuple(h.body.position)
+        ball_y[i] = ball.position.y
     # 5. Flip times: the lowest minimum of phi (vertex of the parabola through the three samples
     #    around it), against the ODE path.
     summary = {"dt": DT, "t_max": T_MAX, "ball_y_after_t_max_m": ball.position.y, "bodies": {}}
@@ -79,21 +84,47 @@ def main(out_dir: Path, *, force: bool = True) -> None:
                                 "rel_diff_vs_ode": (t_f - ode.t_f) / ode.t_f,
                                 "rel_diff_vs_ode_same_elements": (t_f - same.t_f) / same.t_f,
                                 "pivot_error_at_t_max_m": handles[k].pivot_error()}
-    write_summary(out_dir, summary, force=force)
-    every = 25  # CSV: every 25th step (0.05 s)
+    every = 25  # CSV and comparison: every 25th step (0.05 s)
     write_table(out_dir / "phi.csv", ["t", *[f"phi_{k}" for k in scenes]],
                 [[float(t[i]), *[float(phi[k][i]) for k in scenes]] for i in range(0, n + 1, every)], force=force,
                 meta={"dt": DT, "scenes": {k: sc.describe() for k, sc in scenes.items()}})
-    # 6. Figure: phi(t) with the ODE flip times marked, and the CM paths around the drive circles.
-    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.5))
-    for k in scenes:
-        a.plot(t, phi[k], label=k)
-        a.axvline(summary["bodies"][k]["t_f_ode"], ls=":", lw=0.8, color=a.lines[-1].get_color())
-        b.plot(cm[k][:, 0], cm[k][:, 1], lw=0.7, label=k)
-    a.set(xlabel="t (s)", ylabel="phi (rad)", title="pymunk plugin: phi(t); dotted: ODE t_f")
-    a.legend()
-    b.set(xlabel="x (m)", ylabel="y (m)", title="CM paths (drive circles d = 1, 2, 3 m)", aspect="equal")
+    # 6. The ODE path on the same area elements, sampled every 25th engine step, for the comparison.
+    every_t = t[::every]
+    ode_phi = {k: simulate(sc if sc.body.is_point else sc.with_(friction_method="sampled"), t_max=T_MAX,
+                           dt_out=every * DT).phi[: len(every_t)] for k, sc in scenes.items()}
+    # 7. Figure: (a) phi(t), engine vs ODE; (b) CM paths on the drive circles; (c) their difference;
+    #    (d) the user's falling ball against the exact free fall.
+    fig, axs = plt.subplots(2, 2, figsize=(11, 8.4), constrained_layout=True)
+    a, b, c, e = axs.ravel()
+    circle = np.linspace(0.0, 2.0 * math.pi, 361)
+    for k, sc in scenes.items():
+        line, = a.plot(t, phi[k], lw=1.2, label=f"{k} (d = {sc.d:g} m), engine")
+        col = line.get_color()
+        a.plot(every_t, ode_phi[k], "--", color="k", lw=0.7)
+        a.axvline(summary["bodies"][k]["t_f_ode"], ls=":", lw=0.8, color=col)
+        b.plot(sc.d * np.cos(circle), sc.d * np.sin(circle), ":", color=col, lw=0.9)
+        b.plot(cm[k][:, 0], cm[k][:, 1], lw=0.7, color=col, label=f"{k}: CM path, drive circle d = {sc.d:g} m")
+        rel = summary["bodies"][k]["rel_diff_vs_ode_same_elements"]
+        c.semilogy(every_t, np.abs(phi[k][::every] - ode_phi[k]) + 1e-16, lw=0.9, color=col,
+                   label=f"{k}: t$_f$ engine vs ODE {rel:+.1e} (relative)")
+    a.plot([], [], "--", color="k", lw=0.7, label="ODE path (same area elements)")
+    a.set(xlabel="t (s)", ylabel=r"$\phi$ (rad)",
+          title=r"$\phi(t)$: engine (solid) and ODE (dashed); dotted: ODE $t_f$")
+    a.legend(fontsize=8)
+    b.plot([0], [0], "k+", ms=8)
+    b.set(xlabel="x (m)", ylabel="y (m)", title="CM paths around their drive circles (dotted)", aspect="equal")
+    b.legend(fontsize=7, loc="upper right")
+    c.set_ylim(bottom=1e-9)
+    c.set(xlabel="t (s)", ylabel=r"|$\phi_{engine} - \phi_{ODE}$| (rad)",
+          title=f"engine (dt = {DT:g} s) minus ODE, same area elements")
+    c.legend(fontsize=7)
+    e.plot(t, ball_y, lw=1.2, label="pymunk ball (same space, gravity 9.81 m/s$^2$)")
+    e.plot(t, -0.5 * 9.81 * t**2, "k--", lw=0.8, label=r"exact free fall $-g t^2/2$")
+    e.set(xlabel="t (s)", ylabel="ball height y (m)", title="the user's own body: a falling ball, unaffected")
+    e.legend(fontsize=8)
+    summary["ball_y_exact_m"] = -0.5 * 9.81 * T_MAX**2
     save_figure(fig, out_dir, "pymunk_plugin", force=force)
+    write_summary(out_dir, summary, force=force)
 
 
 if __name__ == "__main__":

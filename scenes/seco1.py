@@ -1,7 +1,7 @@
 """seco1: flip time vs phi0 for k = 7.5, 12.5, 17.5 s^-2 (H = 0.25, omega = 100 rad/s); inset: 250 s CM history (paper Fig. seco1).
 
 The phi0 interval with reverse rotation is centred on pi and does not depend on friction: its
-edges are located by bisection on the RR test (SPEC section 4) for each k and without friction.
+edges are located by bisection on the RR test (the README's "Definitions rrbody fixes") for each k and without friction.
 Inset: k = 0.0015 s^-2, H = 0.2, omega = 0.6 rad/s, phi0 = pi, CM position over 250 s.
 """
 
@@ -13,7 +13,8 @@ from pathlib import Path
 import numpy as np
 
 from rrbody.analysis.flip import reverse_rotation_exists
-from rrbody.analysis.report import save_figure, write_summary, write_table
+from rrbody.render.figures import save_figure
+from rrbody.analysis.report import write_summary, write_table
 from rrbody.model.scene import rod_mass_scene
 from rrbody.analysis.simulate import simulate
 from rrbody.analysis.sweep import Sweep, run_fresh_or_resume
@@ -97,7 +98,7 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     ax.set_ylabel(r"$t_f$ (s)")
     ax.set_xlim(phi0s[0], phi0s[-1])
     ax.set_ylim(bottom=0)
-    ax.set_title(r"seco1: H = 0.25, $\omega$ = 100 rad/s (RR starts only)")
+    ax.set_title(r"H = 0.25, $\omega$ = 100 rad/s (RR starts only)")
     ax.legend(loc="upper left", fontsize=8)
     ins = ax.inset_axes((0.745, 0.47, 0.25, 0.4))
     circ = np.linspace(0, 2 * math.pi, 200)
@@ -106,7 +107,8 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     ins.set_aspect("equal")
     ins.set_xticks([])
     ins.set_yticks([])
-    ins.set_title("inset: CM, 250 s,\nk = 0.0015, H = 0.2, $\\omega$ = 0.6", fontsize=6)
+    ins.set_title("inset: CM history, 0 < t < 250 s\n"
+                  r"$\mu g/d$ = 0.0015 s$^{-2}$, H = 0.2, $\omega$ = 0.6 rad/s", fontsize=6)
     save_figure(fig, out_dir, "seco1", force=force)
     # 6. Summary for the report.
     write_summary(out_dir, {"H": H, "omega": OMEGA, "rr_interval_frictionless": list(interval0), "per_k": per_k,

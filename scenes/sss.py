@@ -12,7 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from rrbody.analysis.flip import flip_time
-from rrbody.analysis.report import save_figure, write_summary, write_table
+from rrbody.render.figures import save_figure
+from rrbody.analysis.report import write_summary, write_table
 from rrbody.model.scene import rod_mass_scene
 from rrbody.analysis.simulate import simulate
 
@@ -45,22 +46,26 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     fig = plt.figure(figsize=(9.5, 6.4), constrained_layout=True)
     gs = fig.add_gridspec(2, 3, height_ratios=(1.0, 1.1))
     ax = fig.add_subplot(gs[0, :])
-    ax.plot(tr.t[before], tr.phi[before], color=RED, lw=1.3)
-    ax.plot(tr.t[~before], tr.phi[~before], color=BLUE, lw=1.3)
-    ax.axvline(t_f, color="0.5", ls=":", lw=1)
+    # the two parts share the sample at t_f's side so the curve has no gap
+    k = int(np.count_nonzero(before))
+    ax.plot(tr.t[:k + 1], tr.phi[:k + 1], color=RED, lw=1.3, label=r"$t < t_f$: reverse rotation")
+    ax.plot(tr.t[k:], tr.phi[k:], color=BLUE, lw=1.3, label=r"$t > t_f$: normal rotation")
+    ax.axvline(t_f, color="0.5", ls=":", lw=1, label=r"flip time $t_f$")
     ax.set_xlabel("t (s)")
     ax.set_ylabel(r"$\phi$ (rad)")
-    ax.set_title(rf"SSs: $\mu g/d$ = {K} s$^{{-2}}$, H = {H}, $\omega$ = {OMEGA} rad/s, $\phi_0=\pi$;"
+    ax.set_title(rf"$\mu g/d$ = {K} s$^{{-2}}$, H = {H}, $\omega$ = {OMEGA} rad/s, $\phi_0=\pi$;"
                  rf" $t_f$ = {t_f:.2f} s")
     circle = np.linspace(0, 2 * math.pi, 200)
     for j, t_end in enumerate((0.5 * t_f, t_f, t_max)):
         a = fig.add_subplot(gs[1, j])
         m = tr.t <= t_end
         a.plot(np.cos(circle), np.sin(circle), ":", color="k", lw=0.8)  # the path of P (radius d = 1 m)
-        a.plot(tr.x_cm[m & before], tr.y_cm[m & before], color=RED, lw=0.8)
-        a.plot(tr.x_cm[m & ~before], tr.y_cm[m & ~before], color=BLUE, lw=0.8)
-        i = int(np.searchsorted(tr.t, t_end, side="right")) - 1
-        a.plot([tr.x_cm[i]], [tr.y_cm[i]], "o", color=GREEN, ms=6)
+        n = int(np.count_nonzero(m))
+        a.plot(tr.x_cm[:min(k + 1, n)], tr.y_cm[:min(k + 1, n)], color=RED, lw=0.8)
+        if n > k:
+            a.plot(tr.x_cm[k:n], tr.y_cm[k:n], color=BLUE, lw=0.8)
+        i = n - 1
+        a.plot([tr.x_cm[i]], [tr.y_cm[i]], "o", color=GREEN, ms=6, label="CM now" if j == 0 else None)
         a.set_aspect("equal")
         lim = 1.0 + H + 0.1
         a.set_xlim(-lim, lim)
@@ -69,6 +74,9 @@ def main(out_dir: Path, *, force: bool = True) -> None:
         a.set_xlabel("x (m)")
         if j == 0:
             a.set_ylabel("y (m)")
+    ax.plot([], [], ":", color="k", lw=0.8, label="path of P (radius d = 1 m), below")
+    ax.plot([], [], "o", color=GREEN, ms=6, label="CM at the panel's last time, below")
+    ax.legend(loc="upper left", fontsize=8, ncol=2)
     save_figure(fig, out_dir, "sss", force=force)
     # 4. Summary for the report.
     write_summary(out_dir, {"k": K, "H": H, "omega": OMEGA, "phi0": PHI0, "t_f": t_f, "phi_min": r.phi_min,

@@ -2,7 +2,7 @@
 
 (a) low omega: t_f grows with H (omega t_f -> C(H), increasing; paper Eq. SmallOmegaFlipTime);
 (b) a wider omega range: at high omega the trend in H reverses. Blank cells: no flip (phi never
-falls below phi0). The grids are 2-D sweeps (rrbody.sweep) saved as NetCDF.
+falls below phi0). Each cell is one run (no interpolation across jumps). The grids are 2-D sweeps (rrbody.sweep) saved as NetCDF.
 """
 
 from __future__ import annotations
@@ -11,7 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rrbody.analysis.report import save_figure, write_summary, write_table
+from rrbody.render.figures import save_figure
+from rrbody.analysis.report import write_summary, write_table
 from rrbody.analysis.sweep import Sweep, run_fresh_or_resume
 
 K = 1.5  # s^-2, paper caption
@@ -52,20 +53,26 @@ def main(out_dir: Path, *, force: bool = True) -> None:
                     [[float(r.omega), float(r.H), None if not np.isfinite(r.t_f) else float(r.t_f),
                       int(r.reverse_rotation)] for r in df.itertuples()], force=force,
                     meta={"k": K, "phi0": "pi", "grid": "omega x H, row-major (omega slowest)"})
-    # 3. Figure: filled contours of t_f (log colour scale).
+    # 3. Figure: one cell per grid point (log colour scale). Filled contours would interpolate across the
+    #    jumps of t_f between neighbouring cells (up to 5x, where the flip moves to another minimum of phi),
+    #    inventing values that no run produced; cells show exactly what each run gave.
+    from matplotlib.patches import Patch
+
     fig, (a, b) = plt.subplots(1, 2, figsize=(11.5, 4.6), constrained_layout=True)
     for ax, ds, title in ((a, ds_a, r"(a) low $\omega$"), (b, ds_b, r"(b) wider $\omega$ range")):
         tf = np.asarray(ds["t_f"].values, float).T  # rows: H, columns: omega
-        W, Hh = np.meshgrid(ds["omega"].values, ds["H"].values)
         lo, hi = np.nanmin(tf), np.nanmax(tf)
-        levels = np.geomspace(lo, hi, 25)
-        cs = ax.contourf(W, Hh, np.ma.masked_invalid(tf), levels=levels, norm=LogNorm(lo, hi), cmap="viridis")
+        ax.set_facecolor("0.85")  # cells without a flip (masked) show the background
+        pm = ax.pcolormesh(ds["omega"].values, ds["H"].values, np.ma.masked_invalid(tf), shading="nearest",
+                           norm=LogNorm(lo, hi), cmap="viridis")
         ticks = [v for v in (0.1, 0.2, 0.5, 1, 2, 5, 10, 20, 50, 100) if lo <= v <= hi]
-        cb = fig.colorbar(cs, ax=ax, ticks=ticks, format="%g")
+        cb = fig.colorbar(pm, ax=ax, ticks=ticks, format="%g")
         cb.set_label(r"$t_f$ (s)")
         ax.set_xlabel(r"$\omega$ (rad/s)")
-        ax.set_ylabel("H")
+        ax.set_ylabel(r"H = (I$_{cm}$ + m l$^2$)/(m d l)")
         ax.set_title(title + r", $\mu g/d$ = 1.5 s$^{-2}$")
+        if np.isnan(tf).any():
+            ax.legend(handles=[Patch(color="0.85", label="no flip")], loc="upper right", fontsize=8)
     b.set_xscale("log")
     save_figure(fig, out_dir, "tfvshvsomega", force=force)
     # 4. Summary: the trend of t_f with H at the lowest and highest omega.

@@ -14,7 +14,8 @@ from pathlib import Path
 import numpy as np
 
 from rrbody.analysis.fits import fit_power_law
-from rrbody.analysis.report import paper_small_omega_C, save_figure, small_omega_C, write_summary, write_table
+from rrbody.render.figures import save_figure
+from rrbody.analysis.report import paper_small_omega_C, small_omega_C, write_summary, write_table
 from rrbody.analysis.sweep import Sweep, run_fresh_or_resume
 
 K, H = 7.5, 0.25  # s^-2, paper caption
@@ -32,6 +33,30 @@ LOW_W_MU = (0.05, np.geomspace(1.0, 20.0, 7))  # omega = 0.05: t_f vs k at low o
 
 def tf_of(ds, name: str = "t_f") -> np.ndarray:
     return np.asarray(ds[name].values, dtype=float)
+
+
+def broken_at_jumps(y: np.ndarray, ratio: float = 1.3) -> np.ndarray:
+    """A copy of y where the segment after a jump (neighbours differing by
+    more than ``ratio``) is cut, so a line plot does not join values across a jump of t_f."""
+    out = np.array(y, float)
+    jump = np.zeros(len(out), bool)
+    jump[1:] = np.maximum(out[1:], out[:-1]) > ratio * np.minimum(out[1:], out[:-1])
+    out[jump] = np.nan
+    return out
+
+
+def draw_fit(ax, fit, lo: float, hi: float, colour: str, label: str) -> None:
+    """The fitted power law: solid over its fit range (shaded), dashed where extrapolated (x3 either side)."""
+    a, b = fit.x_range
+    inside = np.geomspace(max(lo, a), min(hi, b), 50)
+    if inside[0] < inside[-1]:
+        ax.loglog(inside, fit(inside), "-", color=colour, lw=1.2, label=label)
+        ax.axvspan(max(lo, a), min(hi, b), color=colour, alpha=0.07, lw=0)
+    for x0, x1 in ((a / 3, a), (b, b * 3)):
+        x0, x1 = max(lo, x0), min(hi, x1)  # only inside the panel's own range
+        if x0 < x1:
+            xx = np.geomspace(x0, x1, 20)
+            ax.loglog(xx, fit(xx), "--", color=colour, lw=0.9)
 
 
 def main(out_dir: Path, *, force: bool = True) -> None:
@@ -94,57 +119,60 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     fig, axs = plt.subplots(2, 3, figsize=(13, 7.6), constrained_layout=True)
     a, b, c, d, e, f = axs.ravel()
     m = W_GRID <= 12
-    a.plot(W_GRID[m], tf_w[m], "o-", ms=2.5, lw=0.8, color="tab:blue")
+    # lines are cut where t_f jumps between neighbouring omega (the flip moves to another minimum of phi)
+    a.plot(W_GRID[m], tf_w[m], "o", ms=2.5, color="tab:blue", label=r"$t_f$, log-spaced $\omega$ grid")
+    a.plot(W_GRID[m], broken_at_jumps(tf_w[m]), "-", lw=0.6, color="tab:blue")
     mo = W_OPT <= 12
-    a.plot(W_OPT[mo], tf_opt[mo], "-", lw=0.6, color="tab:cyan")
+    a.plot(W_OPT[mo], tf_opt[mo], ".", ms=1.5, color="tab:cyan", label=r"dense grid, 1 $\leq \omega \leq$ 10")
     a.plot([w_star], [t_star], "r*", ms=10, label=rf"optimum $\omega$ = {w_star:.3f}, $t_f$ = {t_star:.4f} s")
     a.set_ylim(0, 6)
     a.set_xlabel(r"$\omega$ (rad/s)")
     a.set_ylabel(r"$t_f$ (s)")
     a.set_title(r"(a) $\mu g/d$ = 7.5 s$^{-2}$, H = 0.25")
     a.legend(loc="upper right", fontsize=7)
-    ia = a.inset_axes((0.36, 0.45, 0.36, 0.33))
-    ia.plot(MU_W1, tf_of(d_m1), "o-", ms=2, lw=0.7, color="tab:purple")
-    ia.set_xlabel(r"$\mu$", fontsize=7)
-    ia.set_ylabel(r"$t_f$", fontsize=7)
+    ia = a.inset_axes((0.36, 0.42, 0.36, 0.3))
+    ia.semilogx(MU_W1, tf_of(d_m1), "o-", ms=2, lw=0.7, color="tab:purple")
+    ia.set_xlabel(r"$\mu$ (g/d = 25 s$^{-2}$)", fontsize=7, labelpad=1)
+    ia.set_ylabel(r"$t_f$ (s)", fontsize=7, labelpad=1)
     ia.tick_params(labelsize=6)
-    ia.set_title(r"$\omega$ = 1, g/d = 25", fontsize=7)
+    ia.set_title(r"$\omega$ = 1 rad/s: $t_f$ vs $\mu$", fontsize=7)
     for ax, lo, hi, title in ((b, 0.01, 300, "(b) log-log"), (c, 3.0, 300, r"(c) high $\omega$"),
                               (d, 0.01, 1.0, r"(d) low $\omega$")):
         mm = (W_GRID >= lo) & (W_GRID <= hi)
         ax.loglog(W_GRID[mm], tf_w[mm], "o", ms=2.5, color="tab:blue")
         for fit, col in ((f_lo, "tab:red"), (f_hi, "tab:green")):
-            xx = np.geomspace(max(lo, fit.x_range[0] / 3), min(hi, fit.x_range[1] * 3), 50)
-            if xx[0] < xx[-1]:
-                ax.loglog(xx, fit(xx), "-", color=col, lw=1,
-                          label=rf"$t_f \propto \omega^{{{fit.params['b']:.3f}}}$")
+            draw_fit(ax, fit, lo, hi, col, rf"$t_f \propto \omega^{{{fit.params['b']:.3f}}}$, fit over "
+                     rf"{fit.x_range[0]:.3g}-{fit.x_range[1]:.3g} rad/s")
         ax.set_xlabel(r"$\omega$ (rad/s)")
         ax.set_ylabel(r"$t_f$ (s)")
-        ax.set_title(title)
-        ax.legend(loc="lower left" if ax is b else "upper center", fontsize=8)
+        ax.set_title(title + " (shaded: fit range; dashed: extrapolated)", fontsize=9)
+        ax.legend(loc="lower left" if ax is b else "upper center", fontsize=7)
     ww = np.geomspace(0.01, 1.0, 20)
     d.loglog(ww, small_omega_C(H) / ww, "k:", lw=1, label=r"exact limit $C(H)/\omega$")
     d.loglog(ww, paper_small_omega_C(H) / ww, "m--", lw=1, label=r"paper $2\sqrt{2}/(\omega(2+1/H))$")
     d.legend(loc="upper right", fontsize=7)
-    ib = b.inset_axes((0.42, 0.55, 0.28, 0.25))
+    ib = b.inset_axes((0.45, 0.55, 0.27, 0.25))
     ib.semilogx(LOW_W_MU[1], low_k_tf, "s-", ms=2.5, lw=0.7, color="tab:brown")
     ib.set_ylim(0, 1.5 * np.nanmax(low_k_tf))
-    ib.set_title(rf"$\omega$ = {LOW_W_MU[0]}: $t_f$ vs $\mu g/d$", fontsize=7)
+    ib.set_title(rf"$\omega$ = {LOW_W_MU[0]} rad/s: $t_f$ vs $\mu g/d$", fontsize=7)
+    ib.set_xlabel(r"$\mu g/d$ (s$^{-2}$)", fontsize=6, labelpad=1)
+    ib.set_ylabel(r"$t_f$ (s)", fontsize=6, labelpad=1)
     ib.tick_params(labelsize=6)
     e.loglog(MU_W06, tf_of(d_m06), "o", ms=2.5, color="tab:orange")
-    e.loglog(MU_W06[MU_W06 <= 3e-3], f_m06(MU_W06[MU_W06 <= 3e-3]), "k-", lw=1,
-             label=rf"$t_f \propto \mu^{{{f_m06.params['b']:.3f}}}$")
+    draw_fit(e, f_m06, MU_W06[0], MU_W06[-1], "k", rf"$t_f \propto \mu^{{{f_m06.params['b']:.3f}}}$, fit over "
+             rf"$\mu \leq$ {MU_W06_FIT[1]:g}")
     e.set_xlabel(r"$\mu$")
     e.set_ylabel(r"$t_f$ (s)")
-    e.set_title(r"(e) $\omega$ = 0.6, H = 0.25, g/d = 25 s$^{-2}$")
+    e.set_title(r"(e) $\omega$ = 0.6 rad/s, H = 0.25, g/d = 25 s$^{-2}$", fontsize=9)
     e.legend(fontsize=8)
     f.loglog(MU_W200, tf_of(d_m200), "o", ms=3, color="tab:olive")
-    f.loglog(MU_W200, f_m200(MU_W200), "k-", lw=1, label=rf"$t_f \propto \mu^{{{f_m200.params['b']:.3f}}}$")
+    draw_fit(f, f_m200, MU_W200[0], MU_W200[-1], "k", rf"$t_f \propto \mu^{{{f_m200.params['b']:.3f}}}$, "
+             "fit over all points")
     f.set_xlabel(r"$\mu$")
     f.set_ylabel(r"$t_f$ (s)")
-    f.set_title(r"(f) $\omega$ = 200, H = 0.73, g/d = 25 s$^{-2}$")
+    f.set_title(r"(f) $\omega$ = 200 rad/s, H = 0.73, g/d = 25 s$^{-2}$", fontsize=9)
     f.legend(fontsize=8)
-    fig.suptitle(r"tfxwpm2: flip time vs $\omega$ and $\mu$ ($\phi_0=\pi$)")
+    fig.suptitle(r"Flip time vs $\omega$ and $\mu$ ($\phi_0=\pi$)")
     save_figure(fig, out_dir, "tfxwpm2", force=force)
 
     # 7. Summary for the report.

@@ -85,11 +85,11 @@ def test_failed_render_leaves_nothing(tmp_path: Path, s1_short: Trajectory, monk
     real = mp4.MovieFigure.frame
     calls = {"n": 0}
 
-    def failing(self: mp4.MovieFigure, tau: float) -> memoryview:
+    def failing(self: mp4.MovieFigure, tau: float, *, banner: bool = False) -> memoryview:
         calls["n"] += 1
         if calls["n"] == 4:  # a few frames already went to ffmpeg
             raise exc("boom")
-        return real(self, tau)
+        return real(self, tau, banner=banner)
 
     monkeypatch.setattr(mp4.MovieFigure, "frame", failing)
     keep = tmp_path / "keep.mp4"
@@ -118,7 +118,9 @@ def test_bad_options(tmp_path: Path, s1_short: Trajectory) -> None:
 def test_red_blue_split_follows_t_f(s1_short: Trajectory) -> None:
     from rrbody.render.mp4 import MovieFigure
 
-    fig = MovieFigure(s1_short, size=(320, 180), t_f=2.0)
+    from rrbody.render.flip import FlipMark
+
+    fig = MovieFigure(s1_short, size=(320, 180), flip=FlipMark("flip", 2.0))
     fig.update(1.3)
     red_x, _ = fig.A["phi_red"].get_data()
     blue_x, _ = fig.A["phi_blue"].get_data()
@@ -131,8 +133,8 @@ def test_red_blue_split_follows_t_f(s1_short: Trajectory) -> None:
     assert blue_x[-1] == pytest.approx(3.1)
     # the phi curve ends on phi(3.1), interpolated between samples 0.05 s apart (linear: error ~ phi'' dt^2/8)
     assert blue_y[-1] == pytest.approx(np.interp(3.1, s1_short.t, s1_short.phi), abs=1e-12)
-    tx, ty = fig.A["trail_blue"].get_data()
-    assert tx[-1] == pytest.approx(np.interp(3.1, s1_short.t, s1_short.x_cm), abs=1e-12)
+    seg = fig.A["trail"].get_segments()
+    assert seg[-1][-1][0] == pytest.approx(np.interp(3.1, s1_short.t, s1_short.x_cm), abs=1e-12)
     assert fig.A["tf_line"].get_visible()
 
 
@@ -153,7 +155,9 @@ def test_ellipse_drawn_to_scale() -> None:
     """The outline has semi-axes R_A, R_B about the CM at the body angle; the rod joins CM and P."""
     from rrbody.render.mp4 import MovieFigure
 
-    fig = MovieFigure(_synthetic_ellipse(), size=(320, 180), t_f=None)
+    from rrbody.render.flip import FlipMark
+
+    fig = MovieFigure(_synthetic_ellipse(), size=(320, 180), flip=FlipMark("none"))
     fig.update(0.6)  # a sample time: no interpolation error
     x, y = fig.A["outline"].get_data()
     cx, cy, a = 0.2 * 0.6, -0.1 * 0.6, 0.3 + 0.5 * 0.6
@@ -200,30 +204,36 @@ def _read_rrd(path: Path) -> dict[str, dict]:
         data = [n for n in rb.schema.names if n not in ("rerun.controls.RowId", "time", "log_time")]
         if "Scalars:scalars" in data:
             ent["values"].extend(v[0] for v in rb.column("Scalars:scalars").to_pylist())
+        if "TextLog:text" in data:
+            ent["values"].extend(v[0] for v in rb.column("TextLog:text").to_pylist())
     return out
 
 
 def test_rerun_round_trip(tmp_path: Path, s1_short: Trajectory) -> None:
     from rrbody.render.rerun import expected_entities, record
 
-    out = record(s1_short, tmp_path / "run.rrd", t_f=2.5)
+    out = record(s1_short, tmp_path / "run.rrd", flip=2.5)
     assert out == tmp_path / "run.rrd"
     assert _leftovers(tmp_path) == ["run.rrd"]
     ents = _read_rrd(out)
-    assert expected_entities(s1_short) <= set(ents)
+    assert expected_entities(s1_short, 2.5) <= set(ents)
     assert "world/body/outline" not in ents  # a rod-mass body has no outline
     trail = [e for e in ents if e.startswith("world/cm_trail/")]
     assert len(trail) >= 2  # split at t_f into a red and a blue part
     t = s1_short.t
-    phi = ents["plots/phi/phi"]
+    # phi is split at t_f into a red and a blue series that share the sample where they meet
+    red, blue = ents["plots/phi/reverse"], ents["plots/phi/normal"]
+    assert max(red["times"]) >= 2.5 - 0.05 and min(blue["times"]) <= 2.5  # no gap at the flip
+    assert max(red["times"]) <= 2.5 + 0.05 + 1e-9 and min(blue["times"]) >= 2.5 - 0.05 - 1e-9
+    times = np.concatenate([red["times"], blue["times"]])
+    vals = np.concatenate([red["values"], blue["values"]])
+    _, first = np.unique(np.round(times, 6), return_index=True)
     # the time line is a duration in ns: seconds round-trip to 1 ns
-    assert min(phi["times"]) == pytest.approx(t[0], abs=1e-9)
-    assert max(phi["times"]) == pytest.approx(t[-1], abs=1e-9)
-    assert np.allclose(sorted(phi["times"]), t, atol=1e-9)
-    order = np.argsort(phi["times"])
-    assert np.array_equal(np.asarray(phi["values"])[order], s1_short.phi)  # float64 stored exactly
-    th = ents["plots/theta"]
-    assert np.array_equal(np.asarray(th["values"])[np.argsort(th["times"])], s1_short.theta)
+    assert np.allclose(times[first], t, atol=1e-9)
+    assert np.array_equal(vals[first], s1_short.phi)  # float64 stored exactly
+    th = ents["plots/theta/normal"]
+    k = np.searchsorted(t, th["times"][0] - 1e-9)
+    assert np.array_equal(np.asarray(th["values"])[np.argsort(th["times"])], s1_short.theta[k:])
     flip = ents["plots/phi/flip"]
     assert flip["times"] == [pytest.approx(2.5, abs=1e-9)]
     all_times = [x for e in ents.values() for x in e["times"]]
@@ -256,7 +266,7 @@ def test_cli_movie_and_recording(tmp_path: Path, cli) -> None:  # type: ignore[n
     assert _probe(movie)["codec"] == "h264"
     n, _ = imageio_ffmpeg.count_frames_and_secs(str(movie))
     assert n == 31  # 1 s at the default 30 fps, real time: frames at 0, 1/30, ..., 1
-    assert "plots/phi/phi" in _read_rrd(rrd)
+    assert "plots/phi/reverse" in _read_rrd(rrd)  # t_f = 42.14 s comes later: reverse rotation throughout
     r = cli("simulate", "--H", "0.6", "--k", "0.003", "--omega", "0.6", "--t-max", "1", "--movie", str(movie))
     assert r.code == 2 and "already exists" in r.err
 
@@ -274,3 +284,119 @@ def test_extended_and_free_bodies_render(tmp_path: Path, driven: bool) -> None:
     assert expected_entities(traj) <= set(ents)
     assert ("world/drive_circle" in ents) == driven
     assert len(ents["world/body/outline"]["times"]) == len(traj)
+
+
+# ---- truthful flips: the whole run's flip time, not the lowest phi of the span -------------------------
+# H 0.2, k 0.033 s^-2, omega 0.6 rad/s, phi0 = pi: flip_time gives t_f = 23.40 s. A 20 s span ends during
+# reverse rotation (its lowest phi, at 18.58 s, is not the flip); a 60 s span contains the settled flip.
+PHIXTPM = dict(H=0.2, k=0.033, omega=0.6)
+
+
+@pytest.fixture(scope="module")
+def phixtpm_flip() -> float:
+    from rrbody.analysis.flip import flip_time
+
+    t_f = flip_time(rod_mass_scene(**PHIXTPM)).t_f
+    assert t_f == pytest.approx(23.40, abs=0.005)  # the issue's number, to the 2 decimals pictures show
+    return t_f
+
+
+@pytest.mark.parametrize("t_max", [20.0, 60.0])
+def test_movie_flip_is_the_whole_runs(tmp_path: Path, t_max: float, phixtpm_flip: float) -> None:
+    from rrbody.render.flip import flip_mark
+    from rrbody.render.mp4 import MovieFigure, render_movie
+
+    traj = simulate(rod_mass_scene(**PHIXTPM), t_max=t_max, dt_out=0.1)
+    assert traj.events["t_phi_min"] < 20.0 if t_max == 20.0 else True  # the span's own minimum would lie
+    mark = flip_mark(traj)  # default: computed, as render_movie does
+    assert mark.t_f == pytest.approx(phixtpm_flip, abs=1e-9)  # from the run or flip_time: same minimum
+    fig = MovieFigure(traj, flip=mark, size=(320, 180))
+    caption = " ".join(t.get_text() for t in fig.fig.texts)
+    fig.update(t_max, banner=False)
+    if t_max == 20.0:
+        assert "no flip within this span" in caption and "23.40" in caption
+        assert not fig.A["tf_line"].get_visible() and len(fig.A["phi_blue"].get_data()[0]) == 0  # red throughout
+    else:
+        assert "flip at $t_f$ = 23.40 s" in caption
+        assert fig.A["tf_line"].get_visible() and fig.A["tf_line"].get_xdata()[0] == pytest.approx(phixtpm_flip)
+        assert fig.A["phi_red"].get_data()[0][-1] == pytest.approx(phixtpm_flip)
+    # the movie holds the flip frame for 1.5 s of playback (15 frames at 10 fps) only when the flip is shown
+    m = render_movie(traj, tmp_path / "m.mp4", fps=10, size=(160, 90), speed=10.0)
+    n, _ = imageio_ffmpeg.count_frames_and_secs(str(m))
+    assert n == int(t_max) + 1 + (15 if t_max == 60.0 else 0)
+
+
+@pytest.mark.parametrize("t_max", [20.0, 60.0])
+def test_recording_flip_is_the_whole_runs(tmp_path: Path, t_max: float, phixtpm_flip: float) -> None:
+    from rrbody.render.rerun import record
+
+    traj = simulate(rod_mass_scene(**PHIXTPM), t_max=t_max, dt_out=0.1)
+    ents = _read_rrd(record(traj, tmp_path / "r.rrd"))
+    log = " | ".join(ents["events"]["values"])
+    if t_max == 20.0:
+        assert "plots/phi/flip" not in ents and "plots/phi/normal" not in ents
+        assert "no flip within this span: t_f = 23.40 s comes later" in log and "FLIP" not in log
+    else:
+        assert ents["plots/phi/flip"]["times"] == [pytest.approx(phixtpm_flip, abs=1e-9)]  # ns time line
+        assert "FLIP: t_f = 23.4024" in log
+        assert max(ents["plots/phi/reverse"]["times"]) < min(ents["plots/phi/normal"]["times"]) + 0.1 + 1e-9
+
+
+def test_recording_energy_and_power_from_the_friction_kernel(tmp_path: Path) -> None:
+    """Dry friction on a point mass: |F| = mu g = k d while it moves, so the friction power is -k d |v|."""
+    from rrbody.render.rerun import record
+
+    traj = simulate(rod_mass_scene(**PHIXTPM), t_max=5.0, dt_out=0.1)
+    ents = _read_rrd(record(traj, tmp_path / "r.rrd"))
+    power = np.asarray(ents["plots/power/friction"]["values"])[np.argsort(ents["plots/power/friction"]["times"])]
+    speed = np.hypot(traj.vx_cm, traj.vy_cm)
+    assert np.allclose(power[1:], -0.033 * speed[1:], rtol=1e-12)  # exact law; t = 0 is the CM at rest
+    kin = np.asarray(ents["plots/energy/kinetic"]["values"])[np.argsort(ents["plots/energy/kinetic"]["times"])]
+    assert np.allclose(kin, 0.5 * speed**2, rtol=1e-12)  # point mass: no spin energy
+
+
+@pytest.mark.parametrize("t_max,in_span", [("20", False), ("60", True)])
+def test_cli_pictures_use_the_whole_runs_flip(tmp_path: Path, cli, t_max: str, in_span: bool,  # type: ignore[no-untyped-def]
+                                              phixtpm_flip: float) -> None:
+    import json
+
+    r = cli("simulate", "--H", "0.2", "--k", "0.033", "--omega", "0.6", "--t-max", t_max, "--dt-out", "0.2",
+            "--rerun", str(tmp_path / "c.rrd"), "--json")
+    assert r.code == 0, r.err
+    flip = json.loads(r.out)["flip"]
+    assert flip["in_span"] is in_span and flip["t_f"] == pytest.approx(phixtpm_flip, abs=1e-9)
+    log = " | ".join(_read_rrd(tmp_path / "c.rrd")["events"]["values"])
+    assert ("FLIP" in log) is in_span
+
+
+def test_movie_bytes_reproducible(tmp_path: Path, s1_short: Trajectory) -> None:
+    """Same run, same options: the same MP4 bytes (no creation time, no random ids)."""
+    from rrbody.render.mp4 import render_movie
+
+    a = render_movie(s1_short, tmp_path / "a.mp4", fps=5, size=(160, 90), speed=4.0, arrows=True)
+    b = render_movie(s1_short, tmp_path / "b.mp4", fps=5, size=(160, 90), speed=4.0, arrows=True)
+    assert a.read_bytes() == b.read_bytes()
+
+
+@pytest.mark.parametrize("fmt", ["svg", "png"])
+def test_figure_bytes_reproducible(tmp_path: Path, fmt: str) -> None:
+    """A figure saved twice (fresh figures, so fresh matplotlib ids) gives identical bytes, with no date."""
+    from matplotlib.figure import Figure
+
+    from rrbody.render.figures import savefig_reproducible
+
+    def draw(path: Path) -> bytes:
+        fig = Figure(figsize=(2, 1.5))
+        ax = fig.add_subplot()
+        ax.plot([0, 1, 2], [0, 1, 0], label="x")
+        ax.fill_between([0, 1], [0, 1], alpha=0.3)  # clip paths get ids
+        ax.set_title(r"$\phi(t)$")  # mathtext glyphs get ids
+        savefig_reproducible(fig, path, fmt=fmt)
+        return path.read_bytes()
+
+    a, b = draw(tmp_path / f"a.{fmt}"), draw(tmp_path / f"b.{fmt}")
+    assert a == b
+    if fmt == "svg":
+        assert b"<dc:date>" not in a
+    else:
+        assert b"Software" not in a and b"matplotlib" not in a.lower()

@@ -194,6 +194,11 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         path = getattr(args, opt, None)
         if path:
             check_writable(path, force=args.force, name=f"--{opt}")
+    pictures = bool(args.movie or args.rerun or args.rerun_spawn)
+    if pictures:  # a missing extra is reported before anything runs or is written
+        from rrbody.render import check_extras
+
+        check_extras(movie=bool(args.movie), rerun=bool(args.rerun or args.rerun_spawn))
     opts: dict[str, Any] = {}
     if args.method == "ode":
         opts.update(rtol=args.rtol, accuracy=args.accuracy, max_steps=args.max_steps)
@@ -206,25 +211,37 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     written: dict[str, str] = {}
     if args.out:
         written["out"] = str(traj.save(args.out, force=args.force))
+    flip = None
+    if pictures:  # the flip shown is flip_time over the whole run, never the lowest phi of this span
+        from rrbody.render.flip import flip_mark
+
+        flip = flip_mark(traj)
     if args.movie:
         from rrbody.render.mp4 import render_movie
 
         written["movie"] = str(render_movie(traj, args.movie, force=args.force, progress=_progress(args),
-                                            fps=args.fps, speed=args.movie_speed))
+                                            fps=args.fps, speed=args.movie_speed, flip=flip,
+                                            arrows=args.movie_arrows))
     if args.rerun or args.rerun_spawn:
         from rrbody.render.rerun import record
 
-        written["rerun"] = str(record(traj, args.rerun, spawn=args.rerun_spawn, force=args.force))
+        written["rerun"] = str(record(traj, args.rerun, spawn=args.rerun_spawn, force=args.force, flip=flip))
     ev = traj.events
     summary = {"scene": scene.describe(), "method": args.method, "n_samples": len(traj), "t_end": float(traj.t[-1]),
                "phi_end": float(traj.phi[-1]), "phi_min": ev.get("phi_min"), "t_phi_min": ev.get("t_phi_min"),
                "meta": {k: v for k, v in traj.meta.items() if k != "scene"}, "written": written}
+    if flip is not None:
+        summary["flip"] = {"status": flip.status, "t_f": flip.t_f, "in_span": flip.in_span(float(traj.t[0]),
+                                                                                             float(traj.t[-1])),
+                           "caption": flip.caption(float(traj.t[0]), float(traj.t[-1]))}
     text = (f"simulated {scene.body.kind} body, H={scene.H:.6g}, k={scene.k:.6g}, omega={scene.omega:.6g} rad/s "
             f"for {traj.t[-1]:.6g} s with {args.method}: {len(traj)} samples; phi_min={ev.get('phi_min')} at "
             f"t={ev.get('t_phi_min')} s"
             if scene.driven else
             f"simulated free {scene.body.kind} body for {traj.t[-1]:.6g} s: {len(traj)} samples; "
             f"stop time {ev.get('t_stop')}")
+    if flip is not None:
+        text += f"\npictures: {flip.caption(float(traj.t[0]), float(traj.t[-1]))}"
     for k, v in written.items():
         text += f"\nwrote {k}: {v}"
     _emit(args, summary, text)
@@ -303,8 +320,8 @@ def cmd_scene(args: argparse.Namespace) -> int:
     if args.name == "all":
         from rrbody.analysis.report import write_report
 
-        wall = time.perf_counter() - t0
-        print(f"all scenes: {wall:.1f} s; wrote {write_report(scenes_dir().parent / 'results', run_time_s=wall)}")
+        wall = time.perf_counter() - t0  # printed, never stored: tracked files hold no timings
+        print(f"all scenes: {wall:.1f} s; wrote {write_report(scenes_dir().parent / 'results')}")
     return 0
 
 
@@ -326,6 +343,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--movie-speed", type=_finite("--movie-speed"), default=1.0,
                    help="simulated seconds per second of movie (default 1: real time)")
     s.add_argument("--fps", type=_finite("--fps"), default=30.0, help="movie frames per second (default 30)")
+    s.add_argument("--movie-arrows", action="store_true",
+                   help="draw the CM velocity and the friction force as arrows in the movie")
     s.add_argument("--rerun", help="write a rerun recording (.rrd) of the run")
     s.add_argument("--rerun-spawn", action="store_true", help="open the rerun viewer (needs a screen)")
     s.add_argument("--force", action="store_true", help="overwrite existing output files")
@@ -383,6 +402,14 @@ def main(argv: Sequence[str] | None = None) -> int:
         return int(args.func(args) or 0)
     except ValueError as e:  # includes CliError: bad input, named
         print(f"rrbody {args.command}: error: {_option_name(str(e))}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except ImportError as e:  # a missing optional extra: one line naming it, exit 2
+        from rrbody.model.extras import missing_extra_message
+
+        msg = missing_extra_message(e)
+        if msg is None:
+            raise
+        print(f"rrbody {args.command}: error: {msg}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
         print(INTERRUPTED, file=sys.stderr)

@@ -1,1 +1,1 @@
-"""Model layer (bottom): validated plain data: bodies, drive, friction laws, scene, trajectory, checks, I/O."""
+"""Validated plain data: bodies, drive, friction laws, scene, trajectory, checks, io, optional extras."""

@@ -24,11 +24,14 @@ from rrbody.model.io import atomic_path
 if TYPE_CHECKING:
     from rrbody.model.scene import Scene
 
-__all__ = ["Trajectory", "COLUMNS", "driven_trajectory"]
+__all__ = ["Trajectory", "COLUMNS", "VOLATILE_META", "driven_trajectory"]
 
 COLUMNS: tuple[str, ...] = ("t", "phi", "phi_dot", "x_cm", "y_cm", "vx_cm", "vy_cm", "x_p", "y_p", "body_angle",
                             "spin")
 _META_PREFIX = "# rrbody-meta: "
+#: metadata keys that measure the machine, not the run (wall-clock seconds): kept in memory, never
+#: written to a file, so regenerating a run with unchanged numbers rewrites identical bytes
+VOLATILE_META: tuple[str, ...] = ("wall_s",)
 
 
 def _jsonable(obj: Any) -> Any:
@@ -77,12 +80,56 @@ class Trajectory:
         omega = float(self.meta.get("scene", {}).get("drive", {}).get("omega", math.nan) or math.nan)
         return self.phi - omega * self.t + math.pi
 
+    def settled_flip(self, *, settle_turns: float = 2.0, settle_periods: float = 3.0) -> tuple[float | None, bool]:
+        """The flip as far as this run alone can tell: ``(t_f, settled)``.
+
+        Applies :func:`rrbody.analysis.flip_time`'s stopping rule to the run's located minima
+        (``events['minima']``, [t (s), phi (rad)] rows) and its samples: the flip is *settled* once,
+        after the lowest minimum so far (phi_min at t_min), phi has risen to phi_min + 2 pi
+        ``settle_turns`` and ``settle_periods`` driving periods have passed. Then ``t_f`` is that
+        minimum's time, or None when phi_min is not below phi0 (no reverse rotation). A run that
+        ends before the rule is met returns ``(None, False)``: its flip may lie beyond the span
+        (ask ``flip_time`` for the whole run). Free or undriven runs, runs without minima
+        information and frictionless runs (no flip ever) also return ``(None, False)``.
+        """
+        sc = self.meta.get("scene") or {}
+        drive = sc.get("drive")
+        minima = np.asarray(self.events.get("minima") or [], dtype=float).reshape(-1, 2)
+        if not drive or len(self) == 0 or (sc.get("friction") or {}).get("law", "dry") == "none":
+            return None, False
+        period = 2.0 * math.pi / float(drive["omega"])
+        phi0 = float(sc.get("phi0", self.phi[0]))
+        if len(minima) == 0:
+            return None, False
+        # the lowest minimum at or before each sample: running min and the index where it was reached
+        order = np.argsort(minima[:, 0], kind="stable")
+        mt, mv = minima[order, 0], minima[order, 1]
+        run_v = np.minimum.accumulate(mv)
+        new_low = np.concatenate([[True], mv[1:] < run_v[:-1]])
+        run_i = np.maximum.accumulate(np.where(new_low, np.arange(len(mv)), 0))
+        j = np.searchsorted(mt, self.t, side="right") - 1  # index of the last minimum at or before t
+        has = j >= 0
+        jj = np.where(has, j, 0)
+        low = np.where(has, run_v[jj], np.inf)
+        t_low = np.where(has, mt[run_i[jj]], np.nan)
+        ok = has & (self.phi >= low + 2.0 * math.pi * settle_turns) & (self.t - t_low >= settle_periods * period)
+        if not ok.any():
+            return None, False
+        first = int(np.argmax(ok))
+        if low[first] >= phi0:
+            return None, True
+        return float(t_low[first]), True
+
     def column_array(self) -> np.ndarray:
         return np.column_stack([getattr(self, c) for c in COLUMNS])
 
     def save(self, path: str | Path, *, force: bool = False) -> Path:
-        """Write CSV (JSON metadata in the first line) atomically; refuses to overwrite unless ``force``."""
-        header = _META_PREFIX + json.dumps(_jsonable({"meta": self.meta, "events": self.events}))
+        """Write CSV (JSON metadata in the first line) atomically; refuses to overwrite unless ``force``.
+
+        Wall-clock timings (:data:`VOLATILE_META`) are left out, so the file depends on the run only.
+        """
+        meta = {k: v for k, v in self.meta.items() if k not in VOLATILE_META}
+        header = _META_PREFIX + json.dumps(_jsonable({"meta": meta, "events": self.events}))
         with atomic_path(path, force=force, name="out") as tmp, open(tmp, "w") as fh:
             fh.write(header + "\n")
             fh.write(",".join(COLUMNS) + "\n")
