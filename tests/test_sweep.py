@@ -98,7 +98,7 @@ def test_critical_h_list_sweep(tmp_path: Path) -> None:
 @pytest.mark.parametrize("kwargs, match", [
     ({"base": {"H": 0.2, "k": 1.0}, "axes": {"omega": [1.0]}, "quantity": "speed"}, "quantity"),
     ({"base": {"H": 0.2, "k": 1.0}, "axes": {}}, "axes"),
-    ({"base": {"H": 0.2, "k": 1.0}, "axes": {"mass": [1.0]}}, "rod-mass sweep parameters"),
+    ({"base": {"H": 0.2, "k": 1.0}, "axes": {"mass": [1.0]}}, "axes must be among"),
     ({"base": {"H": 0.2}, "axes": {"omega": [1.0]}}, "base must give"),
     ({"base": {"H": -0.2, "k": 1.0}, "axes": {"omega": [1.0]}}, "H"),
     ({"base": {"H": 0.2, "k": 1.0}, "axes": {"omega": [1.0, 2.0], "k": [1.0]}, "mode": "list"}, "equal length"),
