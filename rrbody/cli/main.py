@@ -319,6 +319,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         if not command:
             parser.print_help()
             return 0
+        if command in ("flip-time", "critical-h", "simulate"):
+            from rrbody.cli.lean import preload_cython_blas
+
+            preload_cython_blas()
         if getattr(args, "batch", None) is not None:
             from rrbody.cli.batch import run_batch
 
