@@ -80,6 +80,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     ev = traj.events
     summary = {"scene": scene.describe(), "method": args.method, "n_samples": len(traj), "t_end": float(traj.t[-1]),
                "phi_end": float(traj.phi[-1]), "phi_min": ev.get("phi_min"), "t_phi_min": ev.get("t_phi_min"),
+               "t_stop": ev.get("t_stop"), "distance": ev.get("distance"), "turn": ev.get("turn"),
                "meta": {k: v for k, v in traj.meta.items() if k != "scene"}, "written": written}
     text = (f"simulated {scene.body.kind} body, H={scene.H:.6g}, k={scene.k:.6g}, omega={scene.omega:.6g} rad/s "
             f"for {traj.t[-1]:.6g} s with {args.method}: {len(traj)} samples; phi_min={ev.get('phi_min')} at "
