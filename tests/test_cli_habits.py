@@ -44,7 +44,8 @@ def test_did_you_mean_and_missing_options(tmp_path: Path) -> None:
                    ["simulate", "--H", "0.2"],
                    ["critical-h"],
                    ["flip-tme", "--H", "0.2"],
-                   ["sweep", "--H", "0.2"]], cwd=tmp_path)
+                   ["sweep", "--H", "0.2"],
+                   ["flip-time", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--H=0.3"]], cwd=tmp_path)
     assert_bad_input(rs[0], "--omgea", tmp_path, set())
     assert "did you mean --omega?" in rs[0].err
     for r, names in zip(rs[1:5], [("--H", "--omega", "--k"), ("--R0", "--omega", "--k"),
@@ -54,6 +55,7 @@ def test_did_you_mean_and_missing_options(tmp_path: Path) -> None:
     assert_bad_input(rs[5], "flip-tme", tmp_path, set())
     assert "did you mean flip-time?" in rs[5].err
     assert_bad_input(rs[6], "missing required options: --axis, --out", tmp_path, set())
+    assert_bad_input(rs[7], "--H is given twice", tmp_path, set())  # not "the last one wins" in silence
 
 
 def _options(parser: argparse.ArgumentParser) -> list[tuple[str, argparse.Action]]:

@@ -87,7 +87,7 @@ def _lines(path: str) -> Iterator[str]:
 
 
 def run_batch(parser: argparse.ArgumentParser, argv: list[str], args: argparse.Namespace,
-              parse: Callable[[argparse.ArgumentParser, list[str]], argparse.Namespace],
+              parse: Callable[..., argparse.Namespace],
               run_command: Callable[[argparse.Namespace], int]) -> int:
     """Run every line of ``args.batch`` as the command ``args.command`` with those options, through
     the same ``parse`` and ``run_command`` as a single call (passed in: cli.main imports this module)."""
@@ -105,7 +105,7 @@ def run_batch(parser: argparse.ArgumentParser, argv: list[str], args: argparse.N
                 obj = json.loads(text)
             except json.JSONDecodeError as e:
                 raise CliError(f"line {n} is not JSON: {e.msg} at column {e.colno}") from None
-            line_args = parse(parser, [*base, *line_argv(obj)])
+            line_args = parse(parser, [*base, *line_argv(obj)], repeats=True)
             line_args.batch = None
             line_args.batch_line = True
             run_command(line_args)

@@ -270,14 +270,31 @@ def _commands(parser: argparse.ArgumentParser) -> list[str]:
     return []
 
 
-def parse(parser: argparse.ArgumentParser, argv: list[str]) -> argparse.Namespace:
-    """Parse ``argv`` with rrbody's conventions (negative values, did-you-mean); raises CliError."""
+def _check_repeats(sp: argparse.ArgumentParser, argv: list[str]) -> None:
+    """A single-valued option given twice is an error, not 'the last one wins' in silence."""
+    once = {o: a for a in sp._actions for o in a.option_strings
+            if not isinstance(a, (argparse._AppendAction, argparse._HelpAction))}
+    seen: dict[int, str] = {}  # action id -> the token that set it
+    for tok in argv:
+        a = once.get(tok.split("=", 1)[0])
+        if a is None:
+            continue
+        if id(a) in seen:
+            raise CliError(f"{a.option_strings[-1]} is given twice; give it once")
+        seen[id(a)] = tok
+
+
+def parse(parser: argparse.ArgumentParser, argv: list[str], *, repeats: bool = False) -> argparse.Namespace:
+    """Parse ``argv`` with rrbody's conventions (negative values, did-you-mean, no silent repeats;
+    ``repeats=True``: later values win, as batch lines override command-line defaults); raises CliError."""
     if argv and not argv[0].startswith("-") and argv[0] not in _commands(parser):
         raise CliError(f"unknown command {argv[0]!r}{suggest(argv[0], _commands(parser))}; "
                        f"commands: {', '.join(_commands(parser))}")
     sp = _subparser(parser, argv[0]) if argv else None
     if sp is not None:
         argv = [argv[0], *preprocess_argv(sp, argv[1:])]
+        if not repeats:
+            _check_repeats(sp, argv[1:])
     args, extra = parser.parse_known_args(argv)
     unknown = [x for x in extra if x.startswith("-")] or extra
     if unknown:
