@@ -123,7 +123,7 @@ def test_cli_sweep_and_report(tmp_path: Path, cli) -> None:  # type: ignore[no-u
     r = cli("sweep", "--H", "0.25", "--k", "7.5", "--axis", "omega=0.5:2:4", "--workers", "0", "--out", str(out))
     assert r.code == 2 and "already exists" in r.err  # never clobbers without --force
     r = cli("sweep", "--H", "0.25", "--axis", "omega=1,2", "--workers", "0", "--out", str(tmp_path / "x.csv"))
-    assert r.code == 2 and "base must give" in r.err
+    assert r.code == 2 and "missing required options: --k" in r.err
     # the report builds from whatever scene outputs exist (none here) without failing
     r = cli("report", "--results", str(tmp_path))
     assert r.code == 0, r.err

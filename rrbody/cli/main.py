@@ -21,7 +21,7 @@ from typing import Any
 from rrbody._version import __version__
 from rrbody.cli.args import CliError, Parser, angle, check_options, number, option_help, option_message, \
     preprocess_argv, suggest
-from rrbody.cli.options import add_integrator_options, add_scene_options, scene_from_args
+from rrbody.cli.options import add_accuracy_options, add_integrator_options, add_scene_options, scene_from_args
 
 __all__ = ["main", "entry", "build_parser", "scene_from_args", "run_command"]
 
@@ -228,10 +228,7 @@ def build_parser() -> Parser:
                    help=option_help("phi0", "initial angle (number, 'pi/2', '180deg', ...)", "pi"))
     c.add_argument("--friction", choices=("dry", "viscous", "none"), default="dry", help="friction law (default dry)")
     c.add_argument("--tol", type=number("--tol"), default=1e-9, help=option_help("tol", "tolerance on H_c", "1e-9"))
-    c.add_argument("--accuracy", choices=("draft", "default", "paper"), default="default",
-                   help="ODE tolerance preset: draft 1e-9, default 1e-13, paper 1e-14")
-    c.add_argument("--rtol", type=number("--rtol"), default=None,
-                   help=option_help("rtol", "ODE relative tolerance (overrides --accuracy)"))
+    add_accuracy_options(c)
     c.add_argument("--json", action="store_true", help="print one JSON object (H_c, k, omega, ...)")
     _batch_option(c, "result")
     c.set_defaults(func=cmd_critical_h)

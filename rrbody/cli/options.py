@@ -9,7 +9,7 @@ from typing import Any
 
 from rrbody.cli.args import CliError, angle, check_options, float_list, integer, number, option_help, option_message
 
-__all__ = ["add_scene_options", "add_integrator_options", "scene_from_args", "scene_params", "SCENE_OPTIONS",
+__all__ = ["add_scene_options", "add_integrator_options", "add_accuracy_options", "scene_from_args", "scene_params", "SCENE_OPTIONS",
            "INTEGRATOR_OPTIONS"]
 
 #: the numeric scene options (each names a parameter of the model's table)
@@ -58,13 +58,18 @@ def add_scene_options(p: argparse.ArgumentParser, *, free_bodies: bool = True) -
                        help=option_help("spin0", "free body: initial spin", 0))
 
 
-def add_integrator_options(p: argparse.ArgumentParser) -> None:
-    g = p.add_argument_group("integrator")
-    g.add_argument("--method", choices=("ode", "engine"), default="ode", help="direct ODE (default) or pymunk engine")
+def add_accuracy_options(g: Any) -> None:
+    """``--accuracy`` and ``--rtol`` (every command that integrates the ODE)."""
     g.add_argument("--accuracy", choices=("draft", "default", "paper"), default="default",
                    help="ODE tolerance preset: draft 1e-9, default 1e-13, paper 1e-14 (README: Accuracy and cost)")
     g.add_argument("--rtol", type=number("--rtol"), default=None,
                    help=option_help("rtol", "ODE relative tolerance (overrides --accuracy)"))
+
+
+def add_integrator_options(p: argparse.ArgumentParser) -> None:
+    g = p.add_argument_group("integrator")
+    g.add_argument("--method", choices=("ode", "engine"), default="ode", help="direct ODE (default) or pymunk engine")
+    add_accuracy_options(g)
     g.add_argument("--dt", type=number("--dt"), default=None,
                    help=option_help("dt", "engine time step (default: from the fastest period)"))
     g.add_argument("--iterations", type=integer("--iterations"), default=None,

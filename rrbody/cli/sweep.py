@@ -17,7 +17,7 @@ import sys
 from typing import Any
 
 from rrbody.cli.args import CliError, check_options, integer, number, option_help, option_message, suggest
-from rrbody.cli.options import SCENE_OPTIONS, add_scene_options, scene_params
+from rrbody.cli.options import SCENE_OPTIONS, add_accuracy_options, add_scene_options, scene_params
 
 __all__ = ["add_parser", "cmd_sweep", "QUANTITY_NAMES"]
 
@@ -95,10 +95,7 @@ def add_parser(sub: Any) -> None:
     s.add_argument("--list", dest="zip_axes", action="store_true", help="zip the axes (one point per index)")
     add_scene_options(s)
     g = s.add_argument_group("analysis")
-    g.add_argument("--accuracy", choices=("draft", "default", "paper"), default="default",
-                   help="ODE tolerance preset: draft 1e-9, default 1e-13, paper 1e-14")
-    g.add_argument("--rtol", type=number("--rtol"), default=None,
-                   help=option_help("rtol", "ODE relative tolerance (overrides --accuracy)"))
+    add_accuracy_options(g)
     g.add_argument("--t-max", type=number("--t-max"), default=None,
                    help=option_help("t_max", "flip_time: horizon cap; rest: horizon (required)"))
     g.add_argument("--tol", type=number("--tol"), default=None, help=option_help("tol", "critical_h tolerance on H"))
