@@ -42,6 +42,8 @@ def plan_workers(requested: int | None, n_batches: int) -> int:
     Raises ValueError above ``LIMITS["workers"]``; warns (RuntimeWarning) when more processes than
     cores are asked for, since they only share the cores and slow each other."""
     cores = os.cpu_count() or 1
+    if n_batches == 0 and requested is None:
+        return 0  # nothing to do (a resumed sweep that was complete): no pool at all
     if requested is None:
         return max(1, min(cores, n_batches))
     n = int(check("workers", requested))

@@ -75,6 +75,7 @@ def option_help(param: str, text: str, default: object = None) -> str:
 
 
 def _valid(option: str) -> str:
+    """' in [lo, hi] unit' for an option with a range in the model's table, else ''."""
     param = OPTION_PARAMS.get(option)
     return f" {LIMITS[param].text()}" if param else ""
 
@@ -102,8 +103,7 @@ def integer(option: str) -> Callable[[str], int]:
         except ValueError:
             v = math.nan
         if not (math.isfinite(v) and v.is_integer()):
-            raise argparse.ArgumentTypeError(f"{option} must be an integer{_valid(option)[3:] and ' in'}"
-                                             f"{_valid(option)[3:]}, got {text!r}")
+            raise argparse.ArgumentTypeError(f"{option} must be an integer{_valid(option)}, got {text!r}")
         return int(v)
 
     parse.__name__ = "integer"

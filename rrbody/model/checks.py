@@ -31,6 +31,7 @@ MAX_FRICTION = 1e9    # mu g in m/s^2, gamma in 1/s, k in 1/s^2
 MIN_FRICTION = 1e-12  # smallest nonzero k (t_f grows like omega/k; below this no horizon ends)
 MAX_TIME = 1e9        # s (horizons)
 TINY = sys.float_info.min  # smallest positive normal float (2.2e-308)
+DIMENSIONLESS = "(dimensionless)"
 
 __all__ = ["MAX_RATE", "MIN_RATE", "MAX_LENGTH", "MIN_LENGTH", "MAX_FRICTION", "MIN_FRICTION", "MAX_TIME",
            "Limit", "LIMITS", "MissingParameters", "check", "check_real", "check_positive", "check_nonnegative", "check_range",
@@ -75,14 +76,14 @@ LIMITS: dict[str, Limit] = {
     "l": Limit(MIN_LENGTH, MAX_LENGTH, "m", zero_ok=True, help="distance CM -> P"),
     "R": Limit(MIN_LENGTH, MAX_LENGTH, "m", help="disk radius"),
     "R0": Limit(MIN_LENGTH, MAX_LENGTH, "m", help="ellipse mean semi-axis (disk radius)"),
-    "delta": Limit(-1.0, 1.0, "", lo_open=True, hi_open=True, help="ellipse eccentricity parameter"),
+    "delta": Limit(-1.0, 1.0, DIMENSIONLESS, lo_open=True, hi_open=True, help="ellipse eccentricity parameter"),
     "mass": Limit(1e-12, 1e12, "kg", help="mass (cancels from every result)"),
     # drive and friction
     "omega": Limit(MIN_RATE, MAX_RATE, "rad/s", help="driving rate"),
     "d": Limit(MIN_LENGTH, MAX_LENGTH, "m", help="driving radius"),
-    "H": Limit(1e-6, 1e6, "", help="geometry H = (I_cm + m l^2)/(m d l)"),
+    "H": Limit(1e-6, 1e6, DIMENSIONLESS, help="geometry H = (I_cm + m l^2)/(m d l)"),
     "k": Limit(MIN_FRICTION, MAX_FRICTION, "1/s^2", zero_ok=True, help="friction k = mu g / d"),
-    "mu": Limit(MIN_FRICTION, 1e3, "", zero_ok=True, help="friction coefficient"),
+    "mu": Limit(MIN_FRICTION, 1e3, DIMENSIONLESS, zero_ok=True, help="friction coefficient"),
     "g": Limit(1e-6, 1e6, "m/s^2", help="gravity"),
     "friction coefficient": Limit(MIN_FRICTION, MAX_FRICTION, "m/s^2 (dry) or 1/s (viscous)", zero_ok=True),
     # initial state
@@ -94,11 +95,11 @@ LIMITS: dict[str, Limit] = {
     # solver options
     "t_max": Limit(0.0, MAX_TIME, "s", lo_open=True, help="horizon"),
     "dt_out": Limit(0.0, MAX_TIME, "s", lo_open=True, help="output interval"),
-    "rtol": Limit(1e-15, 1e-2, "", help="ODE relative tolerance"),
+    "rtol": Limit(1e-15, 1e-2, DIMENSIONLESS, help="ODE relative tolerance"),
     "max_steps": Limit(1, 10**12, "steps", integer=True, help="cap on integration steps"),
-    "tol": Limit(1e-14, 0.1, "", help="absolute tolerance on H_c"),
+    "tol": Limit(1e-14, 0.1, DIMENSIONLESS, help="absolute tolerance on H_c"),
     "dt": Limit(0.0, 10.0, "s", lo_open=True, help="engine time step"),
-    "iterations": Limit(1, 100_000, "", integer=True, help="engine constraint-solver iterations"),
+    "iterations": Limit(1, 100_000, "iterations per step", integer=True, help="engine constraint-solver iterations"),
     "settle_turns": Limit(0.5, 100.0, "turns"),
     "settle_periods": Limit(0.0, 1e6, "driving periods"),
     # movie
@@ -131,7 +132,7 @@ def check(name: str, value: object, *, label: str | None = None) -> float | int:
     label = label or name
     valid = lim.text()
     if lim.integer:
-        return check_int(label, value, int(lim.lo), int(lim.hi))
+        return check_int(label, value, int(lim.lo), int(lim.hi), unit=lim.unit)
     if isinstance(value, bool) or not isinstance(value, Real):
         raise _fail(label, value, valid)
     v = float(value)
@@ -178,9 +179,9 @@ def check_nonnegative(name: str, value: object, *, unit: str = "", hi: float = m
     return check_range(name, value, 0.0, hi, unit=unit)
 
 
-def check_int(name: str, value: object, lo: int, hi: int | None = None) -> int:
+def check_int(name: str, value: object, lo: int, hi: int | None = None, *, unit: str = "") -> int:
     """An integer (not bool, not NaN, not fractional) in [lo, hi]; a float with an integral value counts."""
-    valid = f"an integer in [{lo}, {hi if hi is not None else 'inf'}]"
+    valid = f"an integer in [{lo}, {hi if hi is not None else 'inf'}]{' ' + unit if unit else ''}"
     if isinstance(value, bool):
         raise _fail(name, value, valid)
     if isinstance(value, Integral):
