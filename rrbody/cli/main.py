@@ -322,10 +322,7 @@ def _show_warning(message: Warning | str, category: type[Warning], filename: str
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    import warnings
-
     argv = list(sys.argv[1:] if argv is None else argv)
-    warnings.showwarning = _show_warning
     parser = build_parser()
     command = argv[0] if argv and argv[0] in _commands(parser) else None
     try:
@@ -358,9 +355,12 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def entry(argv: Sequence[str] | None = None) -> int:
-    """The ``rrbody`` console command: :func:`main` plus quiet ends on SIGTERM and closed pipes."""
+    """The ``rrbody`` console command: :func:`main` plus one-line warnings and quiet ends on SIGTERM
+    and closed pipes (process-wide settings, so not made by :func:`main`, which tests call in-process)."""
     import threading
+    import warnings
 
+    warnings.showwarning = _show_warning
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGTERM, _terminate)
     try:
