@@ -71,3 +71,10 @@ def test_link_to_a_regular_file_writes_the_target(tmp_path: Path) -> None:
     assert r.code == 0, r.err
     assert (tmp_path / "link.csv").is_symlink()  # the link survives; its target holds the trajectory
     assert (tmp_path / "real.csv").read_text().startswith("# rrbody-meta")
+
+
+def test_movie_and_recording_suffixes_are_checked_before_the_run(tmp_path: Path) -> None:
+    rs = run_many([[*SIM, "--out", str(tmp_path / "t.csv"), "--movie", str(tmp_path / "m.avi")],
+                   [*SIM, "--out", str(tmp_path / "t.csv"), "--rerun", str(tmp_path / "r.txt")]], cwd=tmp_path)
+    assert_bad_input(rs[0], "--movie", tmp_path, set())  # the trajectory CSV was not written either
+    assert_bad_input(rs[1], "--rerun", tmp_path, set())

@@ -51,10 +51,12 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 
     scene = scene_from_args(args, required=("--t-max",))
     check_options(args, ("--dt-out", "--fps", "--movie-speed"))
-    for opt in ("out", "movie", "rerun"):
+    for opt, suffix in (("out", ""), ("movie", ".mp4"), ("rerun", ".rrd")):
         path = getattr(args, opt, None)
         if path:
             check_writable(path, force=args.force, name=f"--{opt}")
+            if suffix and not str(path).lower().endswith(suffix):  # the renderer's rule, checked before the run
+                raise CliError(f"--{opt} must end in {suffix}, got {path!r}")
     from rrbody.analysis.simulate import simulate
 
     opts: dict[str, Any] = {"max_steps": args.max_steps}
