@@ -10,8 +10,9 @@ a number, a string (``"pi/2"``, ``"180deg"``, ``"dry"``), ``true``/``false`` for
 Each line runs exactly the code of a single call with the same options, so its result is the same
 JSON, bit for bit (only ``wall_s``, a timing, differs). A bad line yields
 ``{"error": "<the one-line message of a single call>", "line": N}`` (N counts from 1, blank lines and
-``#`` comments included, which produce no output) and the other lines still run. Exit status: 0,
-or 2 if any line failed. The process pays its start-up (interpreter, numba, kernels) once.
+``#`` comments included, which produce no output) and the other lines still run; so does a run
+that fails for another reason (its error names the exception). Exit status: 0, or 2 if any line
+failed. The process pays its start-up (interpreter, numba, kernels) once.
 """
 
 from __future__ import annotations
@@ -112,4 +113,9 @@ def run_batch(parser: argparse.ArgumentParser, argv: list[str], args: argparse.N
         except CliError as e:
             failed = True
             print(json.dumps({"error": str(e), "line": n}), flush=True)
+        except BrokenPipeError:
+            raise
+        except Exception as e:  # noqa: BLE001 - one failing run must not take the other lines down
+            failed = True
+            print(json.dumps({"error": f"{type(e).__name__}: {e}", "line": n}), flush=True)
     return 2 if failed else 0

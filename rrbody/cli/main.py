@@ -273,14 +273,14 @@ def _check_repeats(sp: argparse.ArgumentParser, argv: list[str]) -> None:
     """A single-valued option given twice is an error, not 'the last one wins' in silence."""
     once = {o: a for a in sp._actions for o in a.option_strings
             if not isinstance(a, (argparse._AppendAction, argparse._HelpAction))}
-    seen: dict[int, str] = {}  # action id -> the token that set it
+    seen: set[int] = set()  # ids of the actions already set
     for tok in argv:
         a = once.get(tok.split("=", 1)[0])
         if a is None:
             continue
         if id(a) in seen:
             raise CliError(f"{a.option_strings[-1]} is given twice; give it once")
-        seen[id(a)] = tok
+        seen.add(id(a))
 
 
 def parse(parser: argparse.ArgumentParser, argv: list[str], *, repeats: bool = False) -> argparse.Namespace:
