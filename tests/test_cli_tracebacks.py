@@ -42,7 +42,8 @@ def test_friction_subnormal_and_sim_options(tmp_path: Path) -> None:
              (_with(sim, "--dt-out", "1e-320"), "--dt-out"), (_with(sim, "--t-max", "1e-320"), "--t-max"),
              (_with(FLIP, "--rtol", "1e-320"), "--rtol"), (_with(FLIP, "--phi-dot0", "1e-320"), "--phi-dot0"),
              (["critical-h", "--k", "1e-320", "--omega", "0.3"], "--k"),
-             (["critical-h", "--k", "0.01", "--omega", "1e-320"], "--omega")]
+             (["critical-h", "--k", "0.01", "--omega", "1e-320"], "--omega"),
+             (_with(sim, "--t-max", "1e8"), "--dt-out")]  # 3e9 samples at the default interval: refused at once
     for r, (_, opt) in zip(run_many([a for a, _ in cases], cwd=tmp_path), cases):
         assert_bad_input(r, opt, tmp_path, set())
 

@@ -24,6 +24,9 @@ __all__ = ["simulate", "METHODS", "ACCURACY", "register_method", "default_dt_out
 #: accuracy presets -> ODE relative tolerance (chosen from benchmarks/results: see README)
 ACCURACY: dict[str, float] = {"draft": 1e-9, "default": 1e-13, "paper": 1e-14}
 
+#: the most output samples a trajectory may hold (memory: 7 columns of float64, about 1 GB)
+MAX_SAMPLES = 20_000_000  # 2e7, as the message says
+
 METHODS: dict[str, str] = {"ode": "rrbody.analysis.simulate:_simulate_ode", "engine": "rrbody.engine:simulate_engine"}
 _LOADED: dict[str, Callable[..., Trajectory]] = {}
 
@@ -75,9 +78,9 @@ def simulate(scene: Scene, *, method: str = "ode", t_max: float | None = None, d
     horizon = float(check("t_max", horizon))
     dt = default_dt_out(scene) if dt_out is None else float(check("dt_out", dt_out))
     n = horizon / dt
-    if n > 20_000_000:
-        raise ValueError(f"dt_out={dt:g} s gives {n:.3g} samples over t_max={horizon:g} s; "
-                         "the limit is 2e7 (raise dt_out)")
+    if n > MAX_SAMPLES:
+        raise ValueError(f"dt_out must be >= t_max / 2e7 = {horizon / MAX_SAMPLES:.4g} s (at most 2e7 "
+                         f"samples), got {dt:g} s (t_max = {horizon:g} s)")
     return func(scene, t_max=horizon, dt_out=dt, progress=progress, **options)
 
 
