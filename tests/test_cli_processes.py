@@ -58,7 +58,7 @@ def test_pool_never_larger_than_points(tmp_path: Path) -> None:
     assert p.returncode == 0, err
     assert 1 <= len(most) <= 3  # 3 points: at most 3 processes although 8 were asked for
     if (os.cpu_count() or 1) < 8:
-        assert "warning: workers=8 is more than the" in err
+        assert "rrbody: warning: --workers 8 is more than the" in err
     assert "Traceback" not in err and out.exists()
 
 

@@ -48,7 +48,7 @@ def plan_workers(requested: int | None, n_batches: int) -> int:
         return max(1, min(cores, n_batches))
     n = int(check("workers", requested))
     if n > cores:
-        warnings.warn(f"workers={n} is more than the {cores} cores of this machine; the processes will share them",
+        warnings.warn(f"workers {n} is more than the {cores} cores of this machine; the processes will share them",
                       RuntimeWarning, stacklevel=3)
     return 0 if n == 0 else max(1, min(n, n_batches))
 

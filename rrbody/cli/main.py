@@ -320,7 +320,7 @@ def _terminate(signum: int, frame: Any) -> None:
 
 def _show_warning(message: Warning | str, category: type[Warning], filename: str, lineno: int,
                   file: Any = None, line: str | None = None) -> None:
-    print(f"rrbody: warning: {message}", file=sys.stderr)  # one line, no source excerpt
+    print(f"rrbody: warning: {option_message(str(message))}", file=sys.stderr)  # one line, no source excerpt
 
 
 def main(argv: Sequence[str] | None = None) -> int:
