@@ -1,28 +1,30 @@
-"""Start-up: what one `rrbody flip-time` call costs, with and without the warm worker.
+"""Start-up: 1,000 quick answers from one `rrbody flip-time --batch` process vs one single call.
 
-Measured as wall time of fresh processes (best of 5, after one warm-up run that fills the numba
-cache): (1) `rrbody flip-time --H 0.2 --k 0.05 --omega 0.6 --json` answered by the warm worker
-(`rrbody.worker`, started once before timing); (2) the same call in its own process
-(`RRBODY_WORKER=off`), and once with an empty numba cache (the first, compiling call); (3) a
-Python process that only imports numba and calls a one-line cached @njit function (the floor any
-numba-based process pays); (4) `python -c "import numpy"` (the interpreter and numpy alone). The
-solve itself is in the ODE study.
+Both are fresh processes, timed as wall time and interleaved in one run (batch, single, batch,
+single, ...; best of N each, after one warm-up run of each that fills the numba cache):
+(1) `rrbody flip-time --batch FILE` on 1,000 lines, rod-mass scenes around phixtpm (H 0.15-0.3,
+k 0.03-0.1, omega 0.5-0.7, dry friction, the default accuracy); (2) one single
+`rrbody flip-time --H 0.2 --k 0.05 --omega 0.6 --json`. For scale, (3) a Python process that imports
+numba and calls one cached one-line @njit function (the floor any numba process pays) and (4)
+`python -c "import numpy"`. The batch's answers are checked against single calls with the same
+options, field by field (all but `wall_s`, a timing) on an evenly spaced subset of the lines.
 """
 
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
 
+import numpy as np
+
 from .common import StudyResult, Target, fmt, machine_text, md_table, write_csv
 
 NAME = "startup"
-TITLE = "Start-up: one CLI call, with the warm worker and in its own process"
+TITLE = "Start-up: 1,000 lines of `flip-time --batch` vs one single call"
 
 _TRIVIAL = '''
 from numba import njit
@@ -33,59 +35,77 @@ def f(x):
 
 f(1.0)
 '''
+RRBODY = [sys.executable, "-m", "rrbody.cli"]
+SINGLE = ["flip-time", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--json"]
 
 
-def _best_wall(cmd: list[str], repeats: int, cwd: str | None = None, env: dict[str, str] | None = None) -> float:
-    env = dict(os.environ, RRBODY_WORKER="off") if env is None else env
-    subprocess.run(cmd, check=True, capture_output=True, cwd=cwd, env=env)  # warm-up: fills the numba cache
-    best = float("inf")
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        subprocess.run(cmd, check=True, capture_output=True, cwd=cwd, env=env)
-        best = min(best, time.perf_counter() - t0)
-    return best
+def _lines(n: int) -> list[dict[str, float]]:
+    rng = np.random.default_rng(13)  # fixed: the same 1,000 scenes in every run
+    return [{"H": round(float(h), 4), "k": round(float(k), 4), "omega": round(float(w), 4)}
+            for h, k, w in zip(rng.uniform(0.15, 0.3, n), rng.uniform(0.03, 0.1, n), rng.uniform(0.5, 0.7, n))]
+
+
+def _wall(cmd: list[str], cwd: str | None = None) -> tuple[float, str]:
+    t0 = time.perf_counter()
+    p = subprocess.run(cmd, check=True, capture_output=True, text=True, cwd=cwd)
+    return time.perf_counter() - t0, p.stdout
+
+
+def _strip(d: dict[str, object]) -> dict[str, object]:
+    return {k: v for k, v in d.items() if k != "wall_s"}
 
 
 def run(out: Path, *, quick: bool = False) -> StudyResult:
     t0 = time.perf_counter()
     repeats = 2 if quick else 5
-    rrbody_cmd = [sys.executable, "-m", "rrbody.cli", "flip-time", "--H", "0.2", "--k", "0.05", "--omega", "0.6",
-                  "--json"]
+    n_lines = 1000
+    n_check = 5 if quick else 20
+    lines = _lines(n_lines)
     with tempfile.TemporaryDirectory(prefix="rrbs") as tmp:
+        batch_file = Path(tmp) / "lines.jsonl"
+        batch_file.write_text("".join(json.dumps(d) + "\n" for d in lines))
         script = Path(tmp) / "trivial_numba.py"
         script.write_text(_TRIVIAL)
-        # the very first call compiles every kernel it needs: an empty numba cache of its own
-        first_env = dict(os.environ, RRBODY_WORKER="off", NUMBA_CACHE_DIR=str(Path(tmp) / "numba"))
-        t1 = time.perf_counter()
-        subprocess.run(rrbody_cmd, check=True, capture_output=True, env=first_env)
-        first = time.perf_counter() - t1
-        cold = _best_wall(rrbody_cmd, repeats)
-        warm_env = dict(os.environ, RRBODY_WORKER="on", RRBODY_WORKER_DIR=str(Path(tmp) / "w"))
-        subprocess.run([*rrbody_cmd[:3], "worker", "start"], check=True, capture_output=True, env=warm_env)
-        try:
-            warm = _best_wall(rrbody_cmd, repeats, env=warm_env)
-            status = subprocess.run([*rrbody_cmd[:3], "worker", "status", "--json"], check=True,
-                                    capture_output=True, text=True, env=warm_env)
-            served = json.loads(status.stdout)["served"]
-        finally:
-            subprocess.run([*rrbody_cmd[:3], "worker", "stop"], capture_output=True, env=warm_env)
-        floor = _best_wall([sys.executable, str(script)], repeats, cwd=tmp)
-    numpy_only = _best_wall([sys.executable, "-c", "import numpy"], repeats)
-    rows = [{"process": f"rrbody flip-time (phixtpm, --json), warm worker ({served} calls served)",
-             "best_wall_s": warm},
-            {"process": "rrbody flip-time (phixtpm, --json), own process (RRBODY_WORKER=off)", "best_wall_s": cold},
-            {"process": "the same, very first call: empty numba cache, compiles (one run)", "best_wall_s": first},
-            {"process": "numba import + one cached one-line @njit call", "best_wall_s": floor},
-            {"process": "python -c 'import numpy'", "best_wall_s": numpy_only}]
+        batch_cmd = [*RRBODY, "flip-time", "--batch", str(batch_file)]
+        single_cmd = [*RRBODY, *SINGLE]
+        floor_cmd = [sys.executable, str(script)]
+        numpy_cmd = [sys.executable, "-c", "import numpy"]
+        cmds = {"batch": batch_cmd, "single": single_cmd, "floor": floor_cmd, "numpy": numpy_cmd}
+        for c in cmds.values():  # warm-up: fills the numba caches
+            _wall(c, cwd=tmp)
+        best = {k: float("inf") for k in cmds}
+        batch_out = ""
+        for _ in range(repeats):  # interleaved: a load change hits every process alike
+            for k, c in cmds.items():
+                w, so = _wall(c, cwd=tmp)
+                best[k] = min(best[k], w)
+                if k == "batch":
+                    batch_out = so
+        answers = [json.loads(s) for s in batch_out.splitlines()]
+        idx = np.linspace(0, n_lines - 1, n_check).astype(int)
+        mismatches = 0
+        for i in idx:
+            argv = [x for kv in lines[i].items() for x in (f"--{kv[0]}", repr(kv[1]))]
+            _, so = _wall([*RRBODY, "flip-time", *argv, "--json"], cwd=tmp)
+            mismatches += _strip(json.loads(so)) != _strip(answers[i])
+    ratio = best["batch"] / best["single"]
+    rows = [{"process": f"rrbody flip-time --batch ({n_lines} lines)", "best_wall_s": best["batch"]},
+            {"process": "rrbody flip-time (one single call, phixtpm, --json)", "best_wall_s": best["single"]},
+            {"process": "numba import + one cached one-line @njit call", "best_wall_s": best["floor"]},
+            {"process": "python -c 'import numpy'", "best_wall_s": best["numpy"]}]
     files = [str(write_csv(out / "startup.csv", rows))]
-    targets = [Target("`rrbody flip-time` call, after the first (compiling) run", "well under 1 s (issue 2)",
-                      f"{fmt(warm)} s with the warm worker; {fmt(cold)} s in its own process "
-                      f"(numba's per-process floor {fmt(floor)} s)", warm < 0.5,
-                      "the solve takes ~1 ms; a process of its own pays interpreter, numba import and target "
-                      "set-up, which the worker pays once")]
+    equal = mismatches == 0 and len(answers) == n_lines
+    targets = [Target(f"{n_lines} lines of `flip-time --batch` vs one single `flip-time` call (issue 13)",
+                      "< 3x, results equal the single calls'",
+                      f"{fmt(ratio)}x ({fmt(best['batch'])} s vs {fmt(best['single'])} s); "
+                      f"{n_check - mismatches} of {n_check} checked lines equal to single calls",
+                      ratio < 3.0 and equal,
+                      f"per line {fmt((best['batch'] - best['single']) / n_lines * 1e3)} ms beyond one call's "
+                      f"start-up; numba's per-process floor is {fmt(best['floor'])} s")]
     md = [f"## {TITLE}", "", machine_text(), "", __doc__.split("\n\n", 1)[1].strip(), "",
           md_table(["process", "best wall (s)"], [(r["process"], r["best_wall_s"]) for r in rows]), "",
-          "Data: `startup.csv`."]
+          f"Ratio batch / single: {fmt(ratio)}. Lines checked against single calls: {n_check} "
+          f"(mismatches: {mismatches}).", "", "Data: `startup.csv`."]
     res = StudyResult(NAME, TITLE, targets, "\n".join(md), files)
     res.wall_s = time.perf_counter() - t0
     return res

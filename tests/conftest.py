@@ -10,9 +10,6 @@ import pytest
 
 # Matplotlib must never try to open a window in tests.
 os.environ.setdefault("MPLBACKEND", "Agg")
-# The `rrbody` commands that tests start must run in their own process and leave no background
-# worker behind; tests/test_worker.py turns the worker on for its own private folders.
-os.environ["RRBODY_WORKER"] = "off"
 
 
 @dataclass

@@ -76,8 +76,8 @@ def test_import_rrbody_imports_no_optional_package(tmp_path: Path) -> None:
     (["--method", "engine", "--out", "o.csv"], "engine"),
 ])
 def test_missing_extra_is_one_line_exit_2_and_writes_nothing(tmp_path: Path, args: list[str], extra: str) -> None:
-    argv = ["simulate", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--t-max", "2", "--out", "o.csv", *args]
-    argv = argv if "--method" not in args else argv[:-2] + args[:2]  # engine: --out given once
+    out = [] if "--out" in args else ["--out", "o.csv"]  # every option given once (repeats are an error)
+    argv = ["simulate", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--t-max", "2", *out, *args]
     code = BLOCK + f"from rrbody.cli.main import main\nraise SystemExit(main({argv!r}))"
     p = _run(code, tmp_path)
     assert p.returncode == 2, (p.stdout, p.stderr)

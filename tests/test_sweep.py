@@ -98,7 +98,7 @@ def test_critical_h_list_sweep(tmp_path: Path) -> None:
 @pytest.mark.parametrize("kwargs, match", [
     ({"base": {"H": 0.2, "k": 1.0}, "axes": {"omega": [1.0]}, "quantity": "speed"}, "quantity"),
     ({"base": {"H": 0.2, "k": 1.0}, "axes": {}}, "axes"),
-    ({"base": {"H": 0.2, "k": 1.0}, "axes": {"mass": [1.0]}}, "rod-mass sweep parameters"),
+    ({"base": {"H": 0.2, "k": 1.0}, "axes": {"mass": [1.0]}}, "axes must be among"),
     ({"base": {"H": 0.2}, "axes": {"omega": [1.0]}}, "base must give"),
     ({"base": {"H": -0.2, "k": 1.0}, "axes": {"omega": [1.0]}}, "H"),
     ({"base": {"H": 0.2, "k": 1.0}, "axes": {"omega": [1.0, 2.0], "k": [1.0]}, "mode": "list"}, "equal length"),
@@ -123,8 +123,35 @@ def test_cli_sweep_and_report(tmp_path: Path, cli) -> None:  # type: ignore[no-u
     r = cli("sweep", "--H", "0.25", "--k", "7.5", "--axis", "omega=0.5:2:4", "--workers", "0", "--out", str(out))
     assert r.code == 2 and "already exists" in r.err  # never clobbers without --force
     r = cli("sweep", "--H", "0.25", "--axis", "omega=1,2", "--workers", "0", "--out", str(tmp_path / "x.csv"))
-    assert r.code == 2 and "base must give" in r.err
+    assert r.code == 2 and "missing required options: --k" in r.err
     # the report builds from whatever scene outputs exist (none here) without failing
     r = cli("report", "--results", str(tmp_path))
     assert r.code == 0, r.err
     assert "not run" in (tmp_path / "REPORT.md").read_text()
+
+
+def test_extended_body_sweep_resumes_and_matches_flip_time(tmp_path: Path) -> None:
+    """Sweeps over any scene (issue 14, item 7): a disk over l and phi0 with the same resume machinery."""
+    from rrbody.analysis.flip import flip_time
+    from rrbody.model.scene import scene_from_params
+
+    base = {"body": "disk", "R0": 0.2, "k": 0.05, "omega": 0.6}
+    s = Sweep(base=base, axes={"l": [0.1, 0.3], "phi0": [math.pi, -math.pi / 2]}, options={"accuracy": "draft"})
+    ref = run_sweep(s, tmp_path / "ref.csv", workers=0, progress=False)
+    out = tmp_path / "cut.csv"
+    with pytest.raises(SweepInterrupted):
+        run_sweep(s, out, workers=0, batch_size=1, progress=False, _stop_after=2)
+    run_sweep(s, out, workers=0, batch_size=1, resume=True, progress=False)
+    assert out.read_text() == ref.read_text()
+    rows = load_sweep(out)
+    # each row is the flip time of that scene, the same computation bit for bit
+    sc = scene_from_params(**base, l=0.3, phi0=-math.pi / 2)
+    assert float(rows[3]["t_f"]) == flip_time(sc, accuracy="draft").t_f
+
+
+def test_sweep_refuses_bad_axis_values_before_any_file(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match=r"^axis delta: delta must be in \(-1, 1\)"):
+        Sweep(base={"body": "ellipse", "R0": 0.3, "l": 0.2, "k": 0.01, "omega": 0.6}, axes={"delta": [0.0, 1.5]})
+    with pytest.raises(ValueError, match=r"^rtol must be in"):
+        Sweep(base={"H": 0.2, "k": 0.1}, axes={"omega": [1.0]}, options={"rtol": 1.0})
+    assert list(tmp_path.iterdir()) == []

@@ -23,7 +23,7 @@ import numpy as np
 
 from rrbody.physics.bind import kernel_params
 from rrbody.integrate.events import FlipResult, classify_flip, rr_from_T1
-from rrbody.model.checks import check_positive, check_range
+from rrbody.model.checks import check, check_positive, check_range
 from rrbody.model.scene import Scene, rod_mass_scene
 from rrbody.analysis.simulate import resolve_rtol
 
@@ -45,6 +45,7 @@ def flip_time(scene: Scene, *, rtol: float | None = None, accuracy: str = "defau
     from rrbody.integrate.ode import integrate_driven
 
     rtol_v = resolve_rtol(rtol, accuracy)
+    max_steps = int(check("max_steps", max_steps))  # NaN, negative or fractional would disable the cap
     settle_turns = check_range("settle_turns", settle_turns, 0.5, 100.0)
     settle_periods = check_range("settle_periods", settle_periods, 0.0, 1e6)
     horizon = t_max if t_max is not None else scene.t_max

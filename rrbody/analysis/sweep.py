@@ -3,7 +3,7 @@
 A :class:`Sweep` names a base scene, the axes to vary and the quantity to compute. :func:`run_sweep`
 evaluates every point on an executor:
 
-- local processes (default; ``concurrent.futures.ProcessPoolExecutor`` over all cores),
+- local processes (default; at most one per batch and per core by default; see :mod:`rrbody.analysis.pool`),
 - a Dask cluster when ``scheduler`` is a scheduler address (``tcp://host:8786``) or a
   ``distributed.Client``,
 - ``workers=0``: in this process (debugging, tests).
@@ -18,7 +18,7 @@ specification and the rrbody version) then one JSON line per point, flushed and 
 batch finishes. The file is append-only, so a kill can at worst leave one truncated last line;
 ``resume=True`` drops it, checks that the header matches the requested sweep (a different scene,
 grid, quantity, options or rrbody version raises ValueError rather than mixing results) and
-computes only the missing points. The final table is written atomically (:mod:`rrbody.io`) and
+computes only the missing points. The final table is written atomically (:mod:`rrbody.model.io`) and
 the checkpoint removed. Results do not depend on the executor, the batch size or interruptions:
 each point is an independent deterministic computation.
 
@@ -32,21 +32,28 @@ NetCDF3 via scipy). A ``<out>.json`` sidecar repeats the metadata.
 
 Parameters of the base scene
 ----------------------------
-Either the rod-mass keywords of :func:`rrbody.scene.rod_mass_scene` (``H``, ``k``, ``omega``,
-``phi0``, ``friction``, ``d``, ``phi_dot0``, ``t_max``), which axes may vary by name; or a full
+Any scene: the flat parameters of :func:`rrbody.model.scene.scene_from_params` (``body`` = rod,
+disk or ellipse; ``H`` or ``l``, ``R0``, ``delta``, ``orientation``, ``omega``, ``d``, ``k`` or
+``mu``/``g``, ``friction``, ``phi0``, ``phi_dot0``, ``t_max``, ``friction_method``, ``samples``,
+``no_drive``, ``v0``, ``spin0``), whose numeric ones axes vary by name; or a full
 ``Scene.describe()`` dictionary under the key ``"scene"``, whose entries axes vary by dotted path
-(``"drive.omega"``, ``"friction.coeff"``, ``"l"``, ``"R_A"``, ``"phi0"``, ...).
+(``"drive.omega"``, ``"friction.coeff"``, ``"l"``, ``"R_A"``, ``"phi0"``, ...). Free bodies
+(``no_drive``) have the quantity ``rest`` (stop time, distance, turn; needs the option ``t_max``).
+
+Validation
+----------
+A :class:`Sweep` checks its options and every value of every axis when it is built (each value
+with the base and the other axes' first values), so a bad sweep fails before any work or file.
 """
 
 from __future__ import annotations
 
 import contextlib
 import copy
-import csv
 import json
 import math
 import os
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -54,25 +61,43 @@ from typing import Any
 import numpy as np
 
 from rrbody._version import __version__
+from rrbody.analysis.sweep_store import checkpoint_path, count_rows, load_sweep, read_checkpoint, read_meta, \
+    write_output
+from rrbody.model.checks import MissingParameters, check, check_choice
+from rrbody.model.scene import NUMERIC_SCENE_PARAMS, SCENE_PARAMS
 
 __all__ = ["Sweep", "QUANTITIES", "run_sweep", "load_sweep", "make_scene", "evaluate_point", "checkpoint_path",
-           "SweepInterrupted", "add_parser", "read_meta", "run_fresh_or_resume"]
+           "SweepInterrupted", "SweepStopped", "read_meta", "run_fresh_or_resume", "AXIS_PARAMS"]
 
 #: quantity -> result columns it produces (in order)
 QUANTITIES: dict[str, tuple[str, ...]] = {
     "flip_time": ("t_f", "phi_min", "t_phi_min", "reverse_rotation", "T1", "settled", "n_steps", "regime"),
     "critical_h": ("H_c",),
     "rr": ("reverse_rotation",),
+    "rest": ("t_stop", "distance", "turn", "status"),
 }
-_ROD_KEYS = ("H", "k", "omega", "phi0", "friction", "d", "phi_dot0", "t_max")
 _OPTION_KEYS = {"flip_time": ("accuracy", "rtol", "t_max"),
                 "critical_h": ("accuracy", "rtol", "tol", "H_lo", "H_hi", "n_scan"),
-                "rr": ("accuracy", "rtol")}
-_HEADER = "# rrbody-sweep: "
+                "rr": ("accuracy", "rtol"),
+                "rest": ("accuracy", "rtol", "t_max")}
+_OPTION_LIMITS = {"rtol": "rtol", "t_max": "t_max", "tol": "tol", "H_lo": "H", "H_hi": "H"}
+
+
+#: parameters a flat sweep may put on an axis: every numeric scene parameter
+AXIS_PARAMS: tuple[str, ...] = NUMERIC_SCENE_PARAMS
 
 
 class SweepInterrupted(RuntimeError):
     """Raised by the test hook ``_stop_after``: the sweep stopped as if killed, checkpoint intact."""
+
+
+class SweepStopped(KeyboardInterrupt):
+    """Ctrl-C or SIGTERM stopped a sweep: ``done`` of ``total`` points are in ``checkpoint``; run the
+    same sweep again with ``resume=True`` (``--resume``) to compute the rest."""
+
+    def __init__(self, done: int, total: int, checkpoint: Path) -> None:
+        super().__init__(f"{done} of {total} points saved in {str(checkpoint)!r}")
+        self.done, self.total, self.checkpoint = done, total, checkpoint
 
 
 @dataclass(frozen=True)
@@ -82,15 +107,17 @@ class Sweep:
     Parameters
     ----------
     base : dict
-        Fixed scene parameters: rod-mass keywords, or ``{"scene": Scene.describe()}``.
+        Fixed scene parameters: the flat parameters of ``scene_from_params`` (any body), or
+        ``{"scene": Scene.describe()}``.
     axes : dict name -> sequence of float
         The varied parameters, in order. ``mode="grid"``: the Cartesian product (the first axis
         varies slowest); ``mode="list"``: the axes are zipped (equal lengths), one point per index.
-    quantity : {"flip_time", "critical_h", "rr"}
-        ``critical_h`` varies the rod-mass ``k``, ``omega``, ``phi0``, ``friction`` (H is the answer).
+    quantity : {"flip_time", "critical_h", "rr", "rest"}
+        ``critical_h`` varies the rod-mass ``k``, ``omega``, ``phi0``, ``friction`` (H is the answer);
+        ``rest`` is for free bodies (``no_drive``).
     options : dict
-        Passed to the analysis: ``accuracy``, ``rtol``; ``t_max`` (flip_time); ``tol``, ``H_lo``,
-        ``H_hi``, ``n_scan`` (critical_h).
+        Passed to the analysis: ``accuracy``, ``rtol``; ``t_max`` (flip_time, rest); ``tol``,
+        ``H_lo``, ``H_hi``, ``n_scan`` (critical_h).
     """
 
     base: dict[str, Any]
@@ -100,15 +127,16 @@ class Sweep:
     options: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        if self.quantity not in QUANTITIES:
-            raise ValueError(f"quantity must be one of {', '.join(QUANTITIES)}, got {self.quantity!r}")
-        if self.mode not in ("grid", "list"):
-            raise ValueError(f"mode must be 'grid' or 'list', got {self.mode!r}")
+        check_choice("quantity", self.quantity, tuple(QUANTITIES))
+        check_choice("mode", self.mode, ("grid", "list"))
         if not isinstance(self.axes, dict) or not self.axes:
             raise ValueError(f"axes must be a non-empty dict name -> values, got {self.axes!r}")
         axes: dict[str, tuple[float, ...]] = {}
         for name, vals in self.axes.items():
-            tv = tuple(float(v) for v in np.atleast_1d(np.asarray(vals, dtype=float)))
+            try:
+                tv = tuple(float(v) for v in np.atleast_1d(np.asarray(vals, dtype=float)))
+            except (TypeError, ValueError):
+                raise ValueError(f"axes[{name!r}] must be numbers, got {vals!r}") from None
             if not tv:
                 raise ValueError(f"axes[{name!r}] must hold at least one value, got {vals!r}")
             if not all(math.isfinite(v) for v in tv):
@@ -118,22 +146,56 @@ class Sweep:
         if self.mode == "list" and len({len(v) for v in axes.values()}) != 1:
             raise ValueError(f"mode='list' needs axes of equal length, got lengths "
                              f"{ {n: len(v) for n, v in axes.items()} }")
-        bad = [k for k in self.options if k not in _OPTION_KEYS[self.quantity]]
-        if bad:
-            raise ValueError(f"options for {self.quantity} must be among {', '.join(_OPTION_KEYS[self.quantity])}, "
-                             f"got {bad!r}")
+        self._check_options()
         if "scene" in self.base:
             if self.quantity == "critical_h":
                 raise ValueError("quantity 'critical_h' needs rod-mass base parameters (k, omega, ...), not a scene")
         else:
-            bad = [k for k in (*self.base, *axes) if k not in _ROD_KEYS]
+            bad = [k for k in self.base if k not in SCENE_PARAMS]
             if bad:
-                raise ValueError(f"rod-mass sweep parameters must be among {', '.join(_ROD_KEYS)}, got {bad!r}")
-        # Validate one point now, so that a bad parameter fails before any work is scheduled.
-        try:
-            make_scene(self, self.point(0))
-        except TypeError as e:
-            raise ValueError(f"base must give every rod-mass parameter not on an axis (H, k, omega): {e}") from None
+                raise ValueError(f"sweep parameters must be among {', '.join(SCENE_PARAMS)}, got {bad!r}")
+            bad = [k for k in axes if k not in AXIS_PARAMS]
+            if bad:
+                raise ValueError(f"axes must be among {', '.join(AXIS_PARAMS)}, got {bad!r}")
+        self._check_points()
+
+    def _check_options(self) -> None:
+        bad = [k for k in self.options if k not in _OPTION_KEYS[self.quantity]]
+        if bad:
+            raise ValueError(f"options for {self.quantity} must be among {', '.join(_OPTION_KEYS[self.quantity])}, "
+                             f"got {bad!r}")
+        for k, v in self.options.items():
+            if k == "accuracy":
+                check_choice("accuracy", v, ("draft", "default", "paper"))
+            elif k == "n_scan":
+                check("samples", v, label="n_scan")
+            elif v is not None:
+                check(_OPTION_LIMITS[k], v, label=k)
+        if self.quantity == "rest" and self.options.get("t_max") is None:
+            raise ValueError("t_max must be given for quantity 'rest' (the horizon of a free body, s)")
+
+    def _check_points(self) -> None:
+        """Build the scene of every axis value (the other axes at their first values), before any work:
+        a bad value fails now, naming its axis, not as an error row after hours."""
+        first = self.point(0)
+        for name, vals in self.axes.items():
+            for v in dict.fromkeys(vals):
+                try:
+                    scene = make_scene(self, {**first, name: v})
+                except MissingParameters as e:
+                    raise MissingParameters(e.names, prefix="base must give every parameter of the scene that is "
+                                                           "not on an axis") from None
+                except ValueError as e:
+                    raise ValueError(f"axis {name}: {e}" if name in str(e).split(" ")[0] else str(e)) from None
+                if self.quantity == "rest" and scene.driven:
+                    raise ValueError("quantity 'rest' needs a free body (no_drive=True)")
+                if self.quantity != "rest" and not scene.driven:
+                    raise ValueError(f"quantity {self.quantity!r} needs a driven scene; for a free body use 'rest'")
+
+    @property
+    def columns(self) -> tuple[str, ...]:
+        """The result columns of the quantity."""
+        return QUANTITIES[self.quantity]
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -176,7 +238,7 @@ def _set_path(d: dict[str, Any], path: str, value: float) -> None:
 
 def make_scene(sweep: Sweep, values: dict[str, float]) -> Any:
     """The Scene of one sweep point (base parameters overridden by the axis ``values``)."""
-    from rrbody.model.scene import Scene, rod_mass_scene
+    from rrbody.model.scene import Scene, scene_from_params
 
     if "scene" in sweep.base:
         desc = copy.deepcopy(sweep.base["scene"])
@@ -186,9 +248,11 @@ def make_scene(sweep: Sweep, values: dict[str, float]) -> Any:
             desc["phi_dot0"] = None  # keep the impulsive start consistent with the varied parameters
         return Scene.from_description(desc)
     kw = {**sweep.base, **values}
+    if "samples" in kw:
+        kw["samples"] = int(kw["samples"]) if float(kw["samples"]).is_integer() else kw["samples"]
     if sweep.quantity == "critical_h":
         kw.setdefault("H", 0.5)  # placeholder for validation only: H is the unknown
-    return rod_mass_scene(**kw)
+    return scene_from_params(**kw)
 
 
 def evaluate_point(sweep: Sweep, values: dict[str, float]) -> dict[str, Any]:
@@ -197,19 +261,25 @@ def evaluate_point(sweep: Sweep, values: dict[str, float]) -> dict[str, Any]:
 
     opts = dict(sweep.options)
     try:
-        if sweep.quantity == "critical_h":
-            kw = {**sweep.base, **values}
-            hc = critical_h(float(kw["k"]), float(kw["omega"]), phi0=float(kw.get("phi0", math.pi)),
-                            friction=str(kw.get("friction", "dry")), **opts)
-            return {"H_c": hc, "error": ""}
         scene = make_scene(sweep, values)
+        if sweep.quantity == "critical_h":
+            hc = critical_h(scene.k, scene.omega, phi0=scene.phi0, friction=scene.friction.law, **opts)
+            return {"H_c": hc, "error": ""}
         if sweep.quantity == "rr":
             return {"reverse_rotation": bool(reverse_rotation_exists(scene, **opts)), "error": ""}
+        if sweep.quantity == "rest":
+            from rrbody.analysis.simulate import simulate
+
+            t_max = float(opts.pop("t_max"))
+            tr = simulate(scene, t_max=t_max, dt_out=t_max, **opts)
+            ev = tr.events
+            return {"t_stop": ev.get("t_stop"), "distance": ev.get("distance"), "turn": ev.get("turn"),
+                    "status": tr.meta.get("status"), "error": ""}
         r = flip_time(scene, **opts)
         return {"t_f": r.t_f, "phi_min": r.phi_min, "t_phi_min": r.t_phi_min, "reverse_rotation": bool(r.reverse_rotation),
                 "T1": r.T1, "settled": bool(r.settled), "n_steps": int(r.n_steps), "regime": r.regime, "error": ""}
     except ValueError as e:
-        return {**{c: None for c in QUANTITIES[sweep.quantity]}, "error": str(e)}
+        return {**{c: None for c in sweep.columns}, "error": str(e)}
 
 
 def _run_batch(spec: dict[str, Any], indices: list[int]) -> list[dict[str, Any]]:
@@ -223,85 +293,8 @@ def _sweep_from_spec(spec: dict[str, Any]) -> Sweep:
                  mode=spec["mode"], options=spec["options"])
 
 
-# ---- checkpoint ------------------------------------------------------------------------------
-def checkpoint_path(out: str | os.PathLike[str]) -> Path:
-    """The checkpoint beside ``out``: ``<out>.checkpoint.jsonl``."""
-    p = Path(out)
-    return p.with_name(p.name + ".checkpoint.jsonl")
-
-
-def _read_checkpoint(path: Path, spec: dict[str, Any]) -> dict[int, dict[str, Any]]:
-    """Finished rows of a checkpoint; refuses one written for a different sweep. A truncated last
-    line (a kill mid-write) is dropped and the file rewritten without it."""
-    text = path.read_text()
-    lines = text.split("\n")
-    if not lines or not lines[0].strip():
-        return {}
-    try:
-        head = json.loads(lines[0])
-    except json.JSONDecodeError:
-        raise ValueError(f"checkpoint {str(path)!r} has no valid header; delete it to start afresh") from None
-    if head != spec:
-        diff = sorted(k for k in set(head) | set(spec) if head.get(k) != spec.get(k))
-        raise ValueError(f"resume: checkpoint {str(path)!r} was written for a different sweep (differs in "
-                         f"{', '.join(diff)}: was {', '.join(f'{k}={head.get(k)!r}' for k in diff)}); refusing to "
-                         "mix results. Use a new output path, or delete the checkpoint to start afresh")
-    rows: dict[int, dict[str, Any]] = {}
-    good = [lines[0]]
-    for ln in lines[1:]:
-        if not ln.strip():
-            continue
-        try:
-            row = json.loads(ln)
-            rows[int(row["i"])] = row
-            good.append(ln)
-        except (json.JSONDecodeError, KeyError, TypeError, ValueError):
-            continue  # a partial line from an interrupted write: recompute that point
-    clean = "\n".join(good) + "\n"
-    if clean != text:
-        from rrbody.model.io import atomic_write_text
-
-        atomic_write_text(path, clean, force=True, name="checkpoint")
-    return rows
-
-
-# ---- executors -------------------------------------------------------------------------------
 def _batches(todo: Sequence[int], size: int) -> list[list[int]]:
     return [list(todo[j:j + size]) for j in range(0, len(todo), size)]
-
-
-def _iter_local(spec: dict[str, Any], batches: list[list[int]], workers: int) -> Iterator[list[dict[str, Any]]]:
-    if workers == 0:
-        for b in batches:
-            yield _run_batch(spec, b)
-        return
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
-    with ProcessPoolExecutor(max_workers=workers) as ex:
-        futs = [ex.submit(_run_batch, spec, b) for b in batches]
-        try:
-            for f in as_completed(futs):
-                yield f.result()
-        finally:
-            for f in futs:
-                f.cancel()
-
-
-def _iter_dask(spec: dict[str, Any], batches: list[list[int]], scheduler: Any) -> Iterator[list[dict[str, Any]]]:
-    from distributed import Client, as_completed
-
-    own = not isinstance(scheduler, Client)
-    client = Client(scheduler) if own else scheduler
-    try:
-        futs = [client.submit(_run_batch, spec, b, pure=False) for b in batches]
-        try:
-            for f in as_completed(futs):
-                yield f.result()
-        finally:
-            client.cancel(futs)
-    finally:
-        if own:
-            client.close()
 
 
 # ---- running ---------------------------------------------------------------------------------
@@ -312,7 +305,9 @@ def run_sweep(sweep: Sweep, out: str | os.PathLike[str], *, resume: bool = False
 
     ``resume``: continue from ``<out>.checkpoint.jsonl`` (only missing points are computed).
     Without ``resume`` an existing checkpoint or output is refused unless ``force`` (which starts
-    afresh). ``workers``: local processes (default: all cores; 0 runs in this process).
+    afresh). ``workers``: local processes (default: the core count; never more than batches; 0 runs
+    in this process; above the core count a RuntimeWarning). Ctrl-C (KeyboardInterrupt) stops the
+    pool at once and raises :class:`SweepStopped`, which says how many points the checkpoint holds.
     ``scheduler``: Dask scheduler address or Client (overrides ``workers``). ``batch_size``:
     points per task (default: about 4 tasks per worker, at most 256 points). ``_stop_after``:
     test hook, raise :class:`SweepInterrupted` once that many points are checkpointed.
@@ -335,26 +330,31 @@ def run_sweep(sweep: Sweep, out: str | os.PathLike[str], *, resume: bool = False
         parent = out_p.parent if str(out_p.parent) else Path(".")
         if not parent.is_dir():
             raise ValueError(f"out: folder {str(parent)!r} does not exist")
-    if workers is not None and (not isinstance(workers, int) or workers < 0):
-        raise ValueError(f"workers must be an integer >= 0, got {workers!r}")
+    if batch_size is not None:
+        batch_size = int(check("batch_size", batch_size))
+    if workers is not None and scheduler is None:
+        check("workers", workers)
     done: dict[int, dict[str, Any]] = {}
     if resume and ck.exists():
-        done = _read_checkpoint(ck, spec)
+        done = read_checkpoint(ck, spec)
     elif resume and out_p.exists() and not ck.exists():
         meta = read_meta(out_p)
         if meta.get("spec") != spec:
             raise ValueError(f"resume: {str(out_p)!r} holds a different sweep; refusing to mix results")
         return out_p  # already complete
-    else:
-        atomic_write_text(ck, json.dumps(spec) + "\n", force=True, name="checkpoint")
     todo = [i for i in range(sweep.size) if i not in done]
-    n_workers = (os.cpu_count() or 1) if workers is None else workers
-    if batch_size is None:
-        batch_size = max(1, min(256, math.ceil(len(todo) / max(1, 4 * max(1, n_workers)))))
-    elif not isinstance(batch_size, int) or batch_size < 1:
-        raise ValueError(f"batch_size must be an integer >= 1, got {batch_size!r}")
+    cores = os.cpu_count() or 1
+    if batch_size is None:  # about 4 tasks per process, at most 256 points each
+        per = cores if workers is None else max(1, min(int(workers), cores))
+        batch_size = max(1, min(256, math.ceil(len(todo) / (4 * per))))
     batches = _batches(todo, batch_size)
-    it = _iter_dask(spec, batches, scheduler) if scheduler is not None else _iter_local(spec, batches, n_workers)
+    from rrbody.analysis.pool import iter_dask, iter_local, plan_workers
+
+    n_workers = 0 if scheduler is not None else plan_workers(workers, len(batches))
+    if not (resume and ck.exists()):
+        atomic_write_text(ck, json.dumps(spec) + "\n", force=True, name="checkpoint")
+    it = (iter_dask(_run_batch, spec, batches, scheduler) if scheduler is not None
+          else iter_local(_run_batch, spec, batches, n_workers))
     bar = _bar(sweep.size, len(done), progress, sweep.quantity)
     n_new = 0
     try:
@@ -370,12 +370,14 @@ def run_sweep(sweep: Sweep, out: str | os.PathLike[str], *, resume: bool = False
                     bar.update(len(rows))
                 if _stop_after is not None and n_new >= _stop_after:
                     raise SweepInterrupted(f"stopped after {n_new} points (test hook)")
+    except KeyboardInterrupt:
+        raise SweepStopped(count_rows(ck), sweep.size, ck) from None
     finally:
         with contextlib.suppress(Exception):
             it.close()  # type: ignore[attr-defined]
         if bar is not None:
             bar.close()
-    _write_output(sweep, done, out_p, force=True)
+    write_output(sweep, done, out_p, force=True)
     ck.unlink()
     return out_p
 
@@ -386,96 +388,6 @@ def _bar(total: int, initial: int, progress: bool, desc: str) -> Any:
     from tqdm import tqdm
 
     return tqdm(total=total, initial=initial, desc=f"sweep {desc}", unit="pt", dynamic_ncols=True)
-
-
-def _columns(sweep: Sweep) -> list[str]:
-    return [*sweep.axes, *QUANTITIES[sweep.quantity], "error"]
-
-
-def _meta(sweep: Sweep) -> dict[str, Any]:
-    return {"spec": sweep.spec(), "shape": list(sweep.shape), "columns": _columns(sweep),
-            "order": "row-major over the axes in the order given (first axis slowest)" if sweep.mode == "grid"
-            else "one row per list index", "rrbody_version": __version__}
-
-
-def _write_output(sweep: Sweep, done: dict[int, dict[str, Any]], out: Path, *, force: bool) -> None:
-    from rrbody.model.io import atomic_path, atomic_write_text
-
-    missing = [i for i in range(sweep.size) if i not in done]
-    if missing:
-        raise ValueError(f"internal: {len(missing)} sweep points missing (first {missing[:5]})")
-    meta = _meta(sweep)
-    cols = _columns(sweep)
-    rows = []
-    for i in range(sweep.size):
-        r = done[i]
-        rows.append({**sweep.point(i), **{c: r.get(c) for c in cols if c not in sweep.axes}})
-    if out.suffix == ".csv":
-        with atomic_path(out, force=force, name="out") as tmp, open(tmp, "w", newline="") as fh:
-            fh.write(_HEADER + json.dumps(meta) + "\n")
-            w = csv.writer(fh)
-            w.writerow(cols)
-            for r in rows:
-                w.writerow(["" if r[c] is None else (repr(float(r[c])) if isinstance(r[c], float) else r[c])
-                            for c in cols])
-    else:
-        import xarray as xr
-
-        coords = {n: np.asarray(v) for n, v in sweep.axes.items()}
-        data: dict[str, Any] = {}
-        for c in cols:
-            if c in sweep.axes:
-                continue
-            vals = [r[c] for r in rows]
-            if c in ("regime", "error"):
-                arr = np.asarray(["" if v is None else str(v) for v in vals], dtype=object)
-            elif c in ("reverse_rotation", "settled"):
-                arr = np.asarray([-1 if v is None else int(bool(v)) for v in vals], dtype=np.int8)
-            else:
-                arr = np.asarray([np.nan if v is None else float(v) for v in vals], dtype=float)
-            data[c] = (list(sweep.axes), arr.reshape(sweep.shape))
-        ds = xr.Dataset(data, coords=coords, attrs={"rrbody_sweep": json.dumps(meta)})
-        with atomic_path(out, force=force, name="out") as tmp:
-            ds.to_netcdf(tmp, engine=_nc_engine())
-    atomic_write_text(out.with_name(out.name + ".json"), json.dumps(meta, indent=1) + "\n", force=True,
-                      name="sidecar")
-
-
-def read_meta(path: str | os.PathLike[str]) -> dict[str, Any]:
-    """The metadata of a sweep output (from its sidecar, else its header)."""
-    p = Path(path)
-    side = p.with_name(p.name + ".json")
-    if side.exists():
-        return json.loads(side.read_text())
-    if p.suffix == ".csv":
-        first = p.read_text().split("\n", 1)[0]
-        if first.startswith(_HEADER):
-            return json.loads(first[len(_HEADER):])
-    raise ValueError(f"{str(p)!r} is not an rrbody sweep output (no metadata)")
-
-
-def load_sweep(path: str | os.PathLike[str]) -> Any:
-    """Read a sweep output: a list of row dicts (CSV) or an ``xarray.Dataset`` (NetCDF)."""
-    p = Path(path)
-    if p.suffix == ".nc":
-        import xarray as xr
-
-        with xr.open_dataset(p, engine=_nc_engine()) as ds:
-            return ds.load()
-    with open(p, newline="") as fh:
-        first = fh.readline()
-        if not first.startswith(_HEADER):
-            raise ValueError(f"{str(p)!r} is not an rrbody sweep CSV")
-        return list(csv.DictReader(fh))
-
-
-def _nc_engine() -> str:
-    """h5netcdf (NetCDF4) when h5py is importable, else scipy's NetCDF3 writer (always available)."""
-    try:
-        import h5py  # noqa: F401
-    except ImportError:
-        return "scipy"
-    return "h5netcdf"
 
 
 def run_fresh_or_resume(sweep: Sweep, out: str | os.PathLike[str], *, workers: int | None = None,

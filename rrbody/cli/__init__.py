@@ -1,4 +1,4 @@
-"""The ``rrbody`` command line (top layer): argument helpers, subcommands, scene runner."""
+"""The ``rrbody`` command line (top layer): argument helpers, subcommands, batch mode, scene runner."""
 
 from rrbody.cli.main import build_parser, entry, main
 

@@ -1,49 +1,204 @@
-"""Argument helpers shared by every ``rrbody`` subcommand (parsers of numbers, angles, lists)."""
+"""Argument helpers shared by every ``rrbody`` subcommand: the parser class, value parsers, the map
+from option names onto the model's parameter names, and the rewriting of messages.
+
+Ranges and units are not kept here: every numeric option names a parameter of
+:data:`rrbody.model.checks.LIMITS`, whose range and unit appear in the option's help and whose check
+runs with the option's name as the label. Imports stay light (argparse, difflib, the model's
+checks): ``rrbody --help`` and the flip-time path pay for nothing else.
+"""
 
 from __future__ import annotations
 
 import argparse
+import difflib
 import math
-from collections.abc import Callable
+import sys
+from collections.abc import Callable, Sequence
+from typing import Any, NoReturn
 
-__all__ = ["CliError", "_angle", "_finite", "_float_list"]
+from rrbody.model.checks import LIMITS, check
+
+__all__ = ["CliError", "Parser", "OPTION_PARAMS", "number", "angle", "float_list", "option_help", "check_options",
+           "option_message", "preprocess_argv", "suggest", "_angle", "_finite", "_float_list"]
 
 
 class CliError(ValueError):
-    """A bad option value (reported as `rrbody: error: ...`, exit 2)."""
+    """A bad option value (reported as ``rrbody CMD: error: ...``, exit 2)."""
 
 
-def _float_list(name: str, n: int) -> Callable[[str], tuple[float, ...]]:
+class Parser(argparse.ArgumentParser):
+    """An ArgumentParser whose errors are one line and raise :class:`CliError` instead of printing
+    the usage and exiting, so that the command's own error path (and batch mode, per line) report
+    them. Abbreviated options are off: ``--om`` is a typo to report, not ``--omega`` silently."""
+
+    def __init__(self, *args: Any, **kw: Any) -> None:
+        kw.setdefault("allow_abbrev", False)
+        super().__init__(*args, **kw)
+
+    def error(self, message: str) -> NoReturn:
+        raise CliError(_rewrite_argparse(message))
+
+
+def _rewrite_argparse(message: str) -> str:
+    """argparse says 'argument --H: ...'; rrbody says '--H ...' (option first, like every other error)."""
+    if message.startswith("argument "):
+        head, _, rest = message[len("argument "):].partition(": ")
+        opt = head.split("/")[-1]
+        return rest if rest.startswith(opt) else f"{opt}: {rest}"
+    if message.startswith("the following arguments are required: "):
+        return "missing required options: " + message.split(": ", 1)[1]
+    return message
+
+
+#: CLI option -> parameter of rrbody.model.checks.LIMITS (its range, unit and check)
+OPTION_PARAMS: dict[str, str] = {
+    "--H": "H", "--l": "l", "--R0": "R0", "--delta": "delta", "--omega": "omega", "--d": "d", "--k": "k",
+    "--mu": "mu", "--g": "g", "--phi0": "phi0", "--phi-dot0": "phi_dot0", "--v0": "v0", "--spin0": "spin0",
+    "--samples": "samples", "--rtol": "rtol", "--dt": "dt", "--iterations": "iterations",
+    "--max-steps": "max_steps", "--t-max": "t_max", "--dt-out": "dt_out", "--tol": "tol", "--fps": "fps",
+    "--movie-speed": "movie_speed", "--workers": "workers", "--batch-size": "batch_size",
+}
+#: parameter names in library messages -> the option a user typed
+_PARAM_OPTIONS: dict[str, str] = {**{p: o for o, p in OPTION_PARAMS.items()}, "R": "--R0", "v0[0]": "--v0",
+                                  "v0[1]": "--v0", "friction coefficient": "--k", "speed": "--movie-speed",
+                                  "out": "--out", "movie": "--movie", "rerun": "--rerun", "body": "--body",
+                                  "friction": "--friction", "friction_method": "--friction-method",
+                                  "orientation": "--orientation", "accuracy": "--accuracy", "method": "--method",
+                                  "quantity": "--quantity", "batch": "--batch", "resume": "--resume",
+                                  "n_scan": "--n-scan"}
+
+
+def option_help(param: str, text: str, default: object = None) -> str:
+    """Help text with the unit and the valid range of ``param`` (and the default, when one is set)."""
+    d = "" if default is None else f"; default {default}"
+    return f"{text}; {LIMITS[param].text()}{d}"
+
+
+def _valid(option: str) -> str:
+    """' in [lo, hi] unit' for an option with a range in the model's table, else ''."""
+    param = OPTION_PARAMS.get(option)
+    return f" {LIMITS[param].text()}" if param else ""
+
+
+def number(option: str) -> Callable[[str], float]:
+    """argparse type: a finite float (range checks come later, from the model's table)."""
+    def parse(text: str) -> float:
+        try:
+            v = float(text)
+        except ValueError:
+            v = math.nan
+        if not math.isfinite(v):
+            raise argparse.ArgumentTypeError(f"{option} must be a finite number{_valid(option)}, got {text!r}")
+        return v
+
+    parse.__name__ = "number"
+    return parse
+
+
+def integer(option: str) -> Callable[[str], int]:
+    """argparse type: an integer written as one (``1e3`` and ``1.0`` count, ``1.5`` does not)."""
+    def parse(text: str) -> int:
+        try:
+            v = float(text)
+        except ValueError:
+            v = math.nan
+        if not (math.isfinite(v) and v.is_integer()):
+            raise argparse.ArgumentTypeError(f"{option} must be an integer{_valid(option)}, got {text!r}")
+        return int(v)
+
+    parse.__name__ = "integer"
+    return parse
+
+
+def angle(option: str) -> Callable[[str], float]:
+    """argparse type: an angle in rad (``pi/2``, ``-0.5*pi``, ``180deg``); warns on stderr when a
+    bare number beyond 2 pi is a whole number, most likely degrees without the ``deg`` suffix."""
+    def parse(text: str) -> float:
+        from rrbody.model.angles import maybe_degrees, parse_angle
+
+        try:
+            v = parse_angle(text, name=option)
+        except ValueError as e:
+            raise argparse.ArgumentTypeError(str(e)) from None
+        if maybe_degrees(text, v):
+            print(f"rrbody: warning: {option} {text} is read as {v:g} rad ({v / (2 * math.pi):.3g} turns); "
+                  f"for degrees write {text}deg", file=sys.stderr)
+        return v
+
+    parse.__name__ = "angle"
+    return parse
+
+
+def float_list(option: str, n: int) -> Callable[[str], tuple[float, ...]]:
+    """argparse type: ``n`` comma-separated finite numbers."""
     def parse(text: str) -> tuple[float, ...]:
         parts = [s for s in text.replace(" ", "").split(",") if s]
         try:
             vals = tuple(float(s) for s in parts)
         except ValueError:
-            raise argparse.ArgumentTypeError(f"{name} must be {n} comma-separated numbers, got {text!r}") from None
+            raise argparse.ArgumentTypeError(f"{option} must be {n} comma-separated numbers, got {text!r}") from None
         if len(vals) != n or not all(math.isfinite(v) for v in vals):
-            raise argparse.ArgumentTypeError(f"{name} must be {n} finite comma-separated numbers, got {text!r}")
+            raise argparse.ArgumentTypeError(f"{option} must be {n} finite comma-separated numbers, got {text!r}")
         return vals
 
+    parse.__name__ = "list"
     return parse
 
 
-def _finite(name: str) -> Callable[[str], float]:
-    def parse(text: str) -> float:
-        try:
-            v = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}") from None
-        if not math.isfinite(v):
-            raise argparse.ArgumentTypeError(f"{name} must be finite, got {text!r}")
-        return v
-
-    return parse
+# names kept for callers of the old helpers
+_finite = number
+_float_list = float_list
+_angle = angle("--phi0")
 
 
-def _angle(text: str) -> float:
-    from rrbody.model.angles import parse_angle
+def check_options(args: argparse.Namespace, options: Sequence[str]) -> None:
+    """Check every given numeric option against the model's table, named as the user typed it."""
+    for opt in options:
+        v = getattr(args, opt.lstrip("-").replace("-", "_"), None)
+        if v is None:
+            continue
+        param = OPTION_PARAMS[opt]
+        for x in (v if isinstance(v, (tuple, list)) else (v,)):
+            check(param, x, label=opt)
 
-    try:
-        return parse_angle(text, name="--phi0")
-    except ValueError as e:
-        raise argparse.ArgumentTypeError(str(e)) from None
+
+def option_message(msg: str, *, extended: bool = False) -> str:
+    """Rewrite a library message '<name> must ...' so that it names the CLI option."""
+    for name in sorted(_PARAM_OPTIONS, key=len, reverse=True):
+        for sep in (" ", ": "):
+            if msg.startswith(name + sep):
+                opt = _PARAM_OPTIONS[name]
+                if name == "H" and extended:
+                    return "--l, --R0, --delta, --d: " + msg
+                return opt + msg[len(name):]
+    return msg
+
+
+def suggest(word: str, choices: Sequence[str]) -> str:
+    """' (did you mean --omega?)' for the closest choice, or ''."""
+    close = difflib.get_close_matches(word, list(choices), n=1, cutoff=0.6)
+    return f" (did you mean {close[0]}?)" if close else ""
+
+
+def preprocess_argv(parser: argparse.ArgumentParser, argv: list[str]) -> list[str]:
+    """Join ``--opt VALUE`` into ``--opt=VALUE`` when VALUE starts with '-' (``--phi0 -pi/2``,
+    ``--phi0 -0.5*pi``, ``--k -1``): argparse would take such a value for an option and report
+    'expected one argument'. A following token that is itself an option of the command is left alone."""
+    takes_value: set[str] = set()
+    known: set[str] = set()
+    for a in parser._actions:  # argparse keeps no public list of a parser's options
+        known.update(a.option_strings)
+        if a.option_strings and a.nargs is None and not isinstance(a, argparse._StoreConstAction):
+            takes_value.update(a.option_strings)
+    out: list[str] = []
+    i = 0
+    while i < len(argv):
+        tok = argv[i]
+        nxt = argv[i + 1] if i + 1 < len(argv) else None
+        if tok in takes_value and nxt is not None and nxt.startswith("-") and nxt.split("=")[0] not in known:
+            out.append(f"{tok}={nxt}")
+            i += 2
+            continue
+        out.append(tok)
+        i += 1
+    return out

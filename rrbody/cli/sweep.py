@@ -1,95 +1,172 @@
-"""``rrbody sweep``: the command-line front end of :mod:`rrbody.analysis.sweep`."""
+"""``rrbody sweep``: the command-line front end of :mod:`rrbody.analysis.sweep`, over any scene.
+
+The scene options are those of ``simulate`` and ``flip-time`` (any body: ``--body rod|disk|ellipse``,
+``--R0``, ``--delta``, ``--l``, free bodies with ``--no-drive``); ``--axis NAME=...`` varies any
+numeric one. Everything (options, every axis value, the output path, ``--workers``) is checked
+before any work starts or any file is written. This module imports the sweep engine only when the
+command runs, so other commands never load it.
+"""
 
 from __future__ import annotations
 
 import argparse
+import inspect
 import json
 import math
+import sys
 from typing import Any
 
-import numpy as np
+from rrbody.cli.args import CliError, check_options, integer, number, option_help, option_message, suggest
+from rrbody.cli.options import SCENE_OPTIONS, add_accuracy_options, add_scene_options, scene_params
 
-from rrbody.analysis.sweep import QUANTITIES, Sweep, run_sweep
-from rrbody.cli.args import _angle, _finite
+__all__ = ["add_parser", "cmd_sweep", "QUANTITY_NAMES"]
 
-__all__ = ["add_parser", "cmd_sweep"]
+#: the sweep engine's quantities (tests check this equals rrbody.analysis.sweep.QUANTITIES)
+QUANTITY_NAMES = ("flip_time", "critical_h", "rr", "rest")
+_ALWAYS = ("phi0", "d", "friction")  # written into every sweep's base, as before any-scene sweeps
 
 
-def _parse_axis(text: str) -> tuple[str, tuple[float, ...]]:
-    """NAME=v1,v2,... or NAME=start:stop:num[:log]."""
-    name, sep, rest = text.partition("=")
-    if not sep or not name:
-        raise argparse.ArgumentTypeError(f"--axis must be NAME=v1,v2,... or NAME=start:stop:num[:log], got {text!r}")
-    try:
-        if ":" in rest:
-            parts = rest.split(":")
-            start, stop, num = float(parts[0]), float(parts[1]), int(parts[2])
-            log = len(parts) > 3 and parts[3] == "log"
-            if num < 1 or (log and (start <= 0 or stop <= 0)):
-                raise ValueError
-            vals = np.geomspace(start, stop, num) if log else np.linspace(start, stop, num)
-        else:
-            vals = np.asarray([float(v) for v in rest.split(",") if v])
-    except (ValueError, IndexError):
-        raise argparse.ArgumentTypeError(f"--axis must be NAME=v1,v2,... or NAME=start:stop:num[:log] "
-                                         f"(num >= 1, log needs start, stop > 0), got {text!r}") from None
-    return name.strip(), tuple(float(v) for v in vals)
+def _values(name: str, text: str) -> list[float]:
+    """Axis values: a list v1,v2,... or start:stop:num[:log]; angle expressions for phi0."""
+    from rrbody.model.angles import parse_angle
+
+    def num(t: str) -> float:
+        return parse_angle(t, name=name) if name == "phi0" else float(t)
+
+    if ":" in text:
+        parts = text.split(":")
+        if len(parts) not in (3, 4) or (len(parts) == 4 and parts[3] != "log"):
+            raise ValueError
+        start, stop = num(parts[0]), num(parts[1])
+        n = float(parts[2])
+        if not (n.is_integer() and 1 <= n <= 1_000_000):
+            raise ValueError
+        log = len(parts) == 4
+        if log and (start <= 0 or stop <= 0):
+            raise ValueError
+        import numpy as np
+
+        vals = np.geomspace(start, stop, int(n)) if log else np.linspace(start, stop, int(n))
+        return [float(v) for v in vals]
+    return [num(v) for v in text.split(",") if v.strip()]
+
+
+def parse_axes(items: list[str]) -> dict[str, tuple[float, ...]]:
+    """The ``--axis`` options, in order; a repeated or unknown name is an error naming ``--axis``."""
+    from rrbody.model.scene import NUMERIC_SCENE_PARAMS
+
+    axes: dict[str, tuple[float, ...]] = {}
+    for text in items:
+        name, sep, rest = text.partition("=")
+        name = name.strip().replace("-", "_")
+        if not sep or not name or not rest.strip():
+            raise CliError(f"--axis must be NAME=v1,v2,... or NAME=start:stop:num[:log], got {text!r}")
+        if name not in NUMERIC_SCENE_PARAMS:
+            raise CliError(f"--axis {name}: not a scene parameter{suggest(name, NUMERIC_SCENE_PARAMS)}; "
+                           f"axes: {', '.join(NUMERIC_SCENE_PARAMS)}")
+        if name in axes:
+            raise CliError(f"--axis {name} is given twice; give each axis once (two axes make a 2-D grid)")
+        try:
+            vals = _values(name, rest)
+        except (ValueError, IndexError):
+            raise CliError(f"--axis must be NAME=v1,v2,... or NAME=start:stop:num[:log] (1 <= num <= 1e6, log "
+                           f"needs start, stop > 0), got {text!r}") from None
+        if not vals or not all(math.isfinite(v) for v in vals):
+            raise CliError(f"--axis {name}: values must be finite numbers, got {rest!r}")
+        axes[name] = tuple(vals)
+    return axes
 
 
 def add_parser(sub: Any) -> None:
     """Register ``rrbody sweep`` on the CLI's subparsers."""
-    s = sub.add_parser("sweep", help="flip time / H_c / RR over a grid or list of rod-mass parameters",
-                       description="Sweep a rod-mass scene. Example: rrbody sweep --quantity flip_time --H 0.25 "
-                                   "--k 7.5 --axis omega=0.1:100:40:log --out tf.csv  (2-D: two --axis; "
+    s = sub.add_parser("sweep", help="flip time / H_c / RR / free-body rest over a grid or list of any scene's "
+                                     "parameters",
+                       description="Sweep any scene. Examples: rrbody sweep --H 0.25 --k 7.5 --axis "
+                                   "omega=0.1:100:40:log --out tf.csv; rrbody sweep --body ellipse --R0 0.3 --l 0.2 "
+                                   "--k 0.0033 --omega 0.6 --axis delta=-0.9:0.9:7 --out e.csv (2-D: two --axis; "
                                    "--out x.nc for NetCDF)")
-    s.add_argument("--quantity", choices=tuple(QUANTITIES), default="flip_time")
-    s.add_argument("--axis", action="append", type=_parse_axis, required=True,
-                   help="NAME=v1,v2,... or NAME=start:stop:num[:log]; NAME in H, k, omega, phi0, d (repeatable)")
+    s.add_argument("--quantity", choices=QUANTITY_NAMES, default="flip_time",
+                   help="flip_time (default), critical_h (rod: H_c over k, omega, phi0), rr (reverse rotation "
+                        "yes/no), rest (free body: stop time, distance, turn; needs --no-drive and --t-max)")
+    s.add_argument("--axis", action="append", required=True, metavar="NAME=VALUES",
+                   help="NAME=v1,v2,... or NAME=start:stop:num[:log]; NAME is any numeric scene option (H, l, R0, "
+                        "delta, omega, d, k, mu, g, phi0, phi_dot0, samples, spin0); each value is checked against "
+                        "that option's range; repeat for a 2-D grid")
     s.add_argument("--list", dest="zip_axes", action="store_true", help="zip the axes (one point per index)")
-    s.add_argument("--H", type=_finite("--H"))
-    s.add_argument("--k", type=_finite("--k"))
-    s.add_argument("--omega", type=_finite("--omega"))
-    s.add_argument("--phi0", type=_angle, default=math.pi)
-    s.add_argument("--d", type=_finite("--d"), default=1.0)
-    s.add_argument("--friction", choices=("dry", "viscous", "none"), default="dry")
-    s.add_argument("--accuracy", choices=("draft", "default", "paper"), default="default")
-    s.add_argument("--rtol", type=_finite("--rtol"), default=None)
-    s.add_argument("--t-max", type=_finite("--t-max"), default=None, help="flip_time horizon cap (s)")
-    s.add_argument("--tol", type=_finite("--tol"), default=None, help="critical_h tolerance on H")
-    s.add_argument("--out", required=True, help="output .csv or .nc (2-D grids)")
-    s.add_argument("--resume", action="store_true", help="continue an interrupted sweep from its checkpoint")
-    s.add_argument("--force", action="store_true", help="overwrite an existing output / start afresh")
-    s.add_argument("--scheduler", default=None, help="Dask scheduler address, e.g. tcp://127.0.0.1:8786")
-    s.add_argument("--workers", type=int, default=None, help="local processes (default: all cores)")
-    s.add_argument("--batch-size", type=int, default=None, help="points per task")
-    s.add_argument("--json", action="store_true")
+    add_scene_options(s)
+    g = s.add_argument_group("analysis")
+    add_accuracy_options(g)
+    g.add_argument("--t-max", type=number("--t-max"), default=None,
+                   help=option_help("t_max", "flip_time: horizon cap; rest: horizon (required)"))
+    g.add_argument("--tol", type=number("--tol"), default=None, help=option_help("tol", "critical_h tolerance on H"))
+    o = s.add_argument_group("output and execution")
+    o.add_argument("--out", required=True, help="output .csv or .nc (2-D grids); a regular file or absent")
+    o.add_argument("--resume", action="store_true", help="continue an interrupted sweep from its checkpoint")
+    o.add_argument("--force", action="store_true", help="overwrite an existing output (regular file) / start afresh")
+    o.add_argument("--scheduler", default=None, help="Dask scheduler address, e.g. tcp://127.0.0.1:8786")
+    o.add_argument("--workers", type=integer("--workers"), default=None,
+                   help=option_help("workers", "local processes (default: the core count; never more than the "
+                                               "batches; a warning above the core count)"))
+    o.add_argument("--batch-size", type=integer("--batch-size"), default=None,
+                   help=option_help("batch_size", "points per task (default: ~4 tasks per process, <= 256)"))
+    o.add_argument("--json", action="store_true", help="print one JSON object (out, points, shape)")
     s.set_defaults(func=cmd_sweep)
+
+
+def _base(args: argparse.Namespace, axes: dict[str, Any]) -> dict[str, Any]:
+    """The fixed scene parameters: those given, and the defaults the sweep's metadata always shows."""
+    from rrbody.model.scene import scene_from_params
+
+    defaults = {k: p.default for k, p in inspect.signature(scene_from_params).parameters.items()}
+    kw = scene_params(args)
+    kw.pop("t_max", None)  # an analysis option here, not a scene parameter
+    base = {k: v for k, v in kw.items() if k in _ALWAYS or v != defaults.get(k)}
+    for k in axes:
+        base.pop(k, None)
+    if "v0" in base:
+        base["v0"] = list(base["v0"])
+    return base
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
     """Handler of ``rrbody sweep``."""
-    import sys
-
-    axes = dict(args.axis)
-    base: dict[str, Any] = {"phi0": args.phi0, "d": args.d, "friction": args.friction}
-    for k in ("H", "k", "omega"):
-        v = getattr(args, k)
-        if v is not None:
-            base[k] = v
-    for k in axes:
-        base.pop(k, None)
+    check_options(args, (*SCENE_OPTIONS, "--rtol", "--t-max", "--tol", "--workers", "--batch-size"))
+    axes = parse_axes(args.axis)
+    base = _base(args, axes)
     options: dict[str, Any] = {"accuracy": args.accuracy}
     if args.rtol is not None:
         options["rtol"] = args.rtol
-    if args.t_max is not None and args.quantity == "flip_time":
+    if args.t_max is not None and args.quantity in ("flip_time", "rest"):
         options["t_max"] = args.t_max
     if args.tol is not None and args.quantity == "critical_h":
         options["tol"] = args.tol
-    sweep = Sweep(base=base, axes=axes, quantity=args.quantity, mode="list" if args.zip_axes else "grid",
-                  options=options)
-    out = run_sweep(sweep, args.out, resume=args.resume, force=args.force, scheduler=args.scheduler,
-                    workers=args.workers, batch_size=args.batch_size,
-                    progress=not args.json and sys.stderr.isatty())
+    from rrbody.analysis.sweep import Sweep, SweepStopped, run_sweep
+    from rrbody.model.checks import MissingParameters
+
+    extended = args.body != "rod"
+    try:
+        sweep = Sweep(base=base, axes=axes, quantity=args.quantity, mode="list" if args.zip_axes else "grid",
+                      options=options)
+    except MissingParameters as e:
+        given = set(axes)
+        names = [f"--{n} (or --axis {n}=...)" for n in e.names if n not in given]
+        raise CliError(f"missing required options: {', '.join(names)}") from None
+    except ValueError as e:
+        msg = str(e)
+        if msg.startswith("axis "):
+            name, _, rest = msg[5:].partition(": ")
+            raise CliError(f"--axis {name}: {option_message(rest, extended=extended)}") from None
+        raise CliError(option_message(msg, extended=extended)) from None
+    try:
+        out = run_sweep(sweep, args.out, resume=args.resume, force=args.force, scheduler=args.scheduler,
+                        workers=args.workers, batch_size=args.batch_size,
+                        progress=not args.json and sys.stderr.isatty())
+    except SweepStopped as e:
+        print(f"rrbody sweep: interrupted: {e.done} of {e.total} points are saved in {str(e.checkpoint)!r}; "
+              "run the same command with --resume to compute the rest", file=sys.stderr)
+        return 130
+    except ValueError as e:
+        raise CliError(option_message(str(e), extended=extended)) from None
     if args.json:
         print(json.dumps({"out": str(out), "points": sweep.size, "shape": list(sweep.shape)}))
     else:

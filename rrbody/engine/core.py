@@ -521,7 +521,9 @@ def _run(scene: Scene, settings: EngineSettings, *, t_end: float, stop: str, dt_
     omega = scene.omega
     period = 2.0 * math.pi / omega if omega > 0 else math.inf
     driven = not h._free
-    n_out = int(math.floor(t_end / dt_out + 1e-9)) + 1 if (dt_out > 0.0 and math.isfinite(t_end)) else 0
+    n_grid = int(math.floor(t_end / dt_out + 1e-9)) + 1 if (dt_out > 0.0 and math.isfinite(t_end)) else 0
+    # the trajectory ends on t_end itself when the grid k * dt_out misses it (issue 13, as the ODE path)
+    n_out = n_grid + int(n_grid > 0 and t_end - (n_grid - 1) * dt_out > 1e-9 * dt_out)
     out = np.empty((n_out, 3 if driven else 7))
     k_out = 0
 
@@ -563,7 +565,7 @@ def _run(scene: Scene, settings: EngineSettings, *, t_end: float, stop: str, dt_
     n = 0
     try:
         while True:
-            if h.t >= t_end - 0.5 * dt:
+            if h.t >= t_end - (0.5 * dt if k_out >= n_out else 1e-12 * dt):  # a pending t_end sample: one step on
                 break
             if n >= max_steps:
                 status = "max_steps reached"
@@ -575,8 +577,8 @@ def _run(scene: Scene, settings: EngineSettings, *, t_end: float, stop: str, dt_
             t = h.t
             s = sample()
             if n_out:
-                while k_out < n_out and k_out * dt_out <= t + 1e-12 * dt:
-                    to = k_out * dt_out
+                while k_out < n_out and (k_out * dt_out if k_out < n_grid else t_end) <= t + 1e-12 * dt:
+                    to = k_out * dt_out if k_out < n_grid else t_end
                     w = (to - t_prev) / (t - t_prev)
                     out[k_out, 0] = to
                     for j in range(len(s)):

@@ -17,7 +17,7 @@ from typing import ClassVar, Literal
 
 import numpy as np
 
-from rrbody.model.checks import MAX_LENGTH, check_choice, check_nonnegative, check_positive, check_range
+from rrbody.model.checks import LIMITS, check, check_choice
 
 __all__ = ["Body", "RodMass", "Disk", "Ellipse", "BODY_KINDS"]
 
@@ -38,8 +38,8 @@ class Body:
     orientation: Orientation = "x"
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "l", check_nonnegative("l", self.l, unit="m", hi=MAX_LENGTH))
-        object.__setattr__(self, "mass", check_positive("mass", self.mass, unit="kg"))
+        object.__setattr__(self, "l", check("l", self.l))
+        object.__setattr__(self, "mass", check("mass", self.mass))
         check_choice("orientation", self.orientation, ("x", "y"))
 
     # ---- mass properties -------------------------------------------------------------------
@@ -97,7 +97,7 @@ class RodMass(Body):
     def __post_init__(self) -> None:
         super().__post_init__()
         if self.l == 0.0:
-            raise ValueError(f"l must be > 0 m for a rod-mass body (the rod length), got 0.0 (valid range: (0, {MAX_LENGTH:g}])")
+            raise ValueError(f"l must be {LIMITS['l'].text()[5:]} for a rod-mass body (the rod length), got 0.0")
 
     @property
     def inertia_per_mass(self) -> float:
@@ -113,7 +113,7 @@ class Disk(Body):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        object.__setattr__(self, "R", check_positive("R", self.R, unit="m", hi=MAX_LENGTH))
+        object.__setattr__(self, "R", check("R", self.R))
 
     @property
     def inertia_per_mass(self) -> float:
@@ -138,8 +138,8 @@ class Ellipse(Body):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        object.__setattr__(self, "R0", check_positive("R0", self.R0, unit="m", hi=MAX_LENGTH))
-        object.__setattr__(self, "delta", check_range("delta", self.delta, -1.0, 1.0, lo_open=True, hi_open=True))
+        object.__setattr__(self, "R0", check("R0", self.R0))
+        object.__setattr__(self, "delta", check("delta", self.delta))
 
     @property
     def semi_axes(self) -> tuple[float, float]:

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rrbody.model.checks import MAX_LENGTH, MAX_RATE, check_positive
+from rrbody.model.checks import check
 
 __all__ = ["CircularDrive"]
 
@@ -20,8 +20,8 @@ class CircularDrive:
     d: float = 1.0
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "omega", check_positive("omega", self.omega, unit="rad/s", hi=MAX_RATE))
-        object.__setattr__(self, "d", check_positive("d", self.d, unit="m", hi=MAX_LENGTH))
+        object.__setattr__(self, "omega", check("omega", self.omega))
+        object.__setattr__(self, "d", check("d", self.d))
 
     @property
     def period(self) -> float:

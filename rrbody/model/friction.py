@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from rrbody.model.checks import MAX_FRICTION, check_choice, check_nonnegative, check_positive
+from rrbody.model.checks import check, check_choice
 
 __all__ = ["Friction", "LAWS", "LAW_CODES"]
 
@@ -38,7 +38,7 @@ class Friction:
 
     def __post_init__(self) -> None:
         check_choice("friction", self.law, LAWS)
-        object.__setattr__(self, "coeff", check_nonnegative("friction coefficient", self.coeff, hi=MAX_FRICTION))
+        object.__setattr__(self, "coeff", check("friction coefficient", self.coeff))
         if self.law == "none":
             object.__setattr__(self, "coeff", 0.0)
 
@@ -46,14 +46,16 @@ class Friction:
     def from_k(cls, law: str, k: float, d: float) -> "Friction":
         """From k = mu g / d (1/s^2) and the drive radius d (m). Viscous: gamma = k (paper convention)."""
         check_choice("friction", law, LAWS)
-        k = check_nonnegative("k", k, unit="1/s^2", hi=MAX_FRICTION)
+        k = check("k", k)
+        d = check("d", d)
         return cls(law, k * d if law == "dry" else k)
 
     @classmethod
     def from_mu(cls, law: str, mu: float, g: float = 9.81, d: float = 1.0) -> "Friction":
         """From the friction coefficient mu, gravity g (m/s^2) and, for the viscous convention, d (m)."""
-        mu = check_nonnegative("mu", mu, hi=1e3)
-        g = check_positive("g", g, unit="m/s^2", hi=1e6)
+        mu = check("mu", mu)
+        g = check("g", g)
+        d = check("d", d)
         return cls.from_k(law, mu * g / d, d)
 
     @property

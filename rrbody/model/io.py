@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import stat
 import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -16,17 +17,48 @@ from typing import IO, Any
 __all__ = ["atomic_path", "atomic_write_text", "check_writable"]
 
 
+_KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pipe)"), (stat.S_ISCHR, "a character device"),
+          (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
+
+
+def _kind(mode: int) -> str:
+    for test, name in _KINDS:
+        if test(mode):
+            return name
+    return "not a regular file"
+
+
 def check_writable(path: str | os.PathLike[str], *, force: bool = False, name: str = "out") -> Path:
-    """Validate an output path before any work is done: its folder must exist and, unless
-    ``force``, the file must not. Raises ``ValueError`` naming the option."""
+    """Validate an output path before any work is done; return the path to write (a symbolic link
+    to a regular file resolves to its target, so the link survives and the target is replaced).
+
+    The path must be absent or a regular file (never a directory, FIFO, device, socket, or a link
+    to one, nor a dangling link: ``force`` does not change that); an existing file needs
+    ``force``; the folder must exist and be writable. Raises ``ValueError`` naming ``name``."""
     p = Path(path)
+    if p.is_symlink():
+        try:
+            target = p.resolve(strict=True)
+        except (OSError, RuntimeError):
+            raise ValueError(f"{name}: {str(p)!r} is a dangling or looping symbolic link; refusing to write "
+                             "through it") from None
+        st = target.stat()
+        if not stat.S_ISREG(st.st_mode):
+            raise ValueError(f"{name}: {str(p)!r} is a symbolic link to {_kind(st.st_mode)}; rrbody writes only "
+                             "regular files, with or without --force")
+        p = target
+    elif p.exists() or os.path.lexists(p):
+        mode = p.lstat().st_mode
+        if not stat.S_ISREG(mode):
+            raise ValueError(f"{name}: {str(p)!r} is {_kind(mode)}; rrbody writes only regular files, with or "
+                             "without --force")
     if p.exists() and not force:
         raise ValueError(f"{name}: {str(p)!r} already exists (pass force=True / --force to overwrite)")
-    if p.exists() and p.is_dir():
-        raise ValueError(f"{name}: {str(p)!r} is a directory")
     parent = p.parent if str(p.parent) else Path(".")
     if not parent.is_dir():
         raise ValueError(f"{name}: folder {str(parent)!r} does not exist")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise ValueError(f"{name}: folder {str(parent)!r} is not writable")
     return p
 
 
@@ -45,6 +77,9 @@ def atomic_path(path: str | os.PathLike[str], *, force: bool = False, name: str 
         yield tmp_path
         if not force and final.exists():
             raise ValueError(f"{name}: {str(final)!r} appeared while writing (pass --force to overwrite)")
+        if os.path.lexists(final) and not stat.S_ISREG(final.lstat().st_mode):
+            raise ValueError(f"{name}: {str(final)!r} became {_kind(final.lstat().st_mode)} while writing; "
+                             "left it alone")
         # mkstemp creates 0600 files; give the result the permissions a plain open() would
         umask = os.umask(0)
         os.umask(umask)

@@ -13,12 +13,12 @@ import math
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from rrbody.model.checks import MAX_LENGTH, MAX_RATE, MAX_TIME, check_choice, check_int, check_positive, check_range
+from rrbody.model.checks import LIMITS, MissingParameters, check, check_choice
 from rrbody.model.bodies import BODY_KINDS, Body, RodMass
 from rrbody.model.drive import CircularDrive
-from rrbody.model.friction import Friction
+from rrbody.model.friction import LAWS, Friction
 
-__all__ = ["Scene", "rod_mass_scene", "FRICTION_METHODS"]
+__all__ = ["Scene", "rod_mass_scene", "scene_from_params", "SCENE_PARAMS", "NUMERIC_SCENE_PARAMS", "FRICTION_METHODS"]
 
 FRICTION_METHODS: tuple[str, ...] = ("auto", "sampled", "icr")
 
@@ -69,21 +69,24 @@ class Scene:
             raise ValueError(f"drive must be a CircularDrive or None, got {self.drive!r}")
         if not isinstance(self.friction, Friction):
             raise ValueError(f"friction must be a Friction, got {self.friction!r}")
-        object.__setattr__(self, "phi0", check_range("phi0", self.phi0, -1e6, 1e6))
+        object.__setattr__(self, "phi0", check("phi0", self.phi0))
         if self.phi_dot0 is not None:
-            object.__setattr__(self, "phi_dot0", check_range("phi_dot0", self.phi_dot0, -MAX_RATE, MAX_RATE))
+            object.__setattr__(self, "phi_dot0", check("phi_dot0", self.phi_dot0))
         if self.t_max is not None:
-            object.__setattr__(self, "t_max", check_positive("t_max", self.t_max, unit="s", hi=MAX_TIME))
+            object.__setattr__(self, "t_max", check("t_max", self.t_max))
         check_choice("friction_method", self.friction_method, FRICTION_METHODS)
-        object.__setattr__(self, "samples", check_int("samples", self.samples, 1, 10_000_000))
-        v0 = tuple(self.v0)
+        object.__setattr__(self, "samples", check("samples", self.samples))
+        v0 = tuple(self.v0) if isinstance(self.v0, (tuple, list)) else ()
         if len(v0) != 2:
-            raise ValueError(f"v0 must be a pair (vx, vy) in m/s, got {self.v0!r}")
-        object.__setattr__(self, "v0", (check_range("v0[0]", v0[0], -MAX_LENGTH, MAX_LENGTH),
-                                        check_range("v0[1]", v0[1], -MAX_LENGTH, MAX_LENGTH)))
-        object.__setattr__(self, "spin0", check_range("spin0", self.spin0, -MAX_RATE, MAX_RATE))
+            raise ValueError(f"v0 must be a pair (vx, vy) of numbers in {LIMITS['v0'].text()}, got {self.v0!r}")
+        object.__setattr__(self, "v0", (check("v0", v0[0], label="v0[0]"), check("v0", v0[1], label="v0[1]")))
+        object.__setattr__(self, "spin0", check("spin0", self.spin0))
         if self.drive is not None and isinstance(self.body, RodMass) and self.body.l == 0.0:
-            raise ValueError("l must be > 0 for a driven rod-mass body")
+            raise ValueError(f"l must be {LIMITS['l'].text()[5:]} for a driven rod-mass body, got 0.0")
+        if self.drive is not None and self.body.l > 0.0:
+            # H enters every equation as omega/H and k/H: a derived H outside its range (a pivot a few
+            # nanometres off a large body's centre) loses every digit; l = 0 is the legitimate limit
+            check("H", self.H, label="H (derived from l, d and the body's size)")
 
     # ---- derived quantities ------------------------------------------------------------------
     @property
@@ -176,10 +179,73 @@ class Scene:
 def rod_mass_scene(H: float, k: float, omega: float, phi0: float = math.pi, *, friction: str = "dry",
                    d: float = 1.0, t_max: float | None = None, phi_dot0: float | None = None) -> Scene:
     """The paper's rod-mass body: H = l/d, k = mu g/d (1/s^2; gamma for viscous), omega (rad/s)."""
-    H = check_positive("H", H, hi=MAX_LENGTH)
-    d = check_positive("d", d, unit="m", hi=MAX_LENGTH)
+    H = float(check("H", H))
+    d = float(check("d", d))
     drive = CircularDrive(omega=omega, d=d)
     return Scene(body=RodMass(l=H * d), drive=drive, friction=Friction.from_k(friction, k, d), phi0=phi0,
                  t_max=t_max, phi_dot0=phi_dot0)
 
 
+
+#: The flat parameters of :func:`scene_from_params` (the CLI's scene options and a sweep's base and
+#: axes use these names); the numeric ones can be sweep axes.
+SCENE_PARAMS: tuple[str, ...] = ("body", "H", "l", "R0", "delta", "orientation", "omega", "d", "k", "mu", "g",
+                                 "friction", "phi0", "phi_dot0", "t_max", "friction_method", "samples", "no_drive",
+                                 "v0", "spin0")
+NUMERIC_SCENE_PARAMS: tuple[str, ...] = ("H", "l", "R0", "delta", "omega", "d", "k", "mu", "g", "phi0", "phi_dot0",
+                                         "t_max", "samples", "spin0")
+
+
+def scene_from_params(*, body: str = "rod", H: float | None = None, l: float | None = None,
+                      R0: float | None = None, delta: float = 0.0, orientation: str = "x",
+                      omega: float | None = None, d: float = 1.0, k: float | None = None, mu: float | None = None,
+                      g: float = 9.81, friction: str = "dry", phi0: float = math.pi, phi_dot0: float | None = None,
+                      t_max: float | None = None, friction_method: str = "auto", samples: int = 4096,
+                      no_drive: bool = False, v0: tuple[float, float] = (0.0, 0.0), spin0: float = 0.0) -> Scene:
+    """A Scene from flat parameters (the one mapping the CLI, batch mode and sweeps use).
+
+    ``body``: ``rod`` (H = l/d, give ``H`` or ``l``), ``disk`` (radius ``R0``) or ``ellipse``
+    (``R0``, ``delta``); ``l`` (m) is the CM -> P distance (default 0 for extended bodies). Friction:
+    ``k`` (1/s^2; gamma in 1/s for viscous) or ``mu`` with ``g`` (m/s^2) and ``d`` (m), or
+    ``friction="none"``. ``no_drive``: a free body launched with ``v0`` (m/s) and ``spin0`` (rad/s).
+    Every parameter missing for the chosen body is named in one ValueError.
+    """
+    check_choice("body", body, tuple(BODY_KINDS))
+    check_choice("friction", friction, LAWS)
+    missing = []
+    if body == "rod" and H is None and l is None:
+        missing.append("H")
+    if body != "rod" and R0 is None:
+        missing.append("R0")
+    if not no_drive and omega is None:
+        missing.append("omega")
+    if friction != "none" and k is None and mu is None:
+        missing.append("k")
+    if missing:
+        raise MissingParameters(missing)
+    if k is not None and mu is not None:
+        raise ValueError(f"k must be given alone: k and mu are alternatives, got k={k!r} and mu={mu!r}")
+    d = float(check("d", d))
+    if friction == "none":
+        fric = Friction("none")
+    elif k is not None:
+        fric = Friction.from_k(friction, k, d)
+    else:
+        fric = Friction.from_mu(friction, mu, g, d)  # type: ignore[arg-type]
+    drive = None if no_drive else CircularDrive(omega=omega, d=d)  # type: ignore[arg-type]
+    if body == "rod":
+        if H is not None and l is not None:
+            raise ValueError(f"H must be given alone for a rod-mass body: H and l are alternatives, got H={H!r}, l={l!r}")
+        rod_l = float(check("H", H)) * d if H is not None else l
+        b: Body = RodMass(l=rod_l, orientation=orientation)  # type: ignore[arg-type]
+    else:
+        if H is not None:
+            raise ValueError(f"H must not be given for a {body} (it is derived from l, d and the body's size), "
+                             f"got H={H!r}; give l (m) instead")
+        ll = 0.0 if l is None else l
+        if body == "disk":
+            b = BODY_KINDS["disk"](R=R0, l=ll, orientation=orientation)  # type: ignore[call-arg,arg-type]
+        else:
+            b = BODY_KINDS["ellipse"](R0=R0, delta=delta, l=ll, orientation=orientation)  # type: ignore[call-arg,arg-type]
+    return Scene(body=b, drive=drive, friction=fric, phi0=phi0, phi_dot0=phi_dot0, t_max=t_max,
+                 friction_method=friction_method, samples=samples, v0=tuple(v0), spin0=spin0)  # type: ignore[arg-type]

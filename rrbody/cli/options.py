@@ -1,0 +1,110 @@
+"""The option groups that several subcommands share (scene, integrator) and the one function that
+turns parsed options into a Scene (through :func:`rrbody.model.scene.scene_from_params`)."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from typing import Any
+
+from rrbody.cli.args import CliError, angle, check_options, float_list, integer, number, option_help, option_message
+
+__all__ = ["add_scene_options", "add_integrator_options", "add_accuracy_options", "scene_from_args", "scene_params", "SCENE_OPTIONS",
+           "INTEGRATOR_OPTIONS"]
+
+#: the numeric scene options (each names a parameter of the model's table)
+SCENE_OPTIONS = ("--H", "--l", "--R0", "--delta", "--omega", "--d", "--k", "--mu", "--g", "--phi0", "--phi-dot0",
+                 "--samples", "--v0", "--spin0")
+INTEGRATOR_OPTIONS = ("--rtol", "--dt", "--iterations", "--max-steps", "--t-max")
+
+
+def add_scene_options(p: argparse.ArgumentParser, *, free_bodies: bool = True) -> None:
+    """Body, drive, friction and initial state (every option with its unit and range)."""
+    g = p.add_argument_group("scene")
+    g.add_argument("--body", choices=("rod", "disk", "ellipse"), default="rod",
+                   help="rod: point mass on a massless rod (default); disk; ellipse")
+    g.add_argument("--H", type=number("--H"), help=option_help("H", "rod-mass geometry H = l/d (required for "
+                                                                "--body rod unless --l); extended bodies derive H"))
+    g.add_argument("--l", type=number("--l"), help=option_help("l", "distance CM -> P (rod: the rod length; "
+                                                                "extended bodies: default 0, P at the centre)"))
+    g.add_argument("--R0", type=number("--R0"), help=option_help("R0", "disk radius / ellipse mean semi-axis "
+                                                                  "(required for --body disk, ellipse)"))
+    g.add_argument("--delta", type=number("--delta"), default=0.0,
+                   help=option_help("delta", "ellipse: R_A = R0 (1 + delta), R_B = R0 (1 - delta)", 0))
+    g.add_argument("--orientation", choices=("x", "y"), default="x",
+                   help="initial direction of the R_A semi-axis (default x)")
+    g.add_argument("--omega", type=number("--omega"), help=option_help("omega", "driving rate (required)"))
+    g.add_argument("--d", type=number("--d"), default=1.0, help=option_help("d", "driving radius", 1))
+    g.add_argument("--k", type=number("--k"), help=option_help("k", "friction k = mu g / d (viscous: gamma in 1/s); "
+                                                                "required unless --mu or --friction none"))
+    g.add_argument("--mu", type=number("--mu"), help=option_help("mu", "friction coefficient (with --g and --d, "
+                                                                  "instead of --k)"))
+    g.add_argument("--g", type=number("--g"), default=9.81, help=option_help("g", "gravity, with --mu", 9.81))
+    g.add_argument("--friction", choices=("dry", "viscous", "none"), default="dry", help="friction law (default dry)")
+    g.add_argument("--phi0", type=angle("--phi0"), default=math.pi,
+                   help=option_help("phi0", "initial angle of CM -> P: a number (rad) or 'pi', 'pi/2', '3pi/4', "
+                                            "'-0.5*pi', '180deg'", "pi"))
+    g.add_argument("--phi-dot0", type=number("--phi-dot0"), default=None,
+                   help=option_help("phi_dot0", "initial phi' (default: the impulsive start (omega/H) cos phi0)"))
+    g.add_argument("--friction-method", choices=("auto", "sampled", "icr"), default="auto",
+                   help="area integration for extended bodies (auto: instantaneous centre where it applies)")
+    g.add_argument("--samples", type=integer("--samples"), default=4096,
+                   help=option_help("samples", "area elements for --friction-method sampled", 4096))
+    if free_bodies:
+        g.add_argument("--no-drive", action="store_true", help="a free body: no drive, launched with --v0 and --spin0")
+        g.add_argument("--v0", type=float_list("--v0", 2), default=(0.0, 0.0),
+                       help=option_help("v0", "free body: CM velocity VX,VY (each component)", "0,0"))
+        g.add_argument("--spin0", type=number("--spin0"), default=0.0,
+                       help=option_help("spin0", "free body: initial spin", 0))
+
+
+def add_accuracy_options(g: Any) -> None:
+    """``--accuracy`` and ``--rtol`` (every command that integrates the ODE)."""
+    g.add_argument("--accuracy", choices=("draft", "default", "paper"), default="default",
+                   help="ODE tolerance preset: draft 1e-9, default 1e-13, paper 1e-14 (README: Accuracy and cost)")
+    g.add_argument("--rtol", type=number("--rtol"), default=None,
+                   help=option_help("rtol", "ODE relative tolerance (overrides --accuracy)"))
+
+
+def add_integrator_options(p: argparse.ArgumentParser) -> None:
+    g = p.add_argument_group("integrator")
+    g.add_argument("--method", choices=("ode", "engine"), default="ode", help="direct ODE (default) or pymunk engine")
+    add_accuracy_options(g)
+    g.add_argument("--dt", type=number("--dt"), default=None,
+                   help=option_help("dt", "engine time step (default: from the fastest period)"))
+    g.add_argument("--iterations", type=integer("--iterations"), default=None,
+                   help=option_help("iterations", "engine constraint-solver iterations"))
+    g.add_argument("--max-steps", type=integer("--max-steps"), default=50_000_000,
+                   help=option_help("max_steps", "cap on integration steps (runaway guard)", "5e7"))
+    g.add_argument("--t-max", type=number("--t-max"), default=None,
+                   help=option_help("t_max", "horizon (flip-time: a cap; simulate: required)"))
+
+
+def scene_params(a: argparse.Namespace) -> dict[str, Any]:
+    """The parsed scene options as keyword arguments of scene_from_params (None: not given)."""
+    keys = ("body", "H", "l", "R0", "delta", "orientation", "omega", "d", "k", "mu", "g", "friction", "phi0",
+            "phi_dot0", "t_max", "friction_method", "samples", "no_drive", "v0", "spin0")
+    kw = {k: getattr(a, k) for k in keys if getattr(a, k, None) is not None}
+    if "v0" in kw:
+        kw["v0"] = tuple(kw["v0"])
+    return kw
+
+
+def scene_from_args(a: argparse.Namespace, *, required: tuple[str, ...] = ()) -> Any:
+    """A validated Scene from parsed options. Every option is checked before anything runs; every
+    missing required option is named at once; errors name the option as typed."""
+    from rrbody.model.checks import MissingParameters
+    from rrbody.model.scene import scene_from_params
+
+    check_options(a, [o for o in (*SCENE_OPTIONS, *INTEGRATOR_OPTIONS) if hasattr(a, o[2:].replace("-", "_"))])
+    missing = [o for o in required if getattr(a, o[2:].replace("-", "_"), None) is None]
+    try:
+        scene = scene_from_params(**scene_params(a))
+    except MissingParameters as e:
+        names = [{"k": "--k (or --mu)"}.get(n, f"--{n}") for n in e.names] + missing
+        raise CliError(f"missing required options: {', '.join(names)}") from None
+    except ValueError as e:
+        raise CliError(option_message(str(e), extended=getattr(a, "body", "rod") != "rod")) from None
+    if missing:
+        raise CliError(f"missing required options: {', '.join(missing)}")
+    return scene

@@ -1,0 +1,71 @@
+"""Finding class "late validation" (issue 13, finding 5): a sweep checks every option and every axis
+value before any work (exit 2, one line naming the option, no checkpoint, no output), like flip-time.
+Also sweeps over any scene (issue 14, item 7). Real CLI in subprocesses."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+from .clirun import assert_bad_input, run_many
+
+ROD = ["sweep", "--H", "0.2", "--k", "0.05", "--axis", "omega=0.6,0.7", "--workers", "0"]
+
+
+def test_bad_options_and_axes_fail_before_any_work(tmp_path: Path) -> None:
+    out = ["--out", str(tmp_path / "s.csv")]
+    cases = [
+        ([*ROD, "--rtol", "1", *out], "--rtol"),
+        ([*ROD, "--rtol", "0", *out], "--rtol"),
+        ([*ROD, "--t-max", "-1", *out], "--t-max"),
+        ([*ROD, "--t-max", "1e-320", *out], "--t-max"),
+        (["sweep", "--H", "0.2", "--k", "0.05", "--axis", "omega=0.6", "--axis", "omega=1,2", *out], "--axis omega"),
+        (["sweep", "--H", "0.2", "--k", "0.05", "--axis", "omega=0.6,-1", *out], "--axis omega"),
+        (["sweep", "--H", "0.2", "--k", "0.05", "--axis", "omega=1e-320,1", *out], "--axis omega"),
+        (["sweep", "--H", "0.2", "--omega", "0.6", "--axis", "k=0.1,-0.1", *out], "--axis k"),
+        (["sweep", "--H", "0.2", "--k", "0.05", "--axis", "omgea=1,2", *out], "did you mean omega"),
+        (["sweep", "--k", "0.05", "--axis", "omega=1,2", *out], "--H"),
+        (["sweep", "--H", "-0.2", "--k", "0.05", "--axis", "omega=1,2", *out], "--H"),
+        (["sweep", "--body", "ellipse", "--R0", "0.3", "--l", "0.2", "--k", "0.01", "--omega", "0.6", "--axis",
+          "delta=0,1.5", *out], "--axis delta"),
+        ([*ROD, "--workers", "-1", *out], "--workers"),
+        ([*ROD, "--batch-size", "0", *out], "--batch-size"),
+        ([*ROD, "--out", str(tmp_path / "s.txt")], "--out"),
+        ([*ROD, "--quantity", "rest", "--t-max", "10", *out], "free body"),
+        ([*ROD, "--phi0", "pi/0", *out], "--phi0"),
+    ]
+    for r, (_, opt) in zip(run_many([a for a, _ in cases], cwd=tmp_path), cases):
+        assert_bad_input(r, opt, tmp_path, set())  # no checkpoint, no output, no sidecar
+
+
+def test_any_body_and_any_parameter(tmp_path: Path) -> None:
+    """An ellipse over delta, a disk over l, a free disk over spin0: each point equals the single call."""
+    rs = run_many([
+        ["sweep", "--body", "ellipse", "--R0", "0.3", "--l", "0.2", "--k", "0.05", "--omega", "0.6", "--axis",
+         "delta=-0.5,0.5", "--workers", "0", "--accuracy", "draft", "--out", str(tmp_path / "e.csv")],
+        ["sweep", "--body", "disk", "--R0", "0.2", "--k", "0.05", "--omega", "0.6", "--axis", "l=0.1,0.3", "--axis",
+         "phi0=-pi/2,pi", "--workers", "0", "--accuracy", "draft", "--out", str(tmp_path / "d.csv")],
+        ["sweep", "--quantity", "rest", "--no-drive", "--body", "disk", "--R0", "0.1", "--k", "2", "--v0", "1,0",
+         "--t-max", "10", "--axis", "spin0=0,5", "--workers", "0", "--out", str(tmp_path / "f.csv")],
+        ["flip-time", "--body", "ellipse", "--R0", "0.3", "--l", "0.2", "--k", "0.05", "--omega", "0.6", "--delta",
+         "0.5", "--accuracy", "draft", "--json"],
+        ["flip-time", "--body", "disk", "--R0", "0.2", "--k", "0.05", "--omega", "0.6", "--l", "0.3", "--phi0",
+         "-pi/2", "--accuracy", "draft", "--json"],
+        ["simulate", "--no-drive", "--body", "disk", "--R0", "0.1", "--k", "2", "--v0", "1,0", "--spin0", "5",
+         "--t-max", "10", "--dt-out", "10", "--json"],
+    ], cwd=tmp_path)
+    assert all(r.code == 0 for r in rs), [r.err for r in rs if r.code]
+    from rrbody.analysis.sweep import load_sweep, read_meta
+
+    e = load_sweep(tmp_path / "e.csv")
+    assert [float(x["delta"]) for x in e] == [-0.5, 0.5]
+    assert read_meta(tmp_path / "e.csv")["spec"]["base"]["body"] == "ellipse"
+    assert float(e[1]["t_f"]) == json.loads(rs[3].out)["t_f"]  # the same computation, bit for bit
+    d = load_sweep(tmp_path / "d.csv")
+    assert [(float(x["l"]), float(x["phi0"])) for x in d] == [(0.1, -math.pi / 2), (0.1, math.pi),
+                                                             (0.3, -math.pi / 2), (0.3, math.pi)]
+    assert float(d[2]["t_f"]) == json.loads(rs[4].out)["t_f"]
+    f = load_sweep(tmp_path / "f.csv")
+    assert f[0]["status"] == "came to rest" and float(f[0]["t_stop"]) > 0
+    assert float(f[1]["t_stop"]) == json.loads(rs[5].out)["t_stop"]
