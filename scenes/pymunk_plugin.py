@@ -1,12 +1,12 @@
-"""pymunk plugin: three driven dry-friction bodies and a falling ball in one ordinary pymunk Space (no paper figure).
+"""pymunk plugin: three driven dry-friction bodies and a moving ball in one ordinary pymunk Space (no paper figure).
 
-Shows the engine path as a plugin (issue 4): ``rrbody.engine.attach`` adds a kinematic driver on the
-circle, a PivotJoint and the per-step area-friction hook to a user's own ``pymunk.Space``; the user's
-loop just calls ``space.step(dt)``. The space has gravity for its own ball; the attached bodies slide
-on a horizontal plane and ignore it. Outputs: phi(t) of each body (CSV), a figure (PNG/SVG) of phi(t)
-and the CM paths, and summary.json with each body's flip time next to the ODE path's (with the exact
-area integral, and with the engine's own 256 sampled elements: the difference between those two is
-the area-sampling error, the rest is the engine's dt error).
+Shows rrbody's scenes in a user's own top-down ``pymunk.Space``: ``rrbody.engine.attach`` adds a
+kinematic driver on the circle, a PivotJoint and the body's area friction (the space's
+``PlaneFriction``); the user's loop calls ``plane.step(dt)`` in place of ``space.step(dt)``. The
+ball is the user's own body and keeps its own motion. Outputs: phi(t) of each body (CSV), a figure (PNG/SVG) of phi(t)
+and the CM paths, and summary.json with each body's flip time next to the ODE path's (both with the
+exact area integral: the difference is the engine's dt error; the ODE with 256 sampled elements is
+listed too, for the sampling error an element-based engine would add).
 """
 
 from __future__ import annotations
@@ -45,22 +45,24 @@ def main(out_dir: Path, *, force: bool = True) -> None:
         "ellipse": Scene(body=Ellipse(R0=0.3, delta=0.5, l=0.6), drive=CircularDrive(0.6, d=3.0),
                          friction=Friction.from_k("dry", 0.05, 3.0), samples=256),
     }
-    # 2. An ordinary pymunk program: a space with gravity and a ball of its own ...
+    # 2. An ordinary top-down pymunk program: a space (no gravity: the plane is horizontal) and a ball ...
     space = pymunk.Space()
-    space.gravity = (0.0, -9.81)
     ball = pymunk.Body(1.0, pymunk.moment_for_circle(1.0, 0.0, 0.1))
+    ball.position = (0.0, -5.0)
+    ball.velocity = (0.0, -0.1)
     space.add(ball, pymunk.Circle(ball, 0.1))
     # 3. ... to which the plugin attaches the driven bodies (validated settings, one handle each).
     settings = EngineSettings(dt=DT)
     handles = {name: attach(space, sc, settings=settings) for name, sc in scenes.items()}
-    # 4. The user's loop: step the space, read phi and the CM from the handles after every step.
+    # 4. The user's loop: step (friction, then space.step), read phi and the CM from the handles.
+    plane = handles["rod-mass"].plane  # one PlaneFriction per space, shared by every attach
     n = round(T_MAX / DT)
     t = DT * np.arange(n + 1)
     phi = {k: np.empty(n + 1) for k in handles}
     cm = {k: np.empty((n + 1, 2)) for k in handles}
     for i in range(n + 1):
         if i:
-            space.step(DT)
+            plane.step(DT)
         for k, h in handles.items():
             phi[k][i] = h.phi
             cm[k][i] = tuple(h.body.position)

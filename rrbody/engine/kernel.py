@@ -2,22 +2,27 @@
 
 Everything here is numba-compiled and works on flat arrays the plugin owns, so a step costs one
 compiled call whatever the number of bodies (no per-body Python). Units: SI; per unit mass the
-force is m/s^2 and the torque m^2/s^2; ``mug`` is mu g (m/s^2).
+force is m/s^2 and the torque m^2/s^2.
 
 Array layouts (columns)
 -----------------------
-``bodies`` (float, one row per plugin body): MASS (kg), IPM = I/m (m^2), MUG (m/s^2), REACH (m:
-largest distance of the footprint from the centre of gravity), SNAP (1.0: the rest rule applies),
-S0, S1 (its rows in ``shapes``), then the state: PVX, PVY, PW (the velocity one step back, m/s,
-rad/s), GAP (s between it and the current one; 0 = no history yet), STOP (1.0 if the rest rule
-stopped it in the last step).
-``geo``: the polygons' vertices (x, y, 0) followed by their far-field rules (x, y, w), m and m^2.
+``bodies`` (float, one row per plugin body): MASS (kg), IPM = I/m (m^2), LAW (1 dry, 2 viscous),
+COEFF (mu g in m/s^2, or gamma in 1/s), REACH (m: largest distance of the footprint from the centre
+of gravity), SNAP (1.0: the rest rule applies), S0, S1 (its rows in ``shapes``), VEPS (m/s: slower
+elements have no dry-friction direction), VGX, VGY, VJ (load-weighted mean position, m, and mean
+squared distance, m^2, of the footprint: all the viscous law needs), STAG (1.0: the staggered,
+second-order reading of velocities; 0.0: plain symplectic Euler), then the state: PVX, PVY, PW
+(the velocity one step back), GAP (s between it and the current one; 0 = no history yet), STOP
+(STOPPING or ZEROED if the rest rule acted in the last step, else 0), EA, EW (the angle and spin
+friction was evaluated at).
+``shapes`` (float, per footprint part): KIND, WEIGHT (its share of the load), CX, CY (centre or
+centroid, body frame from the centre of gravity, m), then per kind: ELLIPSE (a circle is a = b): RA,
+RB (semi-axes, m), ORI (angle of the RA axis in the body frame, rad), NQ (quadrature nodes);
+POLYGON: RAD (largest vertex distance from the centroid, m), AREA (m^2), MXX, MXY, MYY (second moment
+about the centre of gravity / area, m^2), V0, V1 (vertex rows of ``geo``), Q0, Q1 (far-field rule
+rows); POINT: the load at (CX, CY); SAMPLED: Q0, Q1 (rows (x, y, weight) of ``geo``, weights sum 1).
+``geo``: polygon vertices (x, y, 0), far-field rules and samples (x, y, w).
 ``lookup``: row 0 the plugin bodies' ids (int64 view of pymunk's uintptr ids) sorted, row 1 their rows.
-``shapes`` (float, per shape): BODY (its body's row), KIND (0 circle, 1 polygon), WEIGHT (its share of
-the load), CX, CY (circle centre or polygon centroid, body frame from the centre of gravity, m),
-RAD (circle radius, or the polygon's largest vertex distance from its centroid, m), AREA (m^2),
-MXX, MXY, MYY (polygon second moment about the centre of gravity / area, m^2), V0, V1 (vertex rows),
-Q0, Q1 (far-field rule rows).
 """
 
 from __future__ import annotations
@@ -30,15 +35,17 @@ from numba import njit
 
 from rrbody.physics.icr import icr_wrench
 from rrbody.physics.polygon import polygon_wrench
+from rrbody.physics.wrench import point_force, sampled_wrench
 
-MASS, IPM, MUG, REACH, SNAP, S0, S1, PVX, PVY, PW, GAP, STOP = range(12)
-N_BODY = 12
-BODY, KIND, WEIGHT, CX, CY, RAD, AREA, MXX, MXY, MYY, V0, V1, Q0, Q1 = range(14)
-N_SHAPE = 14
-KIND_CIRCLE = 0.0
-KIND_POLYGON = 1.0
-#: Gauss nodes of the instantaneous-centre quadrature for a disk (rrbody.physics.area.icr_nodes: <= 6e-12)
-DISK_NODES = 24
+(MASS, IPM, LAW, COEFF, REACH, SNAP, S0, S1, VEPS, VGX, VGY, VJ, STAG, PVX, PVY, PW, GAP, STOP, EA,
+ EW) = range(20)
+N_BODY = 20
+#: STOP values: the rest rule cancels the velocity in this step, or (the step after) sets it exactly zero
+STOPPING, ZEROED = 1.0, 2.0
+KIND, WEIGHT, CX, CY, RA, RB, ORI, NQ, RAD, AREA, MXX, MXY, MYY, V0, V1, Q0, Q1 = range(17)
+N_SHAPE = 17
+ELLIPSE, POLYGON, POINT, SAMPLED = 0.0, 1.0, 2.0, 3.0
+LAW_DRY, LAW_VISCOUS = 1.0, 2.0
 
 
 @njit(cache=True)
@@ -51,27 +58,47 @@ def body_accel(j: int, alpha: float, vx: float, vy: float, w: float, bodies: np.
     sa = math.sin(alpha)
     vbx = ca * vx + sa * vy  # body frame
     vby = -sa * vx + ca * vy
+    c = bodies[j, COEFF]
+    if c == 0.0:
+        return 0.0, 0.0, 0.0
+    if bodies[j, LAW] == LAW_VISCOUS:
+        # every element feels -gamma v(s): linear, so the footprint's mean position and spread suffice
+        gx = bodies[j, VGX]
+        gy = bodies[j, VGY]
+        fx = -c * (vbx - w * gy)
+        fy = -c * (vby + w * gx)
+        tq = -c * (gx * vby - gy * vbx + w * bodies[j, VJ])
+        return ca * fx - sa * fy, sa * fx + ca * fy, tq / bodies[j, IPM]
+    v_eps = bodies[j, VEPS]
     fx = 0.0
     fy = 0.0
     tq = 0.0
     for k in range(int(bodies[j, S0]), int(bodies[j, S1])):
         ox = shapes[k, CX]
         oy = shapes[k, CY]
-        wt = shapes[k, WEIGHT]
-        if shapes[k, KIND] == KIND_CIRCLE:
-            # the disk's own centre moves with v + w z x o; the kernel gives the torque about it
-            gx, gy, gt = icr_wrench(shapes[k, RAD], shapes[k, RAD], DISK_NODES, 0.0, vbx - w * oy, vby + w * ox, w,
-                                    1, 1.0, 0.0, 0.0)
-            gt += ox * gy - oy * gx
-        else:
+        kind = shapes[k, KIND]
+        # velocity of the part's own centre: v + w z x o
+        ux = vbx - w * oy
+        uy = vby + w * ox
+        if kind == ELLIPSE:
+            gx, gy, gt = icr_wrench(shapes[k, RA], shapes[k, RB], int(shapes[k, NQ]), shapes[k, ORI], ux, uy, w,
+                                    1, 1.0, v_eps, 0.0)
+            gt += ox * gy - oy * gx  # the kernel's torque is about the part's centre
+        elif kind == POLYGON:
             gx, gy, gt = polygon_wrench(geo, int(shapes[k, V0]), int(shapes[k, V1]), shapes[k, AREA], ox, oy,
                                         shapes[k, RAD], shapes[k, MXX], shapes[k, MXY], shapes[k, MYY], geo,
-                                        int(shapes[k, Q0]), int(shapes[k, Q1]), vbx, vby, w, 0.0)
+                                        int(shapes[k, Q0]), int(shapes[k, Q1]), vbx, vby, w, v_eps)
+        elif kind == POINT:
+            gx, gy = point_force(ux, uy, 1, 1.0, v_eps)
+            gt = ox * gy - oy * gx
+        else:
+            gx, gy, gt = sampled_wrench(geo[int(shapes[k, Q0]):int(shapes[k, Q1])], 0.0, ux, uy, w, 1, 1.0, v_eps)
+            gt += ox * gy - oy * gx
+        wt = shapes[k, WEIGHT]
         fx += wt * gx
         fy += wt * gy
         tq += wt * gt
-    mug = bodies[j, MUG]
-    return mug * (ca * fx - sa * fy), mug * (sa * fx + ca * fy), mug * tq / bodies[j, IPM]
+    return c * (ca * fx - sa * fy), c * (sa * fx + ca * fy), c * tq / bodies[j, IPM]
 
 
 @njit(cache=True)
@@ -115,7 +142,7 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, bodies: np.
 
     ``got`` has a row per body of the space (pymunk.batch order: angle, vx, vy, w, fx, fy, torque),
     ``ids`` their ids. Writes the forces and torques to apply into ``out`` (rows fx, fy, torque: the
-    user's own plus friction), flags the bodies that stop this step (column STOP) and returns their
+    user's own plus friction), flags the bodies the rest rule acts on (column STOP) and returns their
     count. Velocities are read as belonging to the half step (the staggered scheme of
     docs/engine.md): friction acts at the predicted angle alpha + w dt with the velocity extrapolated
     from the last two steps.
@@ -128,13 +155,14 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, bodies: np.
         j = _find(lookup, ids[i])
         if j < 0:
             continue
+        was = bodies[j, STOP]
         bodies[j, STOP] = 0.0
         vx = got[i, 1]
         vy = got[i, 2]
         w = got[i, 3]
         alpha = got[i, 0] + w * dt
         gap = bodies[j, GAP]
-        if gap > 0.0:
+        if gap > 0.0 and bodies[j, STAG] > 0.0:
             g = 0.5 * dt / gap
             ex = vx + g * (vx - bodies[j, PVX])
             ey = vy + g * (vy - bodies[j, PVY])
@@ -147,17 +175,27 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, bodies: np.
         bodies[j, PVY] = vy
         bodies[j, PW] = w
         bodies[j, GAP] = dt
+        bodies[j, EA] = alpha
+        bodies[j, EW] = ew
         if vx == 0.0 and vy == 0.0 and w == 0.0:
             continue  # at rest: zero friction (kinetic friction has no direction at zero speed)
         ax, ay, aw, s = limited(j, alpha, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo)
-        if s < 1.0 and bodies[j, SNAP] > 0.0 \
-                and math.hypot(vx, vy) + abs(w) * bodies[j, REACH] <= bodies[j, MUG] * dt:
-            # every point slower than mu g dt: friction stops the body within this step
-            bodies[j, STOP] = 1.0
+        if s < 1.0 and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY \
+                and math.hypot(vx, vy) + abs(w) * bodies[j, REACH] <= bodies[j, COEFF] * dt:
+            # every point slower than mu g dt: friction stops the body within this step. The positions
+            # still move with this step's velocity (as the exact motion would, to O(mu g dt^2)); the
+            # impulse cancels it, and the next step sets the rounding residue exactly to zero.
             n_stop += 1
-            bodies[j, PVX] = 0.0
-            bodies[j, PVY] = 0.0
-            bodies[j, PW] = 0.0
+            if was > 0.0:
+                bodies[j, STOP] = ZEROED
+                bodies[j, PVX] = 0.0
+                bodies[j, PVY] = 0.0
+                bodies[j, PW] = 0.0
+                continue
+            bodies[j, STOP] = STOPPING
+            out[i, 0] -= bodies[j, MASS] * vx / dt
+            out[i, 1] -= bodies[j, MASS] * vy / dt
+            out[i, 2] -= bodies[j, MASS] * bodies[j, IPM] * w / dt
             continue
         m = bodies[j, MASS] * s
         out[i, 0] += m * ax

@@ -25,7 +25,7 @@ import numpy as np
 
 from rrbody.engine import kernel as K
 from rrbody.engine.batchio import BatchIO
-from rrbody.engine.shapes import body_footprint
+from rrbody.engine.shapes import Footprint, body_footprint
 from rrbody.model.checks import check_choice, check_nonnegative, check_positive
 
 __all__ = ["PlaneFriction", "PRESSURES"]
@@ -57,13 +57,15 @@ class PlaneFriction:
         self._slots: dict[Any, int] = {}  # body -> row
         self._list: list[Any] = []  # row -> body
         self._bodies = np.zeros((0, K.N_BODY))
-        self._geo: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []  # per body: shapes, verts, rule
+        self._geo: list[tuple[np.ndarray, np.ndarray]] = []  # per body: footprint rows and geo block
+        self.pre_step: list[Any] = []  # callables f(dt) run after friction is set, before space.step (builder)
         self._fresh: set[Any] = set()
         self._dirty = True
         self._kernel: Any = None  # the compiled step's entry point, found on the first step
         self.t = 0.0  # s: time advanced by step (compensated sum)
         self._tc = 0.0
-        self.n_stopped = 0  # bodies stopped by the rest rule so far
+        self.n_stopped = 0  # stops made by the rest rule so far
+        self._t_stop: dict[Any, float] = {}
 
     # ---- membership --------------------------------------------------------------------------
     @property
@@ -77,12 +79,12 @@ class PlaneFriction:
         shapes' density or mass, or set by you), its shapes' geometry is read now: call ``add``
         again after changing either. The body's current velocity is its velocity at the next step's
         start time (the first step gives it the half kick of the staggered scheme)."""
-        self._add(body, mu=mu, pressure=pressure, snap=True, history=None)
+        self._check_body(body)
+        mu = check_nonnegative("mu", mu)
+        check_choice("pressure", pressure, PRESSURES)
+        self._add(body, law=K.LAW_DRY, coeff=mu * self.g, footprint=body_footprint(body), snap=True, history=None)
 
-    def _add(self, body: Any, *, mu: float, pressure: str, snap: bool,
-             history: tuple[float, float, float, float] | None) -> None:
-        """``add`` for rrbody's builder: ``snap`` False leaves the rest rule to the joint that holds a
-        driven body; ``history`` = (vx, vy, w, gap) when the builder has already made the half kick."""
+    def _check_body(self, body: Any) -> None:
         import pymunk
 
         if not isinstance(body, pymunk.Body):
@@ -92,26 +94,32 @@ class PlaneFriction:
                              f"got body_type {body.body_type!r}")
         if body.space is not self.space:
             raise ValueError("body must be added to the PlaneFriction's space first (space.add(body, *shapes))")
-        mu = check_nonnegative("mu", mu)
-        check_choice("pressure", pressure, PRESSURES)
         m, moment = float(body.mass), float(body.moment)
         if not (0.0 < m < math.inf and 0.0 < moment < math.inf):
             raise ValueError(f"body mass and moment must be positive and finite (kg, kg m^2), got mass {m!r}, "
                              f"moment {moment!r}: give its shapes a density or mass, or set body.mass/moment")
-        shapes, verts, rule, reach = body_footprint(body)
+
+    def _add(self, body: Any, *, law: float, coeff: float, footprint: Footprint, snap: bool,
+             history: tuple[float, float, float, float] | None, v_eps: float = 0.0, staggered: bool = True) -> None:
+        """``add`` for rrbody's builder too: any law (K.LAW_DRY with coeff mu g, K.LAW_VISCOUS with gamma)
+        and footprint (point mass, sampled elements); ``snap`` False leaves the rest rule to the joint
+        that holds a driven body; ``history`` = (vx, vy, w, gap) when the builder has made the half kick."""
+        shapes, geo, reach, (gx, gy), jj = footprint
+        m, moment = float(body.mass), float(body.moment)
         row = np.zeros(K.N_BODY)
-        row[[K.MASS, K.IPM, K.MUG, K.REACH, K.SNAP]] = m, moment / m, mu * self.g, reach, 1.0 if snap else 0.0
+        row[[K.MASS, K.IPM, K.LAW, K.COEFF, K.REACH, K.SNAP, K.VEPS, K.VGX, K.VGY, K.VJ, K.STAG]] = \
+            m, moment / m, law, coeff, reach, 1.0 if snap else 0.0, v_eps, gx, gy, jj, 1.0 if staggered else 0.0
         if history is not None:
             row[[K.PVX, K.PVY, K.PW, K.GAP]] = history
         if body in self._slots:
             j = self._slots[body]
             self._bodies[j] = row
-            self._geo[j] = (shapes, verts, rule)
+            self._geo[j] = (shapes, geo)
         else:
             self._slots[body] = len(self._list)
             self._list.append(body)
             self._bodies = np.vstack([self._bodies, row])
-            self._geo.append((shapes, verts, rule))
+            self._geo.append((shapes, geo))
         if history is None:
             self._fresh.add(body)
         else:
@@ -128,30 +136,28 @@ class PlaneFriction:
         self._bodies = np.ascontiguousarray(np.delete(self._bodies, j, axis=0))
         self._slots = {b: i for i, b in enumerate(self._list)}
         self._fresh.discard(body)
+        self._t_stop.pop(body, None)
         self._dirty = True
 
     def _pack(self) -> None:
-        """Flatten every body's shapes, vertices and far-field rules into the kernel's arrays."""
-        n_verts = sum(vt.shape[0] for _, vt, _ in self._geo)
-        shapes, verts, rules = [], [], []
-        nv, nq, ns = 0, n_verts, 0
-        for j, (sh, vt, ru) in enumerate(self._geo):
+        """Flatten every body's footprint rows and geo blocks into the kernel's arrays."""
+        shapes, geos = [], []
+        ng = ns = 0
+        for j, (sh, geo) in enumerate(self._geo):
             sh = sh.copy()
-            sh[:, K.BODY] = j
-            poly = sh[:, K.KIND] == K.KIND_POLYGON
-            sh[poly, K.V0] += nv
-            sh[poly, K.V1] += nv
-            sh[poly, K.Q0] += nq
-            sh[poly, K.Q1] += nq
+            poly = sh[:, K.KIND] == K.POLYGON
+            sh[poly, K.V0] += ng
+            sh[poly, K.V1] += ng
+            ranged = poly | (sh[:, K.KIND] == K.SAMPLED)
+            sh[ranged, K.Q0] += ng
+            sh[ranged, K.Q1] += ng
             self._bodies[j, K.S0], self._bodies[j, K.S1] = ns, ns + sh.shape[0]
             ns += sh.shape[0]
-            nv += vt.shape[0]
-            nq += ru.shape[0]
+            ng += geo.shape[0]
             shapes.append(sh)
-            verts.append(np.column_stack([vt, np.zeros(vt.shape[0])]))
-            rules.append(ru)
+            geos.append(geo)
         self._k_shapes = np.ascontiguousarray(np.concatenate(shapes)) if shapes else np.zeros((0, K.N_SHAPE))
-        self._k_geo = np.ascontiguousarray(np.concatenate(verts + rules)) if shapes else np.zeros((0, 3))
+        self._k_geo = np.ascontiguousarray(np.concatenate(geos)) if geos else np.zeros((0, 3))
         ids = np.array([b.id for b in self._list], dtype=np.uint64).view(np.int64)
         order = np.argsort(ids)
         self._k_lookup = np.ascontiguousarray(np.vstack([ids[order], order.astype(np.int64)]))
@@ -190,21 +196,38 @@ class PlaneFriction:
             args = (got, ids, self._k_lookup, self._bodies, self._k_shapes, self._k_geo, dt, out)
             if self._kernel is None:
                 self._kernel = K.fast_entry(K.plane_step, *args)  # runs this step's kernel once
-                n_stop = int(self._bodies[:, K.STOP].sum())
+                n_flag = int(np.count_nonzero(self._bodies[:, K.STOP]))
             else:
-                n_stop = self._kernel(*args)
+                n_flag = self._kernel(*args)
             self._io.write_forces()
-            if n_stop:
-                for j in np.flatnonzero(self._bodies[:, K.STOP]):
-                    b = self._list[int(j)]
-                    b.velocity = (0.0, 0.0)
-                    b.angular_velocity = 0.0
-                self.n_stopped += int(n_stop)
+            for f in self.pre_step:
+                f(dt)
+            if n_flag:
+                self._rest(dt)
         self.space.step(dt)
         y = dt - self._tc
         t = self.t + y
         self._tc = (t - self.t) - y
         self.t = t
+
+    def _rest(self, dt: float) -> None:
+        """Bookkeeping of the rest rule: stop times, and exact zeros the step after a stop."""
+        flags = self._bodies[:, K.STOP]
+        for j in np.flatnonzero(flags):
+            b = self._list[int(j)]
+            if flags[j] == K.ZEROED:
+                b.velocity = (0.0, 0.0)
+                b.angular_velocity = 0.0
+            else:
+                self.n_stopped += 1
+                self._t_stop[b] = self.t + dt
+
+    def stop_time(self, body: Any) -> float | None:
+        """When the rest rule last stopped ``body`` (s, the plugin's clock), if it is at rest now; else None."""
+        j = self._slots[body]
+        if self._bodies[j, K.STOP] > 0.0 or (body.velocity == (0.0, 0.0) and body.angular_velocity == 0.0):
+            return self._t_stop.get(body)
+        return None
 
     # ---- readers -----------------------------------------------------------------------------
     def velocity(self, body: Any) -> tuple[float, float, float]:
@@ -216,7 +239,7 @@ class PlaneFriction:
         v = body.velocity
         w = body.angular_velocity
         p = self._bodies[j]
-        if p[K.GAP] <= 0.0:
+        if p[K.GAP] <= 0.0 or p[K.STAG] == 0.0:
             return float(v.x), float(v.y), float(w)
         return 0.5 * (p[K.PVX] + v.x), 0.5 * (p[K.PVY] + v.y), 0.5 * (p[K.PW] + w)
 
