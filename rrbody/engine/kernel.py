@@ -14,10 +14,13 @@ squared distance, m^2, of the footprint: all the viscous law needs), STAG (1.0: 
 second-order reading of velocities; 0.0: plain symplectic Euler), then the state: PVX, PVY, PW
 (the velocity one step back), GAP (s between it and the current one; 0 = no history yet), STOP
 (STOPPING or ZEROED if the rest rule acted in the last step, else 0), EA, EW (the angle and spin
-friction was evaluated at).
+friction was evaluated at); for a body held at P by rrbody's circular driver (DRV = 1): OMG, DD
+(omega, rad/s, and d, m), ANX, ANY (P in the body frame, m), T0 (the plugin's time at attach, s), and
+the driver's state for this step DPX, DPY, DVX, DVY (m, m/s), computed with the friction.
 ``shapes`` (float, per footprint part): KIND, WEIGHT (its share of the load), CX, CY (centre or
-centroid, body frame from the centre of gravity, m), then per kind: ELLIPSE (a circle is a = b): RA,
-RB (semi-axes, m), ORI (angle of the RA axis in the body frame, rad), NQ (quadrature nodes);
+centroid, body frame from the centre of gravity, m), then per kind: ELLIPSE: RA, RB (semi-axes, m),
+ORI (angle of the RA axis in the body frame, rad), NQ (quadrature nodes; 0 for a circle: the closed
+form of :mod:`rrbody.physics.disk`);
 POLYGON: RAD (largest vertex distance from the centroid, m), AREA (m^2), MXX, MXY, MYY (second moment
 about the centre of gravity / area, m^2), V0, V1 (vertex rows of ``geo``), Q0, Q1 (far-field rule
 rows); POINT: the load at (CX, CY); SAMPLED: Q0, Q1 (rows (x, y, weight) of ``geo``, weights sum 1).
@@ -33,13 +36,14 @@ from typing import Any
 import numpy as np
 from numba import njit
 
+from rrbody.physics.disk import disk_wrench
 from rrbody.physics.icr import icr_wrench
 from rrbody.physics.polygon import polygon_wrench
 from rrbody.physics.wrench import point_force, sampled_wrench
 
 (MASS, IPM, LAW, COEFF, REACH, SNAP, S0, S1, VEPS, VGX, VGY, VJ, STAG, PVX, PVY, PW, GAP, STOP, EA,
- EW) = range(20)
-N_BODY = 20
+ EW, DRV, OMG, DD, ANX, ANY, T0, DPX, DPY, DVX, DVY) = range(30)
+N_BODY = 30
 #: STOP values: the rest rule cancels the velocity in this step, or (the step after) sets it exactly zero
 STOPPING, ZEROED = 1.0, 2.0
 KIND, WEIGHT, CX, CY, RA, RB, ORI, NQ, RAD, AREA, MXX, MXY, MYY, V0, V1, Q0, Q1 = range(17)
@@ -80,7 +84,11 @@ def body_accel(j: int, alpha: float, vx: float, vy: float, w: float, bodies: np.
         # velocity of the part's own centre: v + w z x o
         ux = vbx - w * oy
         uy = vby + w * ox
-        if kind == ELLIPSE:
+        if kind == ELLIPSE and shapes[k, RA] == shapes[k, RB] and shapes[k, NQ] == 0.0:
+            # a circle: the closed form (elliptic integrals); NQ > 0 asks for the quadrature instead
+            gx, gy, gt = disk_wrench(shapes[k, RA], ux, uy, w, v_eps)
+            gt += ox * gy - oy * gx
+        elif kind == ELLIPSE:
             gx, gy, gt = icr_wrench(shapes[k, RA], shapes[k, RB], int(shapes[k, NQ]), shapes[k, ORI], ux, uy, w,
                                     1, 1.0, v_eps, 0.0)
             gt += ox * gy - oy * gx  # the kernel's torque is about the part's centre
@@ -136,9 +144,36 @@ def _find(lookup: np.ndarray, key: np.int64) -> int:
 
 
 @njit(cache=True)
+def _driver(j: int, bodies: np.ndarray, t: float, dt: float) -> None:
+    """The kinematic driver's position and velocity for the step from t to t + dt (s): its position
+    update lands it exactly on P(t + dt) = d (cos, sin)(omega (t + dt)); its velocity, which the joint
+    gives P, is P'(t + dt/2 + dt/2) plus the centripetal term w^2 dt/2 (P - CM) that pymunk's straight
+    drift of a rotating body omits (staggered scheme), or P'(t + dt) (plain)."""
+    t1 = t - bodies[j, T0] + dt
+    w = bodies[j, OMG]
+    d = bodies[j, DD]
+    c1 = math.cos(w * t1)
+    s1 = math.sin(w * t1)
+    if bodies[j, STAG] > 0.0:
+        th = w * (t1 + 0.5 * dt)
+        ca = math.cos(bodies[j, EA])
+        sa = math.sin(bodies[j, EA])
+        c = 0.5 * dt * bodies[j, EW] * bodies[j, EW]
+        vx = -d * w * math.sin(th) + c * (ca * bodies[j, ANX] - sa * bodies[j, ANY])
+        vy = d * w * math.cos(th) + c * (sa * bodies[j, ANX] + ca * bodies[j, ANY])
+    else:
+        vx = -d * w * s1
+        vy = d * w * c1
+    bodies[j, DVX] = vx
+    bodies[j, DVY] = vy
+    bodies[j, DPX] = d * c1 - dt * vx
+    bodies[j, DPY] = d * s1 - dt * vy
+
+
+@njit(cache=True)
 def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, bodies: np.ndarray, shapes: np.ndarray,
-               geo: np.ndarray, dt: float, out: np.ndarray) -> int:
-    """One step of plane friction for every plugin body in a space.
+               geo: np.ndarray, t: float, dt: float, out: np.ndarray) -> int:
+    """One step of plane friction for every plugin body in a space, from the plugin's time t (s).
 
     ``got`` has a row per body of the space (pymunk.batch order: angle, vx, vy, w, fx, fy, torque),
     ``ids`` their ids. Writes the forces and torques to apply into ``out`` (rows fx, fy, torque: the
@@ -177,6 +212,8 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, bodies: np.
         bodies[j, GAP] = dt
         bodies[j, EA] = alpha
         bodies[j, EW] = ew
+        if bodies[j, DRV] > 0.0:
+            _driver(j, bodies, t, dt)
         if vx == 0.0 and vy == 0.0 and w == 0.0:
             continue  # at rest: zero friction (kinetic friction has no direction at zero speed)
         ax, ay, aw, s = limited(j, alpha, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo)

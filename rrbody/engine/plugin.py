@@ -193,7 +193,7 @@ class PlaneFriction:
             self._kick(dt)
         if self._list:
             got, ids, out = self._io.read()
-            args = (got, ids, self._k_lookup, self._bodies, self._k_shapes, self._k_geo, dt, out)
+            args = (got, ids, self._k_lookup, self._bodies, self._k_shapes, self._k_geo, self.t, dt, out)
             if self._kernel is None:
                 self._kernel = K.fast_entry(K.plane_step, *args)  # runs this step's kernel once
                 n_flag = int(np.count_nonzero(self._bodies[:, K.STOP]))
