@@ -292,19 +292,3 @@ def test_bad_input() -> None:
     with pytest.raises(ValueError, match="dt must be > 0"):
         pf.step(0.0)
 
-
-def test_disk_closed_form_matches_scipy_and_the_quadrature() -> None:
-    """The compiled disk kernel (AGM elliptic integrals, series for k < 0.5) against scipy's elliptic
-    integrals (rrbody.physics.area) over eps in [1e-6, 1e6] incl. the switches, and against the 24-node
-    instantaneous-centre quadrature (good to ~6e-12) for random motions."""
-    from rrbody.physics.disk import disk_ratio, disk_wrench
-    from rrbody.physics.icr import icr_wrench
-
-    eps = np.concatenate([np.geomspace(1e-6, 1e6, 301), [0.4999999, 0.5, 0.5000001, 1 - 1e-12, 1.0, 1 + 1e-12]])
-    worst = max(float(np.max(np.abs(np.array(disk_ratio(e)) - disk_closed_form_ratio(e)))) for e in eps)
-    assert worst < 1e-14  # measured 2e-15
-    rng = np.random.default_rng(1)
-    for vx, vy, w in rng.normal(size=(200, 3)) * [1, 1, 5]:
-        a = np.array(disk_wrench(0.3, vx, vy, w, 0.0))
-        b = np.array(icr_wrench(0.3, 0.3, 24, 0.0, vx, vy, w, 1, 1.0, 0.0, 0.0))
-        assert np.max(np.abs(a - b)) < 1e-11  # measured 2e-13

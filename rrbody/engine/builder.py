@@ -67,7 +67,6 @@ def _footprint(scene: Scene) -> tuple[float, float, tuple]:
     ra, rb = body.semi_axes
     from rrbody.physics.area import icr_nodes
 
-    # a disk too takes the quadrature the ODE path uses (the same numbers, for engine-vs-ODE tests)
     return law, coeff, combine([ellipse_part(0.0, 0.0, ra, rb, 0.0, icr_nodes(body))])
 
 

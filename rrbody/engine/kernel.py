@@ -19,8 +19,8 @@ friction was evaluated at); for a body held at P by rrbody's circular driver (DR
 the driver's state for this step DPX, DPY, DVX, DVY (m, m/s), computed with the friction.
 ``shapes`` (float, per footprint part): KIND, WEIGHT (its share of the load), CX, CY (centre or
 centroid, body frame from the centre of gravity, m), then per kind: ELLIPSE: RA, RB (semi-axes, m),
-ORI (angle of the RA axis in the body frame, rad), NQ (quadrature nodes; 0 for a circle: the closed
-form of :mod:`rrbody.physics.disk`);
+ORI (angle of the RA axis in the body frame, rad), NQ (nodes per panel of the instantaneous-centre
+quadrature: 24 for a circle, ~5e-12 against the closed form; rrbody.physics.area.icr_nodes);
 POLYGON: RAD (largest vertex distance from the centroid, m), AREA (m^2), MXX, MXY, MYY (second moment
 about the centre of gravity / area, m^2), V0, V1 (vertex rows of ``geo``), Q0, Q1 (far-field rule
 rows); POINT: the load at (CX, CY); SAMPLED: Q0, Q1 (rows (x, y, weight) of ``geo``, weights sum 1).
@@ -36,7 +36,6 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from rrbody.physics.disk import disk_wrench
 from rrbody.physics.icr import icr_wrench
 from rrbody.physics.polygon import polygon_wrench
 from rrbody.physics.wrench import point_force, sampled_wrench
@@ -84,11 +83,7 @@ def body_accel(j: int, alpha: float, vx: float, vy: float, w: float, bodies: np.
         # velocity of the part's own centre: v + w z x o
         ux = vbx - w * oy
         uy = vby + w * ox
-        if kind == ELLIPSE and shapes[k, RA] == shapes[k, RB] and shapes[k, NQ] == 0.0:
-            # a circle: the closed form (elliptic integrals); NQ > 0 asks for the quadrature instead
-            gx, gy, gt = disk_wrench(shapes[k, RA], ux, uy, w, v_eps)
-            gt += ox * gy - oy * gx
-        elif kind == ELLIPSE:
+        if kind == ELLIPSE:
             gx, gy, gt = icr_wrench(shapes[k, RA], shapes[k, RB], int(shapes[k, NQ]), shapes[k, ORI], ux, uy, w,
                                     1, 1.0, v_eps, 0.0)
             gt += ox * gy - oy * gx  # the kernel's torque is about the part's centre

@@ -1,7 +1,7 @@
 """A body's footprint on the plane: its parts as the kernel's rows (see :mod:`rrbody.engine.kernel`).
 
-From a pymunk body (:func:`body_footprint`): circles keep their exact geometry (the closed form in
-elliptic integrals, ~1e-15); convex polygons (``pymunk.Poly``) are exact, their rounding radius
+From a pymunk body (:func:`body_footprint`): circles keep their exact geometry (the instantaneous-centre
+quadrature with 24 nodes, ~5e-12); convex polygons (``pymunk.Poly``) are exact, their rounding radius
 (``Poly(..., radius=r)``) is not part of the footprint; a ``pymunk.Segment`` with radius r is a stadium
 and enters as one convex polygon with ``SEGMENT_CAP_EDGES`` edges on each round end (its caps' area
 0.6 % short at 16); a segment of radius 0 has no area and no friction. rrbody's own scenes build
@@ -33,10 +33,9 @@ Footprint = tuple[np.ndarray, np.ndarray, float, tuple[float, float], float]
 Part = tuple[np.ndarray, np.ndarray, float, float, tuple[float, float], float]
 
 
-def ellipse_part(cx: float, cy: float, a: float, b: float, ori: float = 0.0, nodes: int = 0) -> Part:
-    """An ellipse with semi-axes a (along ``ori``) and b (m) centred at (cx, cy), integrated by the
-    instantaneous-centre quadrature with ``nodes`` per panel; a circle (a = b) with ``nodes`` 0 uses
-    the closed form."""
+def ellipse_part(cx: float, cy: float, a: float, b: float, ori: float = 0.0, nodes: int = 24) -> Part:
+    """An ellipse (a circle if a = b) with semi-axes a (along ``ori``) and b (m) centred at (cx, cy),
+    integrated by the instantaneous-centre quadrature with ``nodes`` per panel (24: a disk to ~5e-12)."""
     row = np.zeros(K.N_SHAPE)
     row[[K.KIND, K.CX, K.CY, K.RA, K.RB, K.ORI, K.NQ]] = K.ELLIPSE, cx, cy, a, b, ori, nodes
     return row, np.zeros((0, 3)), math.pi * a * b, math.hypot(cx, cy) + max(a, b), (cx, cy), \
