@@ -185,8 +185,9 @@ class PlaneFriction:
         Use it in place of ``space.step``: a plain ``space.step`` advances the space without friction.
         Forces you set on a body before the call (``body.force``, ``apply_force_at_...``) act as usual.
         """
-        if not dt > 0.0:
-            raise ValueError(f"dt must be > 0 s, got {dt!r}")
+        if not 0.0 < dt < math.inf:  # (also refuses NaN; no check helper: this is the hot path)
+            raise ValueError(f"dt must be > 0 s and finite, got {dt!r}")
+        dt = float(dt)
         if self._dirty:
             self._pack()
         if self._fresh:
