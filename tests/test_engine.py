@@ -55,7 +55,7 @@ def test_engine_converges_to_ode_second_order(kind: str, law: str) -> None:
         e_tf.append(abs(tr.events["t_phi_min"] - ref_f.t_f))
     for err in (np.array(e_phi), np.array(e_tf)):
         p = _orders(err)
-        # measured orders 1.99-2.16 over the six cases (docs/engine.md; `python -m rrbody.engine`);
+        # measured orders 1.99-2.16 over the six cases (docs/engine.md; benchmarks/engine.py);
         # plain pymunk (staggered=False) is first order, so 1.8 separates the two schemes
         assert p.min() >= 1.8, (kind, law, err, p)
         # the finest error stays below the bound extrapolated from the two coarser ones with the
@@ -230,7 +230,7 @@ def test_free_body_stop_matches_the_ode_path(body) -> None:  # noqa: ANN001
     ode = simulate(sc, t_max=2.0, dt_out=0.01, rtol=1e-12).events
     for dt in (1e-3, 5e-4):
         ev = simulate(sc, method="engine", t_max=2.0, dt_out=0.01, dt=dt).events
-        # the engine stops on its step grid: measured |dt_stop| <= 0.79 dt (`python -m rrbody.engine`)
+        # the engine stops on its step grid: measured |dt_stop| <= 0.79 dt before the plugin rebuild (docs/engine.md)
         assert abs(ev["t_stop"] - ode["t_stop"]) <= 2.0 * dt
         # place and turn converge faster: measured <= 2.9e-7 m and 6e-6 rad at dt = 1e-3
         assert math.dist(ev["stop_position"], ode["stop_position"]) < 1e-6
