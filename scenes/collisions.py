@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -27,7 +28,8 @@ K, COLLISION_WINDOW = 0.02, 1.0  # s^-2; s
 RADII = (1.0, 1.65, 2.1, 2.75, 3.2, 3.85)
 
 
-def _build():  # noqa: ANN202 - returns the scene's live objects
+def _build() -> tuple[Any, Any, list[tuple[str, Any, Any]], list[tuple[str, Any]]]:
+    """(space, plane, driven [(name, scene, handle)], free [(name, body)])."""
     import pymunk
 
     from rrbody.engine import EngineSettings, attach, plane_for
@@ -67,7 +69,7 @@ def _build():  # noqa: ANN202 - returns the scene's live objects
     return space, pf, driven, free
 
 
-def _outline(body) -> list[np.ndarray]:  # noqa: ANN001
+def _outline(body: Any) -> list[np.ndarray]:
     """Body-frame outlines (m) of a pymunk body's shapes, for drawing."""
     import pymunk
 
@@ -120,7 +122,8 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     index = {b: k for k, b in enumerate(bodies)}
     hits: list[list[float]] = [[] for _ in bodies]
 
-    def begin(arbiter, space_, data) -> None:  # noqa: ANN001 - pymunk callback: note which bodies met
+    def begin(arbiter: Any, space_: Any, data: Any) -> None:
+        """pymunk's collision callback: note the time for both bodies that began touching."""
         for b in arbiter.bodies:
             if b in index:
                 hits[index[b]].append(pf.t)

@@ -292,3 +292,40 @@ def test_bad_input() -> None:
     with pytest.raises(ValueError, match="dt must be > 0"):
         pf.step(0.0)
 
+
+
+def test_topdown_example_runs_to_rest(tmp_path) -> None:  # noqa: ANN001
+    """scenes/topdown.py, the copyable example: both bodies stop within its 5 s and it says when."""
+    import importlib.util
+    import json
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "scenes" / "topdown.py"
+    spec = importlib.util.spec_from_file_location("topdown", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    mod.main(tmp_path)
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    for name in ("puck", "box"):
+        # the slower stop: the puck, 2.06 m/s at mu g = 2.94 m/s^2, spinning: ~0.85 s (measured)
+        assert 0.0 < summary[name]["stopped_at_s"] < 5.0
+
+
+def test_collision_scene_counts_episodes() -> None:
+    """The collisions scene's episode rule on a synthetic phi(t): a fall of more than pi while phi' < 0,
+    marked as starting at a collision if a contact began within COLLISION_WINDOW before it."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "scenes" / "collisions.py"
+    spec = importlib.util.spec_from_file_location("collisions", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    t = np.linspace(0.0, 30.0, 3001)
+    phid = np.where((t > 5) & (t < 10), -1.0, 0.5) + np.where((t > 20) & (t < 20.5), -1.5, 0.0)
+    phi = np.concatenate([[0.0], np.cumsum(0.5 * (phid[1:] + phid[:-1]) * np.diff(t))])
+    eps = mod._episodes(t, phi, phid, hits=[4.5, 19.0])
+    assert len(eps) == 1  # the second dip falls by ~0.5 rad only
+    assert eps[0]["starts_at_collision"] and eps[0]["t_start"] == pytest.approx(5.0, abs=0.02)
+    assert eps[0]["turns_back"] == pytest.approx(5.0 / (2 * math.pi), rel=1e-2)
+    assert not mod._episodes(t, phi, phid, hits=[1.0])[0]["starts_at_collision"]
