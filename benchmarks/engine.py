@@ -140,9 +140,9 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
           md_table(["body / friction", "us per step", "x bare"],
                    [(r["label"], r["us_per_step"], r["ratio_to_bare"]) for r in erows]), "",
           "Plot: `engine.png`; data: `engine_dt.csv`, `engine_elements.csv`.", "",
-          f"PlaneFriction against pymunk's own steps ({plugin_study.__doc__.split(chr(10))[0]}; "
-          f"interleaved, best of {reps} fresh builds x {plugin_study.STEPS} steps, dt = 1/120 s, mu = "
-          f"{plugin_study.MU}):", "",
+          f"PlaneFriction against pymunk's own steps (benchmarks/plugin.py: N bodies, half circles, half "
+          f"boxes, sliding and spinning, no contacts; interleaved, best of {reps} fresh builds x "
+          f"{plugin_study.STEPS} steps, dt = 1/120 s, mu = {plugin_study.MU}):", "",
           md_table(["bodies", "bare step (us)", "tank constraints (us)", "PlaneFriction (us)", "tank / bare",
                     "PlaneFriction / tank", "PlaneFriction us per body"],
                    [(r["bodies"], r["bare_us"], r["tank_us"], r["plugin_us"], r["tank_over_bare"],
