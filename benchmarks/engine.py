@@ -1,4 +1,4 @@
-"""Engine path (pymunk): error vs dt, cost per simulated second, and cost per step vs area elements.
+"""Engine path (pymunk): error vs dt, cost per step vs area elements, and the PlaneFriction plugin.
 
 1. Error vs dt on the phixtpm scene (rod-mass, H = 0.2, k = 0.05, w = 0.6, phi0 = pi): phi at
    t = 10 s and the flip time, against the ODE path at rtol = 1e-13 (the ODE study shows that is
@@ -6,6 +6,9 @@
 2. Cost per step vs the number of sampled area elements N (disk R = 0.1 m driven at l = 0.2 m,
    w = 0.6, dry friction k = 0.05), against the same driven disk without friction (a bare
    pymunk step with the drive, the pivot joint and rrbody's position/velocity hooks).
+3. The plugin against pymunk's own steps (:mod:`benchmarks.plugin`): 100 bodies (half circles, half
+   boxes) with PlaneFriction vs the same space with pymunk's tank-example constraints; growth to
+   1,000 bodies; the phixtpm engine step vs the same driven body in plain pymunk.
 """
 
 from __future__ import annotations
@@ -15,6 +18,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from . import plugin as plugin_study
 from .common import (StudyResult, Target, fmt, loglog_slope, machine_text, md_table, module_available, save_figure,
                      write_csv)
 from rrbody.physics.bind import kernel_params
@@ -99,12 +103,29 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     point = per_step(sc.with_())
     erows.append({"elements": 1, "label": "rod-mass (point friction)", "us_per_step": point * 1e6,
                   "ratio_to_bare": point / bare})
-    files = [str(write_csv(out / "engine_dt.csv", rows)), str(write_csv(out / "engine_elements.csv", erows))]
+    # ---- 3. the plugin against pymunk's own steps ----
+    reps = 3 if quick else 7
+    prows = plugin_study.many_bodies([100, 300] if quick else [100, 300, 1000], reps)
+    slope = plugin_study.growth_slope(prows)
+    ph = plugin_study.phixtpm_step(reps, 2000 if quick else 5000)
+    files = [str(write_csv(out / "engine_dt.csv", rows)), str(write_csv(out / "engine_elements.csv", erows)),
+             str(write_csv(out / "engine_plugin.csv", prows))]
     files.append(str(_plot(out / "engine.png", rows, erows)))
     near256 = min((r for r in erows if r["elements"] > 1), key=lambda r: abs(math.log(r["elements"] / 256)))
+    p100 = prows[0]
     targets = [Target("engine step with 256 area elements vs bare driven step", "<= 3x",
                       f"{near256['ratio_to_bare']:.2f}x ({fmt(near256['us_per_step'])} us vs {fmt(bare * 1e6)} us "
-                      f"per step, {near256['elements']} elements)", near256["ratio_to_bare"] <= 3.0)]
+                      f"per step, {near256['elements']} elements)", near256["ratio_to_bare"] <= 3.0),
+               Target("PlaneFriction, 100 bodies (half circles, half boxes) vs pymunk's tank-example constraints",
+                      "<= 2x", f"{p100['plugin_over_tank']:.2f}x ({fmt(p100['plugin_us'])} us vs "
+                      f"{fmt(p100['tank_us'])} us per step; bare step {fmt(p100['bare_us'])} us)",
+                      p100["plugin_over_tank"] <= 2.0),
+               Target("PlaneFriction cost growth 100 -> " + str(prows[-1]["bodies"]) + " bodies", "linear",
+                      f"log-log slope {slope:.2f}; {fmt(prows[0]['plugin_us_per_body'])} -> "
+                      f"{fmt(prows[-1]['plugin_us_per_body'])} us per body", slope <= 1.1),
+               Target("phixtpm engine step vs the same driven body in plain pymunk", "<= 6x",
+                      f"{ph['rrbody'] / ph['plain']:.2f}x ({fmt(ph['rrbody'] * 1e6)} us vs "
+                      f"{fmt(ph['plain'] * 1e6)} us)", ph["rrbody"] / ph["plain"] <= 6.0)]
     md = [f"## {TITLE}", "", machine_text(), "",
           f"Error vs dt: phixtpm scene (rod-mass H=0.2, k=0.05, w=0.6), phi({T_FIX:g} s) and t_f against the ODE "
           f"path at rtol = 1e-13 (t_f = {tf_ref:.12g} s, phi({T_FIX:g} s) = {phi_ref:.12g} rad). "
@@ -118,7 +139,20 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
           f"{t_sim:g} simulated s, best of 5):", "",
           md_table(["body / friction", "us per step", "x bare"],
                    [(r["label"], r["us_per_step"], r["ratio_to_bare"]) for r in erows]), "",
-          "Plot: `engine.png`; data: `engine_dt.csv`, `engine_elements.csv`."]
+          "Plot: `engine.png`; data: `engine_dt.csv`, `engine_elements.csv`.", "",
+          f"PlaneFriction against pymunk's own steps (benchmarks/plugin.py: N bodies, half circles, half "
+          f"boxes, sliding and spinning, no contacts; interleaved, best of {reps} fresh builds x "
+          f"{plugin_study.STEPS} steps, dt = 1/120 s, mu = {plugin_study.MU}):", "",
+          md_table(["bodies", "bare step (us)", "tank constraints (us)", "PlaneFriction (us)", "tank / bare",
+                    "PlaneFriction / tank", "PlaneFriction us per body"],
+                   [(r["bodies"], r["bare_us"], r["tank_us"], r["plugin_us"], r["tank_over_bare"],
+                     r["plugin_over_tank"], r["plugin_us_per_body"]) for r in prows]), "",
+          f"Growth: log-log slope of the plugin's step cost vs bodies {fmt(slope)}. phixtpm engine step "
+          f"(rod-mass, dt = 1e-3 s, `h.plane.step`): {fmt(ph['rrbody'] * 1e6)} us against "
+          f"{fmt(ph['plain'] * 1e6)} us for a kinematic driver + PivotJoint in plain pymunk "
+          f"({fmt(ph['rrbody'] / ph['plain'])}x).", "",
+          "The machine is shared by several engineers: re-run on a quiet machine before quoting absolute "
+          "times (the ratios are measured interleaved in one run)."]
     res = StudyResult(NAME, TITLE, targets, "\n".join(md), files)
     res.wall_s = time.perf_counter() - t0
     d0 = [r for r in rows if r["default"]][0]

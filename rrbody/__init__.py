@@ -20,6 +20,7 @@ _LAZY = {
     "flip_time": "rrbody.analysis.flip", "FlipResult": "rrbody.integrate.events",
     "reverse_rotation_exists": "rrbody.analysis.flip", "critical_h": "rrbody.analysis.flip",
     "parse_angle": "rrbody.model.angles",
+    "PlaneFriction": "rrbody.engine.plugin",
 }
 
 __all__ = ["__version__", *_LAZY]

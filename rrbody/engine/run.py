@@ -1,0 +1,274 @@
+"""The run loop for rrbody's scenes in pymunk: trajectories (:func:`simulate_engine`) and flip times
+(:func:`engine_flip_time`) with the ODE path's definitions. Units: SI (s, rad, m)."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from rrbody.engine.builder import attach
+from rrbody.engine.settings import EngineSettings, check_dt, coarse_meta, make_settings
+from rrbody.model.checks import check_int, check_positive, check_range
+from rrbody.model.scene import Scene
+
+__all__ = ["simulate_engine", "engine_flip_time"]
+
+
+# ---- the run loop ------------------------------------------------------------------------------
+@dataclass
+class _RunResult:
+    t_end: float
+    status: str
+    phi_min: float
+    t_min: float
+    has_min: bool
+    T1: float
+    minima: list[tuple[float, float]]
+    n_minima: int
+    out: np.ndarray
+    n_steps: int
+    wall: float
+    max_pivot_error: float
+    t_stop: float | None = None
+    extra: dict[str, Any] = field(default_factory=dict)
+
+
+def _parabola_min(t0: float, f0: float, t1: float, f1: float, t2: float, f2: float) -> tuple[float, float]:
+    """Vertex (t, f) of the parabola through three points; the middle point if it is degenerate."""
+    a = (t1 - t0) * (f1 - f2)
+    b = (t1 - t2) * (f1 - f0)
+    den = a - b
+    if den == 0.0:
+        return t1, f1
+    tv = t1 - 0.5 * ((t1 - t0) * a - (t1 - t2) * b) / den
+    if not (t0 <= tv <= t2):
+        return t1, f1
+    # value: Lagrange interpolation at tv
+    l0 = (tv - t1) * (tv - t2) / ((t0 - t1) * (t0 - t2))
+    l1 = (tv - t0) * (tv - t2) / ((t1 - t0) * (t1 - t2))
+    l2 = (tv - t0) * (tv - t1) / ((t2 - t0) * (t2 - t1))
+    return tv, f0 * l0 + f1 * l1 + f2 * l2
+
+
+def _run(scene: Scene, settings: EngineSettings, *, t_end: float, stop: str, dt_out: float = 0.0,
+         settle_turns: float = 2.0, settle_periods: float = 3.0, max_steps: int = 50_000_000,
+         progress: bool = False, max_minima: int = 200_000) -> _RunResult:
+    """Step a fresh space holding ``scene`` until ``t_end`` or the ``stop`` rule ("t_end", "flip",
+    "rr", "rest"); record phi on the ``dt_out`` grid (linear interpolation between steps)."""
+    import pymunk
+
+    space = pymunk.Space()
+    h = attach(space, scene, settings=settings)
+    dt = settings.dt
+    omega = scene.omega
+    period = 2.0 * math.pi / omega if omega > 0 else math.inf
+    driven = h.driver is not None
+    n_grid = int(math.floor(t_end / dt_out + 1e-9)) + 1 if (dt_out > 0.0 and math.isfinite(t_end)) else 0
+    # the trajectory ends on t_end itself when the grid k * dt_out misses it (as the ODE path does)
+    n_out = n_grid + int(n_grid > 0 and t_end - (n_grid - 1) * dt_out > 1e-9 * dt_out)
+    out = np.empty((n_out, 3 if driven else 7))
+    k_out = 0
+
+    def sample() -> tuple[float, ...]:
+        b = h.body
+        if driven:
+            return (h.phi, h.phi_dot)
+        x = b.position
+        return (x.x, x.y, b.angle, *h.velocity())
+
+    t_prev = 0.0
+    s_prev = sample()
+    if n_out:
+        out[0, 0] = 0.0
+        out[0, 1:] = s_prev
+        k_out = 1
+    phi0 = h.phi
+    phi_min, t_min, has_min = math.nan, math.nan, False
+    if driven and h.phi_dot >= 0.0:  # phi rises from the start: t = 0 is the first minimum candidate
+        phi_min, t_min, has_min = phi0, 0.0, True
+    theta0 = phi0 + math.pi
+    T1 = math.nan
+    minima: list[tuple[float, float]] = []
+    n_minima = 0
+    # the last three samples of (t, phi) for minimum detection
+    ta, fa = math.nan, math.nan
+    tb, fb = 0.0, phi0
+    max_piv = 0.0
+    status = "reached t_end"
+    t_stop: float | None = None
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=t_end if math.isfinite(t_end) else None, desc="engine", unit="s(sim)", leave=False,
+                   dynamic_ncols=True)
+    wall0 = time.perf_counter()
+    step = h.plane.step  # friction for the body, then space.step
+    n = 0
+    try:
+        while True:
+            if h.t >= t_end - (0.5 * dt if k_out >= n_out else 1e-12 * dt):  # a pending t_end sample: one step on
+                break
+            if n >= max_steps:
+                status = "max_steps reached"
+                break
+            step(dt)
+            n += 1
+            t = h.t
+            s = sample()
+            if n_out:
+                while k_out < n_out and (k_out * dt_out if k_out < n_grid else t_end) <= t + 1e-12 * dt:
+                    to = k_out * dt_out if k_out < n_grid else t_end
+                    w = (to - t_prev) / (t - t_prev)
+                    out[k_out, 0] = to
+                    for j in range(len(s)):
+                        out[k_out, j + 1] = s_prev[j] + w * (s[j] - s_prev[j])
+                    k_out += 1
+            if driven:
+                f = s[0]
+                if n % 64 == 0:
+                    max_piv = max(max_piv, h.pivot_error())
+                # discrete local minimum of phi at the middle sample: refine by a parabola
+                if fb < fa and fb <= f:
+                    tm, fm = _parabola_min(ta, fa, tb, fb, t, f)
+                    if len(minima) < max_minima:
+                        minima.append((tm, fm))
+                    n_minima += 1
+                    if not has_min or fm < phi_min:
+                        phi_min, t_min, has_min = fm, tm, True
+                # T_1: theta = phi - omega t + pi falls to theta0 - 2 pi (linear interpolation)
+                if math.isnan(T1):
+                    g0 = fb - omega * tb + math.pi - (theta0 - 2.0 * math.pi)
+                    g1 = f - omega * t + math.pi - (theta0 - 2.0 * math.pi)
+                    if g0 > 0.0 and g1 <= 0.0:
+                        T1 = tb + (t - tb) * g0 / (g0 - g1)
+                ta, fa, tb, fb = tb, fb, t, f
+                if stop == "flip" and has_min and f >= phi_min + 2.0 * math.pi * settle_turns \
+                        and t - t_min >= settle_periods * period:
+                    status = "flip settled"
+                    break
+                if stop == "rr" and (not math.isnan(T1) or omega * t > 2.0 * math.pi):
+                    status = "RR decided"
+                    break
+            else:
+                if t_stop is None and h.t_rest is not None:
+                    t_stop = h.t_rest
+                    if stop == "rest":
+                        status = "at rest"
+                        break
+            t_prev, s_prev = t, s
+            if bar is not None and n % 4096 == 0:
+                bar.update(t - bar.n)
+    finally:
+        if bar is not None:
+            bar.close()
+    wall = time.perf_counter() - wall0
+    return _RunResult(t_end=h.t, status=status, phi_min=phi_min, t_min=t_min, has_min=has_min, T1=T1,
+                      minima=minima, n_minima=n_minima, out=out[:k_out], n_steps=n, wall=wall,
+                      max_pivot_error=max_piv, t_stop=t_stop)
+
+
+def simulate_engine(scene: Scene, *, t_max: float, dt_out: float, progress: bool = False, dt: float | None = None,
+                    iterations: int | None = None, max_steps: int = 50_000_000,
+                    point_inertia: float = 1e-9, staggered: bool = True) -> Any:
+    """Run ``scene`` in pymunk for ``t_max`` s; return the same :class:`~rrbody.trajectory.Trajectory`
+    as the ODE path, sampled every ``dt_out`` s (linear interpolation between engine steps).
+
+    ``dt`` (s; default :func:`default_dt`) and ``iterations`` are the engine settings; a dt above
+    :func:`valid_dt_range` raises ValueError, one above COARSE_FRACTION of the shortest motion period
+    or above the friction time is labelled ``meta["coarse"] = True`` with a warning. Driven events:
+    ``minima`` (parabola through the three engine samples around each discrete minimum of phi),
+    ``phi_min``, ``t_phi_min``, ``T1``; free: ``t_stop``, ``stop_position``, ``distance``, ``turn``.
+    """
+    from rrbody.model.trajectory import Trajectory, driven_trajectory
+
+    max_steps = check_int("max_steps", max_steps, 1)
+    settings = make_settings(scene, dt, iterations, point_inertia=point_inertia, staggered=staggered)
+    check_dt(scene, settings.dt)
+    if t_max / settings.dt > max_steps:
+        raise ValueError(f"max_steps must be >= t_max/dt = {t_max / settings.dt:.4g} for this run (dt = "
+                         f"{settings.dt:g} s), got {max_steps}; raise it or shorten t_max")
+    res = _run(scene, settings, t_end=t_max, stop="t_end", dt_out=dt_out, max_steps=max_steps, progress=progress)
+    meta_engine = {"method": "engine", "dt": settings.dt, "iterations": settings.iterations,
+                   "point_inertia": settings.point_inertia if scene.body.is_point else None,
+                   "status": res.status, "n_steps": res.n_steps, "wall_s": res.wall,
+                   **coarse_meta(scene, settings.dt)}
+    if scene.driven:
+        traj = driven_trajectory(scene, res.out[:, 0], res.out[:, 1], res.out[:, 2])
+        minima = [m for m in res.minima]
+        below = [m for m in minima if m[1] < scene.phi0]
+        best = min(below, key=lambda m: m[1]) if below else None
+        traj.events = {
+            "minima": [list(m) for m in minima],
+            "n_minima": res.n_minima,
+            "T1": res.T1 if math.isfinite(res.T1) else None,
+            "phi_min": float(best[1]) if best else scene.phi0,
+            "t_phi_min": float(best[0]) if best else 0.0,
+        }
+        meta_engine["max_pivot_error_m"] = res.max_pivot_error
+    else:
+        o = res.out
+        body = scene.body
+        beta = scene.phi0 - body.alpha0
+        ang = o[:, 3]
+        xp = o[:, 1] + body.l * np.cos(ang + beta)
+        yp = o[:, 2] + body.l * np.sin(ang + beta)
+        from rrbody._version import __version__
+
+        traj = Trajectory(t=o[:, 0], phi=ang + beta, phi_dot=o[:, 6].copy(), x_cm=o[:, 1], y_cm=o[:, 2],
+                          vx_cm=o[:, 4], vy_cm=o[:, 5], x_p=xp, y_p=yp, body_angle=ang, spin=o[:, 6].copy(),
+                          meta={"scene": scene.describe(), "rrbody_version": __version__})
+        stopped = res.t_stop is not None
+        x_end, y_end = (float(o[-1, 1]), float(o[-1, 2])) if stopped and len(o) else (math.nan, math.nan)
+        traj.events = {"t_stop": res.t_stop,
+                       "stop_position": [x_end, y_end] if stopped else None,
+                       "distance": math.hypot(x_end, y_end) if stopped else None,
+                       "turn": float(o[-1, 3] - body.alpha0) if stopped and len(o) else None}
+    traj.meta = {**traj.meta, **meta_engine}
+    if res.status != "reached t_end":
+        traj.meta["warning"] = f"integration stopped early: {res.status} at t={res.t_end:.6g} s"
+    return traj
+
+
+def engine_flip_time(scene: Scene, *, t_max: float | None = None, dt: float | None = None,
+                     iterations: int | None = None, settle_turns: float = 2.0, settle_periods: float = 3.0,
+                     max_steps: int = 50_000_000, point_inertia: float = 1e-9, staggered: bool = True,
+                     progress: bool = False) -> Any:
+    """Flip time of a driven scene by the engine path, with the ODE path's definitions and stopping
+    rule (:func:`rrbody.analysis.flip_time`): t_f is the time of the lowest minimum of phi, located
+    by a parabola through the three engine samples around it. ``t_max`` None: run until settled.
+    ``FlipResult.rtol`` is NaN (the engine has a step, not a tolerance)."""
+    from rrbody.integrate.events import FlipResult, classify_flip
+
+    if not scene.driven:
+        raise ValueError("engine_flip_time needs a driven scene (drive is None: a free body has no flip)")
+    settle_turns = check_range("settle_turns", settle_turns, 0.5, 100.0)
+    settle_periods = check_range("settle_periods", settle_periods, 0.0, 1e6)
+    max_steps = check_int("max_steps", max_steps, 1)
+    settings = make_settings(scene, dt, iterations, point_inertia=point_inertia, staggered=staggered)
+    check_dt(scene, settings.dt)
+    horizon = t_max if t_max is not None else scene.t_max
+    horizon = math.inf if horizon is None else check_positive("t_max", horizon, unit="s")
+    assert scene.drive is not None
+    minima_arr = lambda r: np.array(r.minima, dtype=float).reshape(-1, 2)  # noqa: E731
+    if not scene.friction.active:
+        res = _run(scene, settings, t_end=min(horizon, 2.0 * scene.drive.period), stop="rr", max_steps=max_steps)
+        _, regime, rr, settled, phi_min = classify_flip(scene, status=res.status, has_min=res.has_min,
+                                                        phi_min=res.phi_min, t_min=res.t_min, T1=res.T1,
+                                                        t_end=res.t_end)
+        return FlipResult(None, phi_min, res.t_min, rr, res.T1 if math.isfinite(res.T1) else None, settled,
+                          regime, res.t_end, res.n_steps, res.n_minima, math.nan, res.wall, minima_arr(res))
+    res = _run(scene, settings, t_end=horizon, stop="flip", settle_turns=settle_turns, settle_periods=settle_periods,
+               max_steps=max_steps, progress=progress)
+    t_f, regime, rr, settled, phi_min = classify_flip(scene, status=res.status, has_min=res.has_min,
+                                                      phi_min=res.phi_min, t_min=res.t_min, T1=res.T1,
+                                                      t_end=res.t_end)
+    cm = coarse_meta(scene, settings.dt)
+    if cm.get("coarse"):
+        regime += f" [{cm['warning']}]"
+    return FlipResult(t_f, phi_min, res.t_min, rr, res.T1 if math.isfinite(res.T1) else None, settled, regime,
+                      res.t_end, res.n_steps, res.n_minima, math.nan, res.wall, minima_arr(res))

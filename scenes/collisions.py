@@ -1,0 +1,213 @@
+"""Collisions (the paper's outlook): a dozen driven and free bodies collide on one rough plane; which collisions restart reverse rotation?
+
+Six driven bodies (disks and ellipses, rrbody's builder with collisions on) ride concentric drive
+circles d = 1.0 ... 3.85 m at alternating rates (0.6 and 0.45 rad/s, so neighbours keep meeting); they
+form a binary mixture: three have P far from the CM (H ~ 0.2-0.35, below H_c: alone they reverse-rotate)
+and three have P almost at the CM (H from 1.8 to 3.9, above H_c(0) = 0.79: alone they cannot). Six free bodies,
+boxes and L-shapes (two boxes on one pymunk body), lie in the swept rings and are knocked about
+(mu g = 0.3 m/s^2). Nothing touches at t = 0.
+All twelve feel area-integrated dry friction from rrbody's PlaneFriction (k = mu g / d = 0.02 s^-2
+for the driven ones). A reverse-rotation episode of a driven body is a stretch with phi' < 0 during
+which phi falls by more than pi; it "starts at a collision" if the body began a contact within
+COLLISION_WINDOW s before. Outputs: results/collisions/ (summary.json with the episodes per body,
+collisions.png) and movies/collisions.mp4 (a short movie of the first T_MOVIE s).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+MOVIES = Path(__file__).resolve().parent.parent / "movies"
+DT, T_END, T_MOVIE, SAMPLE = 2e-3, 80.0, 40.0, 10  # s, s, s, steps between samples
+K, COLLISION_WINDOW = 0.02, 1.0  # s^-2; s
+#: drive radii (m): a body with P far from its CM (sweeping d +- 0.45 m) between two with P at the CM
+RADII = (1.0, 1.65, 2.1, 2.75, 3.2, 3.85)
+
+
+def _build() -> tuple[Any, Any, list[tuple[str, Any, Any]], list[tuple[str, Any]]]:
+    """(space, plane, driven [(name, scene, handle)], free [(name, body)])."""
+    import pymunk
+
+    from rrbody.engine import EngineSettings, attach, plane_for
+    from rrbody.model.bodies import Disk, Ellipse
+    from rrbody.model.drive import CircularDrive
+    from rrbody.model.friction import Friction
+    from rrbody.model.scene import Scene
+
+    space = pymunk.Space()  # top-down: no gravity
+    pf = plane_for(space)
+    settings = EngineSettings(dt=DT, collide=True)
+    driven = []
+    for i, d in enumerate(RADII):
+        rr_capable = i % 2 == 0
+        l = 0.3 if rr_capable else 0.002  # P almost at the CM: H = I/(m d l) + l/d > 0.8
+        body = Disk(R=0.15, l=l) if i % 4 < 2 else Ellipse(R0=0.15, delta=0.4, l=l)
+        sc = Scene(body=body, drive=CircularDrive(0.6 if i % 2 == 0 else 0.45, d=d),
+                   friction=Friction.from_k("dry", K, d), phi0=math.pi)
+        driven.append((f"driven {i} ({body.kind}, H={sc.H:.2f})", sc, attach(space, sc, settings=settings)))
+    free = []
+    rng = np.random.default_rng(11)
+    for i in range(6):
+        b = pymunk.Body()
+        if i % 2 == 0:
+            shapes = [pymunk.Poly.create_box(b, (0.3, 0.3))]
+        else:  # an L: two boxes on one body
+            shapes = [pymunk.Poly(b, [(0, 0), (0.4, 0), (0.4, 0.15), (0, 0.15)]),
+                      pymunk.Poly(b, [(0, 0.15), (0.15, 0.15), (0.15, 0.4), (0, 0.4)])]
+        for s in shapes:
+            s.density = 12.0
+        r, a = (1.3, 2.4, 3.5)[i % 3], 1.0 + 0.85 * i  # in the rings, away from the bodies at angle 0
+        b.position = (r * math.cos(a), r * math.sin(a))
+        b.angle = rng.uniform(0, 2 * math.pi)
+        space.add(b, *shapes)
+        pf.add(b, mu=0.3 / 9.81)  # mu g = 0.3 m/s^2
+        free.append((f"free {i} ({'box' if i % 2 == 0 else 'L'})", b))
+    return space, pf, driven, free
+
+
+def _outline(body: Any) -> list[np.ndarray]:
+    """Body-frame outlines (m) of a pymunk body's shapes, for drawing."""
+    import pymunk
+
+    out = []
+    for s in body.shapes:
+        if isinstance(s, pymunk.Circle):
+            t = np.linspace(0, 2 * math.pi, 25)
+            out.append(np.column_stack([s.offset.x + s.radius * np.cos(t), s.offset.y + s.radius * np.sin(t)]))
+        elif isinstance(s, pymunk.Poly):
+            v = np.array([tuple(p) for p in s.get_vertices()])
+            out.append(np.vstack([v, v[:1]]))
+        elif isinstance(s, pymunk.Segment):
+            out.append(np.array([tuple(s.a), tuple(s.b)]))
+    return out
+
+
+def _episodes(t: np.ndarray, phi: np.ndarray, phid: np.ndarray, hits: list[float]) -> list[dict]:
+    """Reverse-rotation episodes: runs of phi' < 0 in which phi falls by more than pi."""
+    out, i = [], 0
+    while i < len(t):
+        if phid[i] < 0.0:
+            j = i
+            while j + 1 < len(t) and phid[j + 1] < 0.0:
+                j += 1
+            drop = phi[i] - phi[j]
+            if drop > math.pi:
+                at_hit = any(t[i] - COLLISION_WINDOW <= h <= t[i] + 1e-9 for h in hits)
+                out.append({"t_start": float(t[i]), "t_end": float(t[j]), "turns_back": drop / (2 * math.pi),
+                            "starts_at_collision": at_hit})
+            i = j + 1
+        else:
+            i += 1
+    return out
+
+
+def main(out_dir: Path, *, force: bool = True) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from rrbody.analysis.flip import flip_time
+    from rrbody.analysis.report import save_figure, write_summary
+
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    space, pf, driven, free = _build()
+    names = [n for n, _, _ in driven] + [n for n, _ in free]
+    bodies = [h.body for _, _, h in driven] + [b for _, b in free]
+    index = {b: k for k, b in enumerate(bodies)}
+    hits: list[list[float]] = [[] for _ in bodies]
+
+    def begin(arbiter: Any, space_: Any, data: Any) -> None:
+        """pymunk's collision callback: note the time for both bodies that began touching."""
+        for b in arbiter.bodies:
+            if b in index:
+                hits[index[b]].append(pf.t)
+
+    space.on_collision(begin=begin)
+    n = round(T_END / DT)
+    t = np.zeros(n // SAMPLE + 1)
+    pose = np.zeros((len(t), len(bodies), 3))  # x, y, angle
+    phi = np.zeros((len(t), len(driven), 2))  # phi, phi'
+    for i in range(n + 1):
+        if i:
+            pf.step(DT)
+        if i % SAMPLE == 0:
+            k = i // SAMPLE
+            t[k] = pf.t
+            pose[k] = [(b.position.x, b.position.y, b.angle) for b in bodies]
+            phi[k] = [(h.phi, h.phi_dot) for _, _, h in driven]
+    # episodes per driven body, and whether each body reverse-rotates alone (ODE path, no collisions)
+    summary = {"dt": DT, "t_end": T_END, "k": K, "collision_window_s": COLLISION_WINDOW, "bodies": {}}
+    for j, (name, sc, _) in enumerate(driven):
+        eps = _episodes(t, phi[:, j, 0], phi[:, j, 1], hits[j])
+        summary["bodies"][name] = {"H": sc.H, "omega": sc.omega, "d": sc.d,
+                                   "reverse_rotation_alone": flip_time(sc).reverse_rotation,
+                                   "collisions": len(hits[j]), "rr_episodes": len(eps),
+                                   "rr_episodes_starting_at_collision": sum(e["starts_at_collision"] for e in eps),
+                                   "episodes": eps}
+    for j, (name, b) in enumerate(free, start=len(driven)):
+        summary["bodies"][name] = {"collisions": len(hits[j]), "at_rest_since_s": pf.stop_time(b)}
+    write_summary(out_dir, summary, force=force)
+    # figure: phi(t) per driven body with its episodes, and every body's path
+    fig, (a, b) = plt.subplots(1, 2, figsize=(13, 5.5))
+    for j, (name, _, _) in enumerate(driven):
+        line, = a.plot(t, phi[:, j, 0] / (2 * math.pi) + 3 * j, lw=0.8, label=name)
+        for e in summary["bodies"][name]["episodes"]:
+            a.axvspan(e["t_start"], e["t_end"], color=line.get_color(), alpha=0.25 if e["starts_at_collision"] else 0.1)
+        a.plot(hits[j], np.interp(hits[j], t, phi[:, j, 0] / (2 * math.pi) + 3 * j), "k|", ms=6)
+    a.set(xlabel="t (s)", ylabel="phi / 2 pi (offset 3 per body)",
+          title="phi(t): RR episodes shaded (dark: started at a collision |)")
+    a.legend(fontsize=7, loc="upper left")
+    for j, name in enumerate(names):
+        b.plot(pose[:, j, 0], pose[:, j, 1], lw=0.6)
+        for o in _outline(bodies[j]):
+            x, y, ang = pose[-1, j]
+            c, s = math.cos(ang), math.sin(ang)
+            b.plot(x + c * o[:, 0] - s * o[:, 1], y + s * o[:, 0] + c * o[:, 1], "k-", lw=0.8)
+    b.set(xlabel="x (m)", ylabel="y (m)", aspect="equal", title=f"paths over {T_END:g} s, final poses")
+    save_figure(fig, out_dir, "collisions", force=force)
+    plt.close(fig)
+    _movie(t, pose, [_outline(x) for x in bodies], len(driven), MOVIES / "collisions.mp4", force=force)
+
+
+def _movie(t: np.ndarray, pose: np.ndarray, outlines: list, n_driven: int, path: Path, *, force: bool) -> None:
+    """Every body at 20 frames per s of playback, 4 simulated s per s, the first T_MOVIE s."""
+    import imageio_ffmpeg
+    import matplotlib.pyplot as plt
+
+    from rrbody.model.io import atomic_path
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fps, speed = 20, 4.0
+    frames = [int(round(k)) for k in np.arange(0, T_MOVIE / speed * fps) * speed / fps / (t[1] - t[0])]
+    fig, ax = plt.subplots(figsize=(6.4, 6.4), dpi=100)
+    with atomic_path(path, force=force, name=path.name) as tmp:
+        writer = imageio_ffmpeg.write_frames(str(tmp), (640, 640), fps=fps, codec="libx264", pix_fmt_out="yuv420p",
+                                             output_params=["-f", "mp4"])
+        writer.send(None)
+        for k in frames:
+            ax.cla()
+            for r in RADII:
+                ax.add_patch(plt.Circle((0, 0), r, fill=False, ls=":", lw=0.5, color="0.6"))
+            for j, outs in enumerate(outlines):
+                x, y, ang = pose[k, j]
+                c, s = math.cos(ang), math.sin(ang)
+                for o in outs:
+                    ax.fill(x + c * o[:, 0] - s * o[:, 1], y + s * o[:, 0] + c * o[:, 1],
+                            color="tab:red" if j < n_driven and j % 2 == 0 else
+                            ("tab:blue" if j < n_driven else "0.5"), alpha=0.8)
+            ax.set(xlim=(-4.6, 4.6), ylim=(-4.6, 4.6), aspect="equal",
+                   title=f"t = {t[k]:5.1f} s   red: H < H_c, blue: H > H_c, grey: free")
+            fig.canvas.draw()
+            writer.send(np.asarray(fig.canvas.buffer_rgba())[:, :, :3].copy())
+        writer.close()
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    main(Path(__file__).resolve().parent.parent / "results" / "collisions")
