@@ -9,6 +9,7 @@ committed ``results/`` and ``movies/`` (nothing is recomputed), so a build takes
 
 from __future__ import annotations
 
+import re
 import shutil
 import sys
 from pathlib import Path
@@ -53,5 +54,17 @@ def _copy_movies(app, exception) -> None:  # noqa: ANN001 (Sphinx event signatur
         shutil.copyfile(mp4, out / mp4.name)
 
 
+_LITERAL = re.compile(r"(``[^`]+``)")
+
+
+def _plain_bars(app, what, name, obj, options, lines) -> None:  # noqa: ANN001 (Sphinx event signature)
+    """Docstrings write absolute values as plain text (``|v|``); reST would read ``|v|`` as a
+    substitution reference, so every bar is escaped (no docstring uses reST substitutions or tables)."""
+    # inline literals (``...``) keep their bars: reST shows their text verbatim
+    lines[:] = ["".join(part if i % 2 else part.replace("|", "\\|") for i, part in enumerate(_LITERAL.split(line)))
+                for line in lines]
+
+
 def setup(app):  # noqa: ANN001, ANN201
     app.connect("build-finished", _copy_movies)
+    app.connect("autodoc-process-docstring", _plain_bars)
