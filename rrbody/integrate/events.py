@@ -70,7 +70,8 @@ def classify_flip(scene: Scene, *, status: str, has_min: bool, phi_min: float, t
     turned_back = has_min and phi_min < scene.phi0
     t_f: float | None = None
     if not settled:
-        regime = (f"not settled: {status} at t={t_end:.6g} s; " +
+        where = "" if " at t=" in status else f" at t={t_end:.6g} s"
+        regime = (f"not settled: {status}{where}; " +
                   (f"the lowest minimum so far is at t={t_min:.6g} s, so t_f >= that" if has_min
                    else "phi has had no minimum yet"))
     elif not turned_back:
