@@ -14,7 +14,7 @@ from rrbody.model.drive import CircularDrive
 from rrbody.model.friction import Friction
 from rrbody.model.scene import Scene
 from rrbody.physics.bind import kernel_params
-from rrbody.physics.dynamics import SYSTEM_DRIVEN, driven_rhs, jacobian
+from rrbody.physics.dynamics import SYSTEM_DRIVEN, driven_rhs, jacobian, system_from_params
 from rrbody.integrate.ode import integrate_driven
 
 from .reference import quasi_static_tf_times_omega, scipy_stiff_flip_time
@@ -93,7 +93,7 @@ def test_analytic_jacobian_matches_finite_differences(law: str) -> None:
         driven_rhs(t, y, p, S, f0)
         J = np.empty((2, 2))
         fx = np.empty(2)
-        jacobian(SYSTEM_DRIVEN, t, y, p, S, f0, J, fx)
+        jacobian(system_from_params(p, SYSTEM_DRIVEN), t, y, p, S, f0, J, fx)
         fd = np.empty((2, 2))
         fp = np.empty(2)
         fm = np.empty(2)

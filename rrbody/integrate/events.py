@@ -252,7 +252,7 @@ __all__ += ["energy_power", "rest_step_limit", "rest_admissible", "rest_reached"
             "STOP_SPEED_FRACTION"]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def energy_power(y, f, icm):  # noqa: ANN001
     """Free body y = (x, y, alpha, vx, vy, spin), f = y': kinetic energy per unit mass K (m^2/s^2)
     and dissipated power per unit mass P = -dK/dt (m^2/s^3); icm = I_cm/m (m^2)."""

@@ -34,12 +34,12 @@ import numpy as np
 from rrbody._version import __version__
 from rrbody.integrate.dop853 import TABLEAU
 from rrbody.integrate.events import E_TSTOP, STEP_FRACTION, STOP_REST, STOP_SPEED_FRACTION, STOP_T_END, new_event_state
-from rrbody.integrate.loop import L_NREJ, L_NOUT, L_NSTEP, L_T, STEP_METHODS, advance, new_loop_state
+from rrbody.integrate.loop import L_NREJ, L_NOUT, L_NSTEP, L_T, STEP_METHODS, advance_for, new_loop_state
 from rrbody.model.scene import Scene
 from rrbody.model.trajectory import Trajectory
 from rrbody.physics import params as P
 from rrbody.physics.bind import kernel_params
-from rrbody.physics.dynamics import SYSTEM_FREE, free_rhs
+from rrbody.physics.dynamics import SYSTEM_FREE, free_rhs, system_from_params
 
 __all__ = ["simulate_free", "STEP_FRACTION", "STOP_SPEED_FRACTION"]
 
@@ -103,13 +103,14 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
         else:
             chunk = 200_000
             minima = np.empty((0, 2))
+            run = advance_for(system_from_params(p, SYSTEM_FREE))
             while True:
                 left = max_steps - int(st[L_NSTEP])
                 if left <= 0:
                     status = 3
                     break
                 before = st[L_T]
-                status = advance(SYSTEM_FREE, y, f, st, ev, p, S, t_max, STOP_REST if dry else STOP_T_END, 0.0, 0.0,
+                status = run(y, f, st, ev, p, S, t_max, STOP_REST if dry else STOP_T_END, 0.0, 0.0,
                                  rtol, scale, -1, math.inf, min(chunk, left), minima, out, dt_out,
                                  STEP_METHODS[stepper], u_stop, A, B, C, E3, E5)
                 if bar is not None:

@@ -31,9 +31,10 @@ Return codes: :data:`STATUS`.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
-from numba import njit
+from numba import literally, njit
 
 from rrbody.integrate.dop853 import error_norm, rk_step, step_factor
 from rrbody.integrate.events import (E_T1, E_THETA0, E_TSTOP, STOP_REST, crossings, record_minimum, rest_admissible,
@@ -42,7 +43,7 @@ from rrbody.integrate.rodas import ros_step, spectral_radius
 from rrbody.physics import params as P
 from rrbody.physics.dynamics import SYSTEM_DRIVEN, jacobian
 
-__all__ = ["advance", "new_loop_state", "STATUS", "STEP_METHODS", "L_T", "L_H", "L_NSTEP", "L_NREJ", "L_NOUT",
+__all__ = ["advance", "advance_for", "new_loop_state", "STATUS", "STEP_METHODS", "L_T", "L_H", "L_NSTEP", "L_NREJ", "L_NOUT",
            "L_NROS", "L_NSWITCH"]
 
 #: ``method`` names -> ``mode`` of :func:`advance`
@@ -161,7 +162,10 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
 
     Returns a key of :data:`STATUS`. ``ev`` is the event state (:func:`rrbody.integrate.events.new_event_state`),
     ``minima`` its buffer of located minima, ``u_stop`` the speed (m/s) below which a free body's
-    stop is completed analytically (``stop`` = STOP_REST)."""
+    stop is completed analytically (``stop`` = STOP_REST). ``system`` (the scene's system code,
+    :func:`rrbody.physics.effects.system_code`) is compiled in as a constant: one specialised loop
+    per combination of effects."""
+    literally(system)
     n = y.shape[0]
     K = np.empty((13, n))
     K2 = np.empty((13, n))
@@ -172,7 +176,7 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
     fx = np.empty(n)
     omega = p[P.OMEGA]
     icm = p[P.ICM]
-    driven = system == SYSTEM_DRIVEN
+    driven = system % 10 == SYSTEM_DRIVEN
     rest = stop == STOP_REST
     boost = max(1.0, STIFF_RTOL_FLOOR / rtol)
     t = st[L_T]
@@ -306,3 +310,26 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
                 st[L_T] = t
                 st[L_H] = h
                 return code
+
+
+_SPECIALISED: dict[int, Any] = {}
+
+
+def advance_for(system: int) -> Any:
+    """The loop specialised for the system code ``system``: a compiled function with the arguments of
+    :func:`advance` after ``system``. Built on first use per combination of effects; numba caches
+    each on disk (its closure constant is part of the cache key), and calling it costs no dispatch
+    on the code (a direct call of :func:`advance` with a literal argument would retype per call)."""
+    if system not in _SPECIALISED:
+        _SPECIALISED[system] = _make_advance(int(system))
+    return _SPECIALISED[system]
+
+
+def _make_advance(code: int) -> Any:
+    @njit(cache=True)
+    def run(y, f, st, ev, p, S, t_end, stop, settle_turns, settle_periods, rtol, scale, track,  # noqa: ANN001
+            hmax, max_steps, minima, out, dt_out, mode, u_stop, A, B, C, E3, E5):
+        return advance(code, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_periods, rtol, scale, track,
+                       hmax, max_steps, minima, out, dt_out, mode, u_stop, A, B, C, E3, E5)
+
+    return run

@@ -32,10 +32,10 @@ import numpy as np
 
 from rrbody.integrate.dop853 import TABLEAU
 from rrbody.integrate.events import E_HAVEMIN, E_NMIN, E_PHIMIN, E_T1, E_TMIN, new_event_state
-from rrbody.integrate.loop import L_NREJ, L_NROS, L_NSTEP, L_NSWITCH, L_NOUT, L_T, STEP_METHODS, advance, \
+from rrbody.integrate.loop import L_NREJ, L_NROS, L_NSTEP, L_NSWITCH, L_NOUT, L_T, STEP_METHODS, advance_for, \
     new_loop_state
 from rrbody.physics import params as P
-from rrbody.physics.dynamics import SYSTEM_DRIVEN, driven_rhs
+from rrbody.physics.dynamics import SYSTEM_DRIVEN, driven_rhs, system_from_params
 
 __all__ = ["DrivenResult", "integrate_driven", "STOP_RULES", "STEP_METHODS"]
 
@@ -102,6 +102,7 @@ def integrate_driven(p: np.ndarray, S: np.ndarray, y0: tuple[float, float], *, t
     out = np.empty((n_out, 3))
     minima = np.empty((max_minima, 2))
     stop_code = STOP_RULES[stop]
+    run = advance_for(system_from_params(p, SYSTEM_DRIVEN))
     chunk = 200_000
     t0 = time.perf_counter()
     bar = None
@@ -118,7 +119,7 @@ def integrate_driven(p: np.ndarray, S: np.ndarray, y0: tuple[float, float], *, t
                 status = 3
                 break
             before = st[L_T]
-            status = advance(SYSTEM_DRIVEN, y, f, st, ev, p, S, t_end, stop_code, settle_turns, settle_periods, rtol,
+            status = run(y, f, st, ev, p, S, t_end, stop_code, settle_turns, settle_periods, rtol,
                              scale, 1, hmax, min(chunk, left), minima, out, dt_out, mode, 0.0, A, B, C, E3, E5)
             if bar is not None:
                 bar.update(st[L_T] - before)
