@@ -51,9 +51,15 @@ def test_stiff_trend_to_exact_quasi_static_limit(H: float) -> None:
 
 
 def test_method_switches_only_where_stiff() -> None:
-    # phixtpm (k / omega^2 = 0.14) is not stiff: DOP853 throughout. The slow case (k / omega^2 = 7.5e4)
-    # is: RODAS4 takes over, in a fraction of the 290k explicit steps the old loop needed.
+    # phixtpm (k / omega^2 = 0.14) is not stiff: after the singular impulsive start (CM at rest, taken
+    # by RODAS4) DOP853 runs to the end; from phi0 = pi/2 (CM moving) DOP853 throughout. The slow case
+    # (k / omega^2 = 7.5e4) is stiff: RODAS4 takes over, in a fraction of the 290k explicit steps the
+    # old loop needed.
     sc = rod_mass_scene(0.2, 0.05, 0.6)
+    p, S = kernel_params(sc)
+    easy = integrate_driven(p, S, (sc.phi0, sc.initial_phi_dot), t_end=math.inf, rtol=1e-13, stop="flip")
+    assert easy.stats["n_switches"] == 1 and easy.stats["n_stiff_steps"] < 0.05 * easy.n_steps
+    sc = rod_mass_scene(0.2, 0.05, 0.6, math.pi / 2)
     p, S = kernel_params(sc)
     easy = integrate_driven(p, S, (sc.phi0, sc.initial_phi_dot), t_end=math.inf, rtol=1e-13, stop="flip")
     assert easy.stats["n_stiff_steps"] == 0

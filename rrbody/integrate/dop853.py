@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import literally, njit
 
 def _load_scipy_tableau():  # noqa: ANN202
     """scipy's DOP853 coefficient module, loaded by file so that ``scipy.integrate`` (0.3 s of
@@ -61,8 +61,9 @@ def rk_step(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp):  # noqa: ANN001 
     Fills K[0..12] (K[12] = f(t+h, ynew)) and ``ynew``. ``system`` selects the equations
     (:func:`rrbody.dynamics.rhs`; an integer rather than a function argument, because numba
     cannot cache functions that take other compiled functions as arguments). ``p`` and ``S``
-    are the parameter vector and the area-sample array.
+    are the parameter vector and the area-sample array. Compiled once per system code (``literally``).
     """
+    literally(system)
     n = y.shape[0]
     for j in range(n):
         K[0, j] = f0[j]

@@ -7,8 +7,8 @@ event detector of :mod:`rrbody.integrate.events`:
 - methods: DOP853 (explicit, order 8; :mod:`rrbody.integrate.dop853`) and RODAS4 (L-stable
   Rosenbrock, order 4; :mod:`rrbody.integrate.rodas`). ``mode`` 0 starts with DOP853 and switches
   by a stiffness detector (Hairer's for DOP853: h |lambda| from the last two stages above
-  ``STIFF_HLAMB`` on ``STIFF_COUNT`` accepted steps in a row, or ``STIFF_REJECTIONS`` rejections in
-  a row; back when the Rosenbrock step times the spectral radius of J stays below
+  ``STIFF_HLAMB`` on ``STIFF_COUNT`` steps, accepted or rejected, without 6 non-stiff accepted steps
+  in between; back when the Rosenbrock step times the spectral radius of J stays below
   ``NONSTIFF_HRHO``); ``mode`` 1 and 2 force DOP853 and RODAS4;
 - events of a driven body (local minima of phi, T_1) are located to the method's accuracy by Newton
   iteration on the step size from the start of the step that brackets them (each iterate is a fresh
@@ -52,7 +52,7 @@ STEP_METHODS = {"auto": 0, "dop853": 1, "rodas": 2}
 STATUS = {0: "reached t_end", 1: "stop rule met", 2: "RR decided", 4: "step size underflow", 5: "chunk done"}
 
 L_T, L_H, L_NSTEP, L_NREJ, L_NOUT, L_NEXTOUT, L_REJECTED, L_METH, L_NSTIFF, L_NONSTIFF, L_NSWITCH, L_NROS, \
-    L_NREJROW, L_YSCALE = range(14)
+    L_YSCALE = range(13)
 _LOOP_SIZE = 16
 
 #: RODAS4 never works below this tolerance: at rtol 1e-13 its error estimate is at its rounding
@@ -62,7 +62,6 @@ STIFF_RTOL_FLOOR: float = 1e-11
 STIFF_HLAMB: float = 6.1
 STIFF_COUNT: int = 15
 NONSTIFF_HRHO: float = 2.0
-STIFF_REJECTIONS: int = 4
 
 
 def new_loop_state(h0: float, mode: int, yscale: float = 0.0) -> np.ndarray:
@@ -82,6 +81,7 @@ def _step(meth, system, t, y, f, h, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, 
 
     Both fill ``ynew`` and K[12] = f(t + h, ynew). DOP853 leaves the state of its last stage (at
     t + h) in ``ytmp``, which the stiffness detector reads."""
+    literally(system)
     if meth == 0:
         rk_step(system, t, y, f, h, p, S, A, B, C, K, ynew, ytmp)
         return error_norm(K, h, scale, E3, E5)
@@ -115,6 +115,7 @@ def _refine(meth, system, t, y, f, h0, hmax, which, p, S, J, fx, K2, y2, ytmp, s
             omega, target):  # noqa: ANN001
     """Newton on h in (0, hmax] for the event `which` (1: phi' = 0; 2: theta = target); every
     iterate is a fresh step of the current method from the step start. Leaves the event's state in y2."""
+    literally(system)
     h = min(max(h0, 0.0), hmax)
     for _ in range(12):
         _step(meth, system, t, y, f, h, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5)
@@ -221,14 +222,16 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
                 h = 0.5 * hh
             elif meth == 0:
                 h = hh * step_factor(err, rejected)
+                # a rejected step at the stability limit is stiffness evidence too: at the impulsive
+                # start the controller alternates rejections and acceptances there
                 if mode == 0 and _hlamb(K, hh, ynew, ytmp) > STIFF_HLAMB:
-                    st[L_NREJROW] += 1
-                    if st[L_NREJROW] >= STIFF_REJECTIONS:
+                    st[L_NSTIFF] += 1
+                    if st[L_NSTIFF] >= STIFF_COUNT:
                         meth = 1
                         st[L_METH] = 1.0
                         st[L_NSWITCH] += 1
                         st[L_NSTIFF] = 0.0
-                        st[L_NREJROW] = 0.0
+                        st[L_NONSTIFF] = 0.0
                         jacobian(system, t, y, p, S, f, J, fx)
             else:
                 h = hh * _ros_factor(err, rejected)
@@ -236,7 +239,6 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
             st[L_NREJ] += 1
             continue
         # ---- accepted step [t, t + hh] ----
-        st[L_NREJROW] = 0.0
         if track >= 0:
             st[L_YSCALE] = max(st[L_YSCALE], abs(ynew[track]))
         switch = False

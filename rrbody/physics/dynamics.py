@@ -17,16 +17,17 @@ Free body, y = (x, y, alpha, vx, vy, spin) (m, rad, m/s, rad/s): friction alone.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
-from numba import njit
+from numba import literally, njit
 
 from rrbody.physics import params as P
 from rrbody.physics.effects import DRIVEN, drive_circular
 from rrbody.physics.effects.areas import POINT, body_wrench
 from rrbody.physics.effects.laws import NONE, element_perp
 
-__all__ = ["rhs", "driven_rhs", "driven_kinematics", "jacobian", "system_from_params", "SYSTEM_DRIVEN",
+__all__ = ["rhs", "rhs_for", "driven_rhs", "driven_kinematics", "jacobian", "system_from_params", "SYSTEM_DRIVEN",
            "SYSTEM_FREE"]
 
 SYSTEM_DRIVEN = 0  # kind code: y = (phi, phi')
@@ -35,7 +36,7 @@ SYSTEM_FREE = 1    # kind code: y = (x, y, alpha, vx, vy, spin)
 driven_kinematics = drive_circular.kinematics
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _driven_point(law, t, y, p, out):  # noqa: ANN001 (numba)
     """Point mass: friction at the CM only. Work in the frame (e, e_perp) of CM -> P, where the CM
     velocity is (d w sin psi, d w cos psi - l phi') with psi = phi - w t: two trig calls, and the
@@ -54,7 +55,7 @@ def _driven_point(law, t, y, p, out):  # noqa: ANN001 (numba)
     out[1] = torque / p[P.IP]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _driven_extended(law, area, t, y, p, S, out):  # noqa: ANN001 (numba)
     """Extended body: four trig calls per evaluation; sin(phi - wt) from the angle-difference
     identity (its absolute error, ~ulp(phi), is that of sin at the rounded difference)."""
@@ -79,7 +80,7 @@ def _driven_extended(law, area, t, y, p, S, out):  # noqa: ANN001 (numba)
     out[1] = torque / p[P.IP]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _free(law, area, t, y, p, S, out):  # noqa: ANN001 (numba)
     """Free body: friction alone. A point mass (I_cm = 0) keeps its spin constant: it has no
     rotational inertia to decelerate."""
@@ -97,7 +98,9 @@ def _free(law, area, t, y, p, S, out):  # noqa: ANN001 (numba)
 
 @njit(cache=True)
 def rhs(system, t, y, p, S, out):  # noqa: ANN001
-    """out = y' for the equations of the system code ``system`` (see the module docstring)."""
+    """out = y' for the equations of the system code ``system`` (see the module docstring); compiled
+    once per code (``literally``), so the branches below are resolved at compile time."""
+    literally(system)
     kind = system % 10
     law = (system // 10) % 10
     area = system // 100
@@ -116,21 +119,32 @@ def system_from_params(p: np.ndarray, kind: int) -> int:
     return int(kind) + 10 * int(p[P.LAW]) + 100 * int(p[P.BODY])
 
 
-@njit(cache=True)
-def _rhs_from_params(kind, t, y, p, S, out):  # noqa: ANN001
-    system = kind + 10 * int(p[P.LAW]) + 100 * int(p[P.BODY])
-    rhs(system, t, y, p, S, out)
+_RHS_KERNELS: dict[int, Any] = {}
+
+
+def rhs_for(system: int) -> Any:
+    """A compiled ``f(t, y, p, S, out)`` with the system code compiled in (built once per code,
+    cached on disk by numba: the closure constant is part of the cache key)."""
+    if system not in _RHS_KERNELS:
+        code = int(system)
+
+        @njit(cache=True)
+        def kernel(t, y, p, S, out):  # noqa: ANN001
+            rhs(code, t, y, p, S, out)
+
+        _RHS_KERNELS[system] = kernel
+    return _RHS_KERNELS[system]
 
 
 def driven_rhs(t: float, y: np.ndarray, p: np.ndarray, S: np.ndarray, out: np.ndarray) -> None:
-    """out = (phi', phi'') for the driven body of ``p``, ``S`` (a convenience for tests and set-up,
-    dispatching at run time; the stepping loop uses :func:`rhs` with a compile-time system code)."""
-    _rhs_from_params(SYSTEM_DRIVEN, t, y, p, S, out)
+    """out = (phi', phi'') for the driven body of ``p``, ``S`` (a convenience for tests and set-up:
+    the stepping loop calls :func:`rhs` with its system code compiled in)."""
+    rhs_for(system_from_params(p, SYSTEM_DRIVEN))(t, y, p, S, out)
 
 
 def free_rhs(t: float, y: np.ndarray, p: np.ndarray, S: np.ndarray, out: np.ndarray) -> None:
     """out = y' for the free body of ``p``, ``S`` (set-up convenience, as :func:`driven_rhs`)."""
-    _rhs_from_params(SYSTEM_FREE, t, y, p, S, out)
+    rhs_for(system_from_params(p, SYSTEM_FREE))(t, y, p, S, out)
 
 
 @njit(cache=True)
@@ -144,6 +158,7 @@ def jacobian(system, t, y, p, S, f0, J, fx):  # noqa: ANN001
     relative: a Rosenbrock method keeps its stability with an approximate J, and its order
     conditions here are met to that level, far below the tolerances it is used at).
     """
+    literally(system)
     kind = system % 10
     law = (system // 10) % 10
     area = system // 100

@@ -16,7 +16,7 @@ __all__ = ["wrench"]
 NAME = "icr"
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def wrench(law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps):  # noqa: ANN001 (numba)
     """(Fx, Fy, tau_cm) per unit mass (m/s^2 world frame, m^2/s^2)."""
     return icr_wrench(ra, rb, nq, alpha, vx, vy, spin, law, coeff, v_eps, icm)

@@ -14,7 +14,7 @@ __all__ = ["wrench"]
 NAME = "point"
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def wrench(law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps):  # noqa: ANN001 (numba)
     """(Fx, Fy, tau_cm): force (m/s^2, world frame) and torque about the CM (m^2/s^2) per unit mass."""
     fx, fy = element_force(law, vx, vy, coeff, v_eps)

@@ -16,7 +16,7 @@ __all__ = ["body_wrench", "POINT", "SAMPLED", "ICR"]
 POINT, SAMPLED, ICR = 0, 1, 2
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def body_wrench(area, law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps):  # noqa: ANN001 (numba)
     """(Fx, Fy, tau_cm): friction force (m/s^2, world frame) and torque about the CM (m^2/s^2) per
     unit mass by area method ``area`` and law ``law`` (body angle alpha rad, CM velocity m/s, spin rad/s)."""

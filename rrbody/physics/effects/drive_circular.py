@@ -19,14 +19,14 @@ __all__ = ["torque", "kinematics"]
 NAME = "circular"
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def torque(sin_psi: float, p: np.ndarray) -> float:
     """Drive torque about P per unit mass (m^2/s^2) given sin(phi - omega t)."""
     w = p[P.OMEGA]
     return w * w * p[P.L] * p[P.D] * sin_psi
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def kinematics(t: float, phi: float, phid: float, p: np.ndarray) -> tuple[float, float, float, float, float, float]:
     """CM position (m) and velocity (m/s) and P position (m), world frame, for the driven body."""
     w = p[P.OMEGA]

@@ -17,7 +17,7 @@ __all__ = ["force", "perp"]
 NAME = "dry"
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def force(vx: float, vy: float, coeff: float, v_eps: float) -> tuple[float, float]:
     """Force per unit mass (m/s^2) on an element moving with (vx, vy) m/s, any frame."""
     # squares cannot overflow here: scene speeds are bounded far below 1e150 m/s by validation
@@ -28,7 +28,7 @@ def force(vx: float, vy: float, coeff: float, v_eps: float) -> tuple[float, floa
     return -vx * inv, -vy * inv
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def perp(ve: float, vp: float, coeff: float, v_eps: float) -> tuple[float, float, float]:
     """The component of the force along the second axis, f_p = -c v_p / |v|, and its derivatives
     (df_p/dv_e, df_p/dv_p): what the point-mass right-hand side and its Jacobian need."""

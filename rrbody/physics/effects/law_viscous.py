@@ -12,13 +12,13 @@ __all__ = ["force", "perp"]
 NAME = "viscous"
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def force(vx: float, vy: float, coeff: float, v_eps: float) -> tuple[float, float]:
     """Force per unit mass (m/s^2) on an element moving with (vx, vy) m/s, any frame."""
     return -coeff * vx, -coeff * vy
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def perp(ve: float, vp: float, coeff: float, v_eps: float) -> tuple[float, float, float]:
     """f_p = -gamma v_p and its derivatives (df_p/dv_e, df_p/dv_p)."""
     return -coeff * vp, 0.0, -coeff

@@ -17,7 +17,7 @@ __all__ = ["element_force", "element_perp", "NONE", "DRY", "VISCOUS"]
 NONE, DRY, VISCOUS = 0, 1, 2
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def element_force(law, vx, vy, coeff, v_eps):  # noqa: ANN001 (numba)
     """Force per unit mass (m/s^2) of law ``law`` on an element moving with (vx, vy) m/s."""
     if law == DRY:
@@ -27,7 +27,7 @@ def element_force(law, vx, vy, coeff, v_eps):  # noqa: ANN001 (numba)
     return 0.0, 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def element_perp(law, ve, vp, coeff, v_eps):  # noqa: ANN001 (numba)
     """(f_p, df_p/dv_e, df_p/dv_p) of law ``law``: the force component along the second axis."""
     if law == DRY:
