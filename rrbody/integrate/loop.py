@@ -84,7 +84,7 @@ def _step(meth, system, t, y, f, h, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, 
     literally(system)
     if meth == 0:
         rk_step(system, t, y, f, h, p, S, A, B, C, K, ynew, ytmp)
-        return error_norm(K, h, scale, E3, E5)
+        return error_norm(system, K, h, scale, E3, E5)
     return ros_step(system, t, y, f, h, p, S, J, fx, K, ynew, ytmp, scale) / boost
 
 
