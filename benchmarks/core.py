@@ -24,7 +24,6 @@ import time
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 
 from .common import StudyResult, Target, fmt, machine_text, md_table, write_csv
 
@@ -79,42 +78,16 @@ def _step_study(repeats: int) -> tuple[list[dict[str, Any]], Target]:
 
 
 def _scipy_lsoda(H: float, k: float, w: float, t_end: float, rtol: float, method: str = "LSODA") -> tuple[float, float]:
-    """(t_f, wall) by scipy's ``method`` with the analytic Jacobian (plain Python, d = 1 m)."""
-    from scipy.integrate import solve_ivp
+    """(t_f, wall) by scipy's ``method`` with the analytic Jacobian, in plain Python (d = 1 m): the
+    tests' independent reference (tests/reference.py), timed as a whole."""
+    from tests.reference import scipy_stiff_flip_time
 
-    eps = 2e-9 * w
-
-    def parts(t: float, y: np.ndarray) -> tuple[float, float, float, float, float]:
-        s = math.sin(y[0] - w * t)
-        c = math.cos(y[0] - w * t)
-        ve = w * s
-        vp = w * c - H * y[1]
-        return s, c, ve, vp, math.sqrt(ve * ve + vp * vp)
-
-    def f(t: float, y: np.ndarray) -> list[float]:
-        s, c, ve, vp, sp = parts(t, y)
-        return [y[1], (w * w * s + (k * vp / sp if sp > eps else 0.0)) / H]
-
-    def jac(t: float, y: np.ndarray) -> list[list[float]]:
-        s, c, ve, vp, sp = parts(t, y)
-        a = w * w * c
-        b = 0.0
-        if sp > eps:
-            a += k * (ve * ve * (-w * s) - ve * vp * (w * c)) / sp**3
-            b -= k * ve * ve * H / sp**3
-        return [[0.0, 1.0], [a / H, b / H]]
-
-    def ev(t: float, y: np.ndarray) -> float:
-        return y[1]
-
-    ev.direction = 1  # type: ignore[attr-defined]
     t0 = time.perf_counter()
-    sol = solve_ivp(f, (0.0, t_end), [math.pi, -w / H], method=method, rtol=rtol, atol=rtol * w / H, jac=jac,
-                    events=ev)
-    wall = time.perf_counter() - t0
-    te, ye = sol.t_events[0], sol.y_events[0]
-    tf = float(te[int(np.argmin(ye[:, 0]))]) if sol.success and len(te) else math.nan
-    return tf, wall
+    try:
+        tf, _ = scipy_stiff_flip_time(H, k, w, t_end, method=method, rtol=rtol)
+    except RuntimeError:
+        tf = math.nan
+    return tf, time.perf_counter() - t0
 
 
 def _stiff_study(repeats: int, quick: bool) -> tuple[list[dict[str, Any]], Target, dict[str, Any]]:

@@ -199,6 +199,25 @@ def hermite(s, h, y0, d0, y1, d1):  # noqa: ANN001
 
 
 @njit(cache=True)
+def _bisect(which, h, t0, phi0, phid0, phi1, phid1, omega, target):  # noqa: ANN001
+    """Root in [0, h] of the Hermite interpolant's slope (which 1: phi' = 0 upwards) or of
+    theta - target (which 2: theta falling), by bisection to rounding."""
+    a = 0.0
+    b = h
+    for _ in range(200):
+        m = 0.5 * (a + b)
+        if m <= a or m >= b:
+            break
+        val, slope = hermite(m, h, phi0, phid0, phi1, phid1)
+        g = -slope if which == 1 else val - omega * (t0 + m) + math.pi - target
+        if g > 0.0:
+            a = m
+        else:
+            b = m
+    return 0.5 * (a + b)
+
+
+@njit(cache=True)
 def on_step(ev, minima, t0, phi0, phid0, t1, phi1, phid1, omega, stop, settle_turns,  # noqa: ANN001
             settle_periods):
     """Per-step entry point for paths that cannot re-step (the pymunk engine): call it once after
@@ -214,31 +233,10 @@ def on_step(ev, minima, t0, phi0, phid0, t1, phi1, phid1, omega, stop, settle_tu
     h = t1 - t0
     which, gmin, gt1 = crossings(ev, t0, phi0, phid0, t1, phi1, phid1, omega)
     if which & 1:
-        a = 0.0
-        b = h
-        for _ in range(200):
-            m = 0.5 * (a + b)
-            if m <= a or m >= b:
-                break
-            if hermite(m, h, phi0, phid0, phi1, phid1)[1] < 0.0:
-                a = m
-            else:
-                b = m
-        s = 0.5 * (a + b)
+        s = _bisect(1, h, t0, phi0, phid0, phi1, phid1, omega, 0.0)
         record_minimum(ev, minima, t0 + s, hermite(s, h, phi0, phid0, phi1, phid1)[0])
     if which & 2:
-        target = ev[E_THETA0] - 2.0 * math.pi
-        a = 0.0
-        b = h
-        for _ in range(200):
-            m = 0.5 * (a + b)
-            if m <= a or m >= b:
-                break
-            if hermite(m, h, phi0, phid0, phi1, phid1)[0] - omega * (t0 + m) + math.pi - target > 0.0:
-                a = m
-            else:
-                b = m
-        ev[E_T1] = t0 + 0.5 * (a + b)
+        ev[E_T1] = t0 + _bisect(2, h, t0, phi0, phid0, phi1, phid1, omega, ev[E_THETA0] - 2.0 * math.pi)
     return stop_reached(ev, stop, t1, phi1, omega, settle_turns, settle_periods)
 
 

@@ -61,21 +61,13 @@ def _driven_extended(law, area, t, y, p, S, out):  # noqa: ANN001 (numba)
     identity (its absolute error, ~ulp(phi), is that of sin at the rounded difference)."""
     phi = y[0]
     phid = y[1]
-    w = p[P.OMEGA]
-    d = p[P.D]
-    l = p[P.L]
-    cw = math.cos(w * t)
-    sw = math.sin(w * t)
-    cp = math.cos(phi)
-    sp = math.sin(phi)
+    cw, sw, cp, sp, vx, vy = drive_circular.frame(t, phi, phid, p)
     torque = drive_circular.torque(sp * cw - cp * sw, p)
     if law != NONE:
-        vx = -d * w * sw + l * phid * sp
-        vy = d * w * cw - l * phid * cp
         fx, fy, tau_cm = body_wrench(area, law, S, p[P.RA], p[P.RB], int(p[P.NQ]), p[P.ICM], phi - p[P.BETA],
                                      vx, vy, phid, p[P.COEFF], p[P.VEPS])
         # torque about P: tau_cm + (r - P) x F with r - P = -l e(phi)
-        torque += tau_cm - l * (cp * fy - sp * fx)
+        torque += tau_cm - p[P.L] * (cp * fy - sp * fx)
     out[0] = phid
     out[1] = torque / p[P.IP]
 

@@ -14,7 +14,7 @@ from numba import njit
 
 from rrbody.physics import params as P
 
-__all__ = ["torque", "kinematics"]
+__all__ = ["torque", "frame", "kinematics"]
 
 NAME = "circular"
 
@@ -27,8 +27,9 @@ def torque(sin_psi: float, p: np.ndarray) -> float:
 
 
 @njit(cache=True, inline="always")
-def kinematics(t: float, phi: float, phid: float, p: np.ndarray) -> tuple[float, float, float, float, float, float]:
-    """CM position (m) and velocity (m/s) and P position (m), world frame, for the driven body."""
+def frame(t: float, phi: float, phid: float, p: np.ndarray) -> tuple[float, float, float, float, float, float]:
+    """(cos wt, sin wt, cos phi, sin phi) and the CM velocity (vx, vy) (m/s, world frame):
+    r = P - l e(phi), r' = P' - l phi' e_perp(phi), e_perp = (-sin, cos)."""
     w = p[P.OMEGA]
     d = p[P.D]
     l = p[P.L]
@@ -36,7 +37,13 @@ def kinematics(t: float, phi: float, phid: float, p: np.ndarray) -> tuple[float,
     sw = math.sin(w * t)
     cp = math.cos(phi)
     sp = math.sin(phi)
-    px = d * cw
-    py = d * sw
-    # r = P - l e(phi); r' = P' - l phi' e_perp(phi), e_perp = (-sin, cos)
-    return px - l * cp, py - l * sp, -d * w * sw + l * phid * sp, d * w * cw - l * phid * cp, px, py
+    return cw, sw, cp, sp, -d * w * sw + l * phid * sp, d * w * cw - l * phid * cp
+
+
+@njit(cache=True, inline="always")
+def kinematics(t: float, phi: float, phid: float, p: np.ndarray) -> tuple[float, float, float, float, float, float]:
+    """CM position (m) and velocity (m/s) and P position (m), world frame, for the driven body."""
+    cw, sw, cp, sp, vx, vy = frame(t, phi, phid, p)
+    px = p[P.D] * cw
+    py = p[P.D] * sw
+    return px - p[P.L] * cp, py - p[P.L] * sp, vx, vy, px, py
