@@ -53,12 +53,12 @@ def loop_rhs_for(system: int):  # noqa: ANN201
         @njit(cache=True)
         def run(p, S, m):  # noqa: ANN001
             y = np.array([3.0, -2.0])
-            out = np.empty(2)
+            out = np.empty((1, 2))
             acc = 0.0
             for i in range(m):
                 y[0] = 3.0 + 1e-7 * i
-                rhs(code, 1e-6 * i, y, p, S, out)
-                acc += out[1]
+                rhs(code, 1e-6 * i, y, p, S, out, 0)
+                acc += out[0, 1]
             return acc
 
         _RHS_LOOPS[system] = run

@@ -127,7 +127,7 @@ def new_event_state(phi0: float, phi_dot0: float) -> np.ndarray:
     return ev
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def crossings(ev, t0, phi0, phid0, t1, phi1, phid1, omega):  # noqa: ANN001
     """Events inside the step [t0, t1] from its end states: (which, guess), ``which`` a bit mask
     (1: a local minimum of phi, phi' crossing 0 upwards; 2: T_1, theta reaching theta0 - 2 pi for the
@@ -149,7 +149,7 @@ def crossings(ev, t0, phi0, phid0, t1, phi1, phid1, omega):  # noqa: ANN001
     return which, gmin, gt1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def record_minimum(ev, minima, tm, phim):  # noqa: ANN001
     """Record a located local minimum (tm s, phim rad): into ``minima`` (rows t, phi; as many as
     fit) and, if lowest so far, as the flip candidate."""
@@ -164,7 +164,7 @@ def record_minimum(ev, minima, tm, phim):  # noqa: ANN001
         ev[E_HAVEMIN] = 1.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def stop_reached(ev, stop, t, phi, omega, settle_turns, settle_periods):  # noqa: ANN001
     """The stop rules at an accepted state (t s, phi rad), after the step's events were recorded.
 

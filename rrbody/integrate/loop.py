@@ -74,21 +74,20 @@ def new_loop_state(h0: float, mode: int, yscale: float = 0.0) -> np.ndarray:
     return st
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _step(meth, system, t, y, f, h, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost=1.0):  # noqa: ANN001
     """One trial step of the current method (0 DOP853, 1 RODAS4); returns its error norm (RODAS4's
     divided by ``boost``: its tolerance is raised to the floor STIFF_RTOL_FLOOR).
 
     Both fill ``ynew`` and K[12] = f(t + h, ynew). DOP853 leaves the state of its last stage (at
-    t + h) in ``ytmp``, which the stiffness detector reads."""
-    literally(system)
+    t + h) in ``ytmp``, which the stiffness detector reads. Inlined into the loop."""
     if meth == 0:
         rk_step(system, t, y, f, h, p, S, A, B, C, K, ynew, ytmp)
         return error_norm(system, K, h, scale, E3, E5)
     return ros_step(system, t, y, f, h, p, S, J, fx, K, ynew, ytmp, scale) / boost
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _ros_factor(err, rejected):  # noqa: ANN001
     """RODAS4 step factor: err^(-1/4) with safety 0.9, within [1/5, 6] (Hairer's FAC1, FAC2)."""
     fac = 6.0 if err == 0.0 else min(6.0, max(0.2, 0.9 * err ** -0.25))
@@ -97,7 +96,7 @@ def _ros_factor(err, rejected):  # noqa: ANN001
     return fac
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _hlamb(K, h, ynew, ystage):  # noqa: ANN001
     """h |lambda| from DOP853's last two evaluations, both at t + h (Hairer's stiffness test)."""
     num = 0.0

@@ -100,7 +100,7 @@ def ros_step(system, t, y, f0, h, p, S, J, fx, K, ynew, ytmp, scale):  # noqa: A
             W[i, j] = -J[i, j]
         W[i, i] += inv
     b = np.empty(n)
-    fs = np.empty(n)
+    fs = np.empty((1, n))
     x = np.empty(n)
     ih = 1.0 / h
     # stage 1
@@ -112,54 +112,54 @@ def ros_step(system, t, y, f0, h, p, S, J, fx, K, ynew, ytmp, scale):  # noqa: A
     # stage 2
     for j in range(n):
         ytmp[j] = y[j] + _A21 * K[0, j]
-    rhs(system, t + _C2 * h, ytmp, p, S, fs)
+    rhs(system, t + _C2 * h, ytmp, p, S, fs, 0)
     for j in range(n):
-        b[j] = fs[j] + ih * (_C21 * K[0, j]) + h * _D2 * fx[j]
+        b[j] = fs[0, j] + ih * (_C21 * K[0, j]) + h * _D2 * fx[j]
     solve_w(W, b, x)
     for j in range(n):
         K[1, j] = x[j]
     # stage 3
     for j in range(n):
         ytmp[j] = y[j] + _A31 * K[0, j] + _A32 * K[1, j]
-    rhs(system, t + _C3 * h, ytmp, p, S, fs)
+    rhs(system, t + _C3 * h, ytmp, p, S, fs, 0)
     for j in range(n):
-        b[j] = fs[j] + ih * (_C31 * K[0, j] + _C32 * K[1, j]) + h * _D3 * fx[j]
+        b[j] = fs[0, j] + ih * (_C31 * K[0, j] + _C32 * K[1, j]) + h * _D3 * fx[j]
     solve_w(W, b, x)
     for j in range(n):
         K[2, j] = x[j]
     # stage 4
     for j in range(n):
         ytmp[j] = y[j] + _A41 * K[0, j] + _A42 * K[1, j] + _A43 * K[2, j]
-    rhs(system, t + _C4 * h, ytmp, p, S, fs)
+    rhs(system, t + _C4 * h, ytmp, p, S, fs, 0)
     for j in range(n):
-        b[j] = fs[j] + ih * (_C41 * K[0, j] + _C42 * K[1, j] + _C43 * K[2, j]) + h * _D4 * fx[j]
+        b[j] = fs[0, j] + ih * (_C41 * K[0, j] + _C42 * K[1, j] + _C43 * K[2, j]) + h * _D4 * fx[j]
     solve_w(W, b, x)
     for j in range(n):
         K[3, j] = x[j]
     # stage 5 (at t + h; no df/dt term)
     for j in range(n):
         ytmp[j] = y[j] + _A51 * K[0, j] + _A52 * K[1, j] + _A53 * K[2, j] + _A54 * K[3, j]
-    rhs(system, t + h, ytmp, p, S, fs)
+    rhs(system, t + h, ytmp, p, S, fs, 0)
     for j in range(n):
-        b[j] = fs[j] + ih * (_C51 * K[0, j] + _C52 * K[1, j] + _C53 * K[2, j] + _C54 * K[3, j])
+        b[j] = fs[0, j] + ih * (_C51 * K[0, j] + _C52 * K[1, j] + _C53 * K[2, j] + _C54 * K[3, j])
     solve_w(W, b, x)
     for j in range(n):
         K[4, j] = x[j]
     # stage 6: y_6 = y_5 + k_5 is the embedded 3rd-order solution
     for j in range(n):
         ytmp[j] += K[4, j]
-    rhs(system, t + h, ytmp, p, S, fs)
+    rhs(system, t + h, ytmp, p, S, fs, 0)
     for j in range(n):
-        b[j] = fs[j] + ih * (_C61 * K[0, j] + _C62 * K[1, j] + _C63 * K[2, j] + _C64 * K[3, j] + _C65 * K[4, j])
+        b[j] = fs[0, j] + ih * (_C61 * K[0, j] + _C62 * K[1, j] + _C63 * K[2, j] + _C64 * K[3, j] + _C65 * K[4, j])
     solve_w(W, b, x)
     err = 0.0
     for j in range(n):
         K[5, j] = x[j]
         ynew[j] = ytmp[j] + x[j]
         err += (x[j] / scale[j]) ** 2
-    rhs(system, t + h, ynew, p, S, fs)
+    rhs(system, t + h, ynew, p, S, fs, 0)
     for j in range(n):
-        K[12, j] = fs[j]
+        K[12, j] = fs[0, j]
     return math.sqrt(err / n)
 
 

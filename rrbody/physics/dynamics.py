@@ -37,10 +37,10 @@ driven_kinematics = drive_circular.kinematics
 
 
 @njit(cache=True, inline="always")
-def _driven_point(law, t, y, p, out):  # noqa: ANN001 (numba)
-    """Point mass: friction at the CM only. Work in the frame (e, e_perp) of CM -> P, where the CM
-    velocity is (d w sin psi, d w cos psi - l phi') with psi = phi - w t: two trig calls, and the
-    speed is a sum of squares (no cancelling square root at the phi0 = pi start)."""
+def _driven_point(law, t, y, p):  # noqa: ANN001 (numba)
+    """(phi', phi'') of a point mass: friction at the CM only. Work in the frame (e, e_perp) of
+    CM -> P, where the CM velocity is (d w sin psi, d w cos psi - l phi') with psi = phi - w t: two
+    trig calls, and the speed is a sum of squares (no cancelling square root at the phi0 = pi start)."""
     w = p[P.OMEGA]
     d = p[P.D]
     l = p[P.L]
@@ -51,14 +51,13 @@ def _driven_point(law, t, y, p, out):  # noqa: ANN001 (numba)
         c = math.cos(psi)
         f_perp, _, _ = element_perp(law, d * w * s, d * w * c - l * y[1], p[P.COEFF], p[P.VEPS])
         torque -= l * f_perp  # (r - P) x F with r - P = -l e
-    out[0] = y[1]
-    out[1] = torque / p[P.IP]
+    return y[1], torque / p[P.IP]
 
 
 @njit(cache=True, inline="always")
-def _driven_extended(law, area, t, y, p, S, out):  # noqa: ANN001 (numba)
-    """Extended body: four trig calls per evaluation; sin(phi - wt) from the angle-difference
-    identity (its absolute error, ~ulp(phi), is that of sin at the rounded difference)."""
+def _driven_extended(law, area, t, y, p, S):  # noqa: ANN001 (numba)
+    """(phi', phi'') of an extended body: four trig calls per evaluation; sin(phi - wt) from the
+    angle-difference identity (its absolute error, ~ulp(phi), is that of sin at the rounded difference)."""
     phi = y[0]
     phid = y[1]
     cw, sw, cp, sp, vx, vy = drive_circular.frame(t, phi, phid, p)
@@ -68,41 +67,46 @@ def _driven_extended(law, area, t, y, p, S, out):  # noqa: ANN001 (numba)
                                      vx, vy, phid, p[P.COEFF], p[P.VEPS])
         # torque about P: tau_cm + (r - P) x F with r - P = -l e(phi)
         torque += tau_cm - p[P.L] * (cp * fy - sp * fx)
-    out[0] = phid
-    out[1] = torque / p[P.IP]
+    return phid, torque / p[P.IP]
 
 
 @njit(cache=True, inline="always")
-def _free(law, area, t, y, p, S, out):  # noqa: ANN001 (numba)
-    """Free body: friction alone. A point mass (I_cm = 0) keeps its spin constant: it has no
-    rotational inertia to decelerate."""
-    out[0] = y[3]
-    out[1] = y[4]
-    out[2] = y[5]
+def _free(law, area, t, y, p, S):  # noqa: ANN001 (numba)
+    """Accelerations (Fx, Fy, spin') of a free body: friction alone. A point mass (I_cm = 0) keeps
+    its spin constant: it has no rotational inertia to decelerate."""
     fx, fy, tau = 0.0, 0.0, 0.0
     if law != NONE:
         fx, fy, tau = body_wrench(area, law, S, p[P.RA], p[P.RB], int(p[P.NQ]), p[P.ICM], y[2], y[3], y[4], y[5],
                                   p[P.COEFF], p[P.VEPS])
-    out[3] = fx
-    out[4] = fy
-    out[5] = tau / p[P.ICM] if p[P.ICM] > 0.0 else 0.0
+    return fx, fy, (tau / p[P.ICM] if p[P.ICM] > 0.0 else 0.0)
 
 
 @njit(cache=True)
-def rhs(system, t, y, p, S, out):  # noqa: ANN001
-    """out = y' for the equations of the system code ``system`` (see the module docstring); compiled
-    once per code (``literally``), so the branches below are resolved at compile time."""
+def rhs(system, t, y, p, S, out, row):  # noqa: ANN001
+    """out[row, :] = y' for the equations of the system code ``system`` (module docstring).
+
+    Compiled once per code (``literally``), so the branches below are resolved at compile time. The
+    result goes to a row of a 2-D array (a stage of the integrator's K) rather than to a row view,
+    which would cost a reference-count update per evaluation."""
     literally(system)
     kind = system % 10
     law = (system // 10) % 10
     area = system // 100
     if kind == DRIVEN:
         if area == POINT:
-            _driven_point(law, t, y, p, out)
+            a, b = _driven_point(law, t, y, p)
         else:
-            _driven_extended(law, area, t, y, p, S, out)
+            a, b = _driven_extended(law, area, t, y, p, S)
+        out[row, 0] = a
+        out[row, 1] = b
     else:
-        _free(law, area, t, y, p, S, out)
+        ax, ay, aw = _free(law, area, t, y, p, S)
+        out[row, 0] = y[3]
+        out[row, 1] = y[4]
+        out[row, 2] = y[5]
+        out[row, 3] = ax
+        out[row, 4] = ay
+        out[row, 5] = aw
 
 
 def system_from_params(p: np.ndarray, kind: int) -> int:
@@ -122,7 +126,7 @@ def rhs_for(system: int) -> Any:
 
         @njit(cache=True)
         def kernel(t, y, p, S, out):  # noqa: ANN001
-            rhs(code, t, y, p, S, out)
+            rhs(code, t, y, p, S, out.reshape((1, out.shape[0])), 0)
 
         _RHS_KERNELS[system] = kernel
     return _RHS_KERNELS[system]
@@ -178,15 +182,15 @@ def jacobian(system, t, y, p, S, f0, J, fx):  # noqa: ANN001
         return
     n = y.shape[0]
     yp = y.copy()
-    fp = np.empty(n)
+    fp = np.empty((1, n))
     for j in range(n):
         dj = 1.5e-8 * max(abs(y[j]), 1.0)
         yp[j] = y[j] + dj
-        rhs(system, t, yp, p, S, fp)
+        rhs(system, t, yp, p, S, fp, 0)
         for i in range(n):
-            J[i, j] = (fp[i] - f0[i]) / dj
+            J[i, j] = (fp[0, i] - f0[i]) / dj
         yp[j] = y[j]
     dt = 1.5e-8 * max(abs(t), 1.0)
-    rhs(system, t + dt, y, p, S, fp)
+    rhs(system, t + dt, y, p, S, fp, 0)
     for i in range(n):
-        fx[i] = (fp[i] - f0[i]) / dt
+        fx[i] = (fp[0, i] - f0[i]) / dt
