@@ -128,10 +128,11 @@ def new_event_state(phi0: float, phi_dot0: float) -> np.ndarray:
 
 
 @njit(cache=True, inline="always")
-def crossings(ev, t0, phi0, phid0, t1, phi1, phid1, omega):  # noqa: ANN001
+def crossings(t1_open, target, t0, phi0, phid0, t1, phi1, phid1, omega):  # noqa: ANN001
     """Events inside the step [t0, t1] from its end states: (which, guess), ``which`` a bit mask
-    (1: a local minimum of phi, phi' crossing 0 upwards; 2: T_1, theta reaching theta0 - 2 pi for the
-    first time) and the linear-interpolation guesses (s, from t0) of the minimum and of T_1."""
+    (1: a local minimum of phi, phi' crossing 0 upwards; 2: T_1, theta reaching ``target`` =
+    theta0 - 2 pi for the first time, looked for while ``t1_open``) and the linear-interpolation
+    guesses (s, from t0) of the minimum and of T_1."""
     which = 0
     gmin = 0.0
     gt1 = 0.0
@@ -139,8 +140,7 @@ def crossings(ev, t0, phi0, phid0, t1, phi1, phid1, omega):  # noqa: ANN001
     if phid0 < 0.0 and phid1 >= 0.0:
         which |= 1
         gmin = h * (-phid0) / (phid1 - phid0)
-    if math.isnan(ev[E_T1]):
-        target = ev[E_THETA0] - 2.0 * math.pi
+    if t1_open:
         g0 = phi0 - omega * t0 + math.pi - target
         g1 = phi1 - omega * t1 + math.pi - target
         if g0 > 0.0 and g1 <= 0.0:
@@ -165,19 +165,19 @@ def record_minimum(ev, minima, tm, phim):  # noqa: ANN001
 
 
 @njit(cache=True, inline="always")
-def stop_reached(ev, stop, t, phi, omega, settle_turns, settle_periods):  # noqa: ANN001
-    """The stop rules at an accepted state (t s, phi rad), after the step's events were recorded.
+def stop_reached(stop, havemin, phimin, tmin, t1_found, t, phi, omega, settle_turns, settle_periods):  # noqa: ANN001
+    """The stop rules at an accepted state (t s, phi rad), after the step's events were recorded
+    (``havemin``, ``phimin``, ``tmin``: the lowest minimum so far; ``t1_found``: T_1 located).
 
     ``STOP_FLIP``: the lowest minimum (phi_min at t_min) is followed by a rise of phi to
     phi_min + 2 pi settle_turns and settle_periods driving periods since t_min (a later, lower
     minimum would need the body to fall back that many turns against the drive; tests/test_flip.py
     checks the rule against ten times the margin). ``STOP_RR``: T_1 found, or omega t > 2 pi."""
-    if stop == STOP_FLIP and ev[E_HAVEMIN] != 0.0:
-        if phi >= ev[E_PHIMIN] + 2.0 * math.pi * settle_turns and \
-                t - ev[E_TMIN] >= settle_periods * (2.0 * math.pi / omega):
+    if stop == STOP_FLIP and havemin:
+        if phi >= phimin + 2.0 * math.pi * settle_turns and t - tmin >= settle_periods * (2.0 * math.pi / omega):
             return FLIP_SETTLED
     if stop == STOP_RR:
-        if not math.isnan(ev[E_T1]) or omega * t > 2.0 * math.pi:
+        if t1_found or omega * t > 2.0 * math.pi:
             return RR_DECIDED
     return GO_ON
 
@@ -231,13 +231,15 @@ def on_step(ev, minima, t0, phi0, phid0, t1, phi1, phid1, omega, stop, settle_tu
     ev[E_PHIMIN], ev[E_TMIN], ev[E_HAVEMIN] != 0 and ev[E_T1].
     """
     h = t1 - t0
-    which, gmin, gt1 = crossings(ev, t0, phi0, phid0, t1, phi1, phid1, omega)
+    which, gmin, gt1 = crossings(math.isnan(ev[E_T1]), ev[E_THETA0] - 2.0 * math.pi, t0, phi0, phid0, t1, phi1,
+                                 phid1, omega)
     if which & 1:
         s = _bisect(1, h, t0, phi0, phid0, phi1, phid1, omega, 0.0)
         record_minimum(ev, minima, t0 + s, hermite(s, h, phi0, phid0, phi1, phid1)[0])
     if which & 2:
         ev[E_T1] = t0 + _bisect(2, h, t0, phi0, phid0, phi1, phid1, omega, ev[E_THETA0] - 2.0 * math.pi)
-    return stop_reached(ev, stop, t1, phi1, omega, settle_turns, settle_periods)
+    return stop_reached(stop, ev[E_HAVEMIN] != 0.0, ev[E_PHIMIN], ev[E_TMIN], not math.isnan(ev[E_T1]), t1, phi1,
+                        omega, settle_turns, settle_periods)
 
 
 # ---- rest of a free body under dry friction -----------------------------------------------------

@@ -37,7 +37,7 @@ import numpy as np
 from numba import literally, njit
 
 from rrbody.integrate.dop853 import error_norm, rk_step, step_factor
-from rrbody.integrate.events import (E_T1, E_THETA0, E_TSTOP, STOP_REST, crossings, record_minimum, rest_admissible,
+from rrbody.integrate.events import (E_HAVEMIN, E_PHIMIN, E_T1, E_THETA0, E_TMIN, E_TSTOP, STOP_REST, crossings, record_minimum, rest_admissible,
                                      rest_reached, rest_step_limit, stop_reached)
 from rrbody.integrate.rodas import ros_step, spectral_radius
 from rrbody.physics import params as P
@@ -179,17 +179,32 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
     driven = system % 10 == SYSTEM_DRIVEN
     rest = stop == STOP_REST
     boost = max(1.0, STIFF_RTOL_FLOOR / rtol)
+    # the carried state lives in locals during the loop (stores into st would alias y and K for the
+    # compiler and cost reloads every step); it is written back once, at the exit
     t = st[L_T]
     h = st[L_H]
     meth = int(st[L_METH])
+    nstep = st[L_NSTEP]
+    nrej = st[L_NREJ]
+    rejected = st[L_REJECTED] != 0.0
+    nstiff = st[L_NSTIFF]
+    nonstiff = st[L_NONSTIFF]
+    nswitch = st[L_NSWITCH]
+    nros = st[L_NROS]
+    yscale = st[L_YSCALE]
+    t1_open = math.isnan(ev[E_T1])
+    target = ev[E_THETA0] - 2.0 * math.pi
+    havemin = ev[E_HAVEMIN] != 0.0
+    phimin = ev[E_PHIMIN]
+    tmin = ev[E_TMIN]
     if meth == 1:
         jacobian(system, t, y, p, S, f, J, fx)
     steps = 0
+    code = 0
     while True:
         if t >= t_end or steps >= max_steps:
-            st[L_T] = t
-            st[L_H] = h
-            return 0 if t >= t_end else 5
+            code = 0 if t >= t_end else 5
+            break
         if rest:
             reached, tau = rest_reached(y, f, icm, u_stop)
             if reached:
@@ -199,22 +214,21 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
                     y[j] += 0.5 * y[n // 2 + j] * tau
                     y[n // 2 + j] = 0.0
                 ev[E_TSTOP] = t + tau
-                st[L_T] = t_end
-                return 1
+                t = t_end
+                code = 1
+                break
         hh = min(h, t_end - t, hmax)
         if rest:
             hh = min(hh, rest_step_limit(y, f, icm))
         # the smallest step that still moves t (a few ulps); below it the problem is singular
         if hh <= 4e-16 * abs(t) + 1e-300:
-            st[L_T] = t
-            st[L_H] = h
-            return 4
+            code = 4
+            break
         if track >= 0:
-            scale[track] = rtol * max(st[L_YSCALE], abs(y[track]))
+            scale[track] = rtol * max(yscale, abs(y[track]))
         err = _step(meth, system, t, y, f, hh, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost)
         if not math.isfinite(err):
             err = 1e10
-        rejected = st[L_REJECTED] != 0.0
         bad = rest and not rest_admissible(y, ynew, icm)
         if bad or err >= 1.0:
             if bad:
@@ -224,32 +238,31 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
                 # a rejected step at the stability limit is stiffness evidence too: at the impulsive
                 # start the controller alternates rejections and acceptances there
                 if mode == 0 and _hlamb(K, hh, ynew, ytmp) > STIFF_HLAMB:
-                    st[L_NSTIFF] += 1
-                    if st[L_NSTIFF] >= STIFF_COUNT:
+                    nstiff += 1
+                    if nstiff >= STIFF_COUNT:
                         meth = 1
-                        st[L_METH] = 1.0
-                        st[L_NSWITCH] += 1
-                        st[L_NSTIFF] = 0.0
-                        st[L_NONSTIFF] = 0.0
+                        nswitch += 1
+                        nstiff = 0.0
+                        nonstiff = 0.0
                         jacobian(system, t, y, p, S, f, J, fx)
             else:
                 h = hh * _ros_factor(err, rejected)
-            st[L_REJECTED] = 1.0
-            st[L_NREJ] += 1
+            rejected = True
+            nrej += 1
             continue
         # ---- accepted step [t, t + hh] ----
         if track >= 0:
-            st[L_YSCALE] = max(st[L_YSCALE], abs(ynew[track]))
+            yscale = max(yscale, abs(ynew[track]))
         switch = False
         if mode == 0 and meth == 0:  # stiffness test, before ytmp is reused below
             if _hlamb(K, hh, ynew, ytmp) > STIFF_HLAMB:
-                st[L_NONSTIFF] = 0.0
-                st[L_NSTIFF] += 1
-                switch = st[L_NSTIFF] >= STIFF_COUNT
+                nonstiff = 0.0
+                nstiff += 1
+                switch = nstiff >= STIFF_COUNT
             else:
-                st[L_NONSTIFF] += 1
-                if st[L_NONSTIFF] >= 6:
-                    st[L_NSTIFF] = 0.0
+                nonstiff += 1
+                if nonstiff >= 6:
+                    nstiff = 0.0
         if dt_out > 0.0:
             while st[L_NEXTOUT] <= t + hh and st[L_NOUT] < out.shape[0]:
                 ho = st[L_NEXTOUT] - t
@@ -265,52 +278,65 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
                 st[L_NOUT] += 1
                 st[L_NEXTOUT] = st[L_NOUT] * dt_out
         if driven:
-            which, gmin, gt1 = crossings(ev, t, y[0], y[1], t + hh, ynew[0], ynew[1], omega)
+            which, gmin, gt1 = crossings(t1_open, target, t, y[0], y[1], t + hh, ynew[0], ynew[1], omega)
             if which & 1:
                 hm = _refine(meth, system, t, y, f, gmin, hh, 1, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
                              omega, 0.0)
                 record_minimum(ev, minima, t + hm, y2[0])
+                havemin = True
+                phimin = ev[E_PHIMIN]
+                tmin = ev[E_TMIN]
             if which & 2:
-                target = ev[E_THETA0] - 2.0 * math.pi
                 hm = _refine(meth, system, t, y, f, gt1, hh, 2, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
                              omega, target)
                 ev[E_T1] = t + hm
+                t1_open = False
         t = t + hh
         for j in range(n):
             y[j] = ynew[j]
             f[j] = K[12, j]
         steps += 1
-        st[L_NSTEP] += 1
-        st[L_REJECTED] = 0.0
+        nstep += 1
         if meth == 0:
             h = hh * step_factor(err, rejected)
         else:
-            st[L_NROS] += 1
+            nros += 1
             h = hh * _ros_factor(err, rejected)
             jacobian(system, t, y, p, S, f, J, fx)
             if mode == 0:
                 if min(h, hmax) * spectral_radius(J) < NONSTIFF_HRHO:
-                    st[L_NONSTIFF] += 1
-                    if st[L_NONSTIFF] >= STIFF_COUNT:
+                    nonstiff += 1
+                    if nonstiff >= STIFF_COUNT:
                         meth = 0
-                        st[L_NSWITCH] += 1
-                        st[L_NONSTIFF] = 0.0
-                        st[L_NSTIFF] = 0.0
+                        nswitch += 1
+                        nonstiff = 0.0
+                        nstiff = 0.0
                 else:
-                    st[L_NONSTIFF] = 0.0
+                    nonstiff = 0.0
+        rejected = False
         if switch:
             meth = 1
-            st[L_NSWITCH] += 1
-            st[L_NSTIFF] = 0.0
-            st[L_NONSTIFF] = 0.0
+            nswitch += 1
+            nstiff = 0.0
+            nonstiff = 0.0
             jacobian(system, t, y, p, S, f, J, fx)
-        st[L_METH] = float(meth)
         if driven:
-            code = stop_reached(ev, stop, t, y[0], omega, settle_turns, settle_periods)
+            code = stop_reached(stop, havemin, phimin, tmin, not t1_open, t, y[0], omega, settle_turns,
+                                settle_periods)
             if code != 0:
-                st[L_T] = t
-                st[L_H] = h
-                return code
+                break
+    st[L_T] = t
+    st[L_H] = h
+    st[L_METH] = float(meth)
+    st[L_NSTEP] = nstep
+    st[L_NREJ] = nrej
+    st[L_REJECTED] = 1.0 if rejected else 0.0
+    st[L_NSTIFF] = nstiff
+    st[L_NONSTIFF] = nonstiff
+    st[L_NSWITCH] = nswitch
+    st[L_NROS] = nros
+    st[L_YSCALE] = yscale
+    return code
 
 
 _SPECIALISED: dict[int, Any] = {}
