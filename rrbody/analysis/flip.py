@@ -39,8 +39,8 @@ def flip_time(scene: Scene, *, rtol: float | None = None, accuracy: str = "defau
     ``t_max`` (s; default ``scene.t_max``, else unbounded) caps the horizon; without friction there
     is no flip and only the RR question is answered. The minimum's time and value are located to
     the integrator's accuracy (Newton on the step size; see :mod:`rrbody.integrate.ode`).
-    ``stepper``: ``"auto"`` (DOP853 with automatic switching to the stiff RODAS4), ``"dop853"`` or
-    ``"rodas"`` (:data:`rrbody.integrate.ode.STEP_METHODS`). A body with l = 0 (P at the CM) is
+    ``stepper``: ``"auto"`` (DOP853 with automatic switching to the stiff Radau IIA), ``"dop853"``,
+    ``"radau"`` or ``"rodas"`` (:data:`rrbody.integrate.ode.STEP_METHODS`). A body with l = 0 (P at the CM) is
     answered at once: the drive exerts no torque about P, so there is no reverse rotation to end.
     """
     if not scene.driven:

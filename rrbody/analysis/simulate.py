@@ -83,8 +83,8 @@ def simulate(scene: Scene, *, method: str = "ode", t_max: float | None = None, d
 
 def _simulate_ode(scene: Scene, *, t_max: float, dt_out: float, progress: bool = False, rtol: float | None = None,
                   accuracy: str = "default", max_steps: int = 50_000_000, stepper: str = "auto") -> Trajectory:
-    """The direct ODE path for driven bodies (compiled DOP853 switching to RODAS4 where stiff; ``stepper``
-    forces one: "auto", "dop853", "rodas"); free bodies go to :mod:`rrbody.integrate.free`."""
+    """The direct ODE path for driven bodies (compiled DOP853 switching to Radau IIA where stiff; ``stepper``
+    forces one: "auto", "dop853", "radau", "rodas"); free bodies go to :mod:`rrbody.integrate.free`."""
     rtol_v = resolve_rtol(rtol, accuracy)
     max_steps = check_int("max_steps", max_steps, 1)
     if not scene.driven:

@@ -4,12 +4,13 @@
 :func:`rrbody.physics.dynamics.rhs` with an adaptive one-step method and reports through the one
 event detector of :mod:`rrbody.integrate.events`:
 
-- methods: DOP853 (explicit, order 8; :mod:`rrbody.integrate.dop853`) and RODAS4 (L-stable
-  Rosenbrock, order 4; :mod:`rrbody.integrate.rodas`). ``mode`` 0 starts with DOP853 and switches
-  by a stiffness detector (Hairer's for DOP853: h |lambda| from the last two stages above
-  ``STIFF_HLAMB`` on ``STIFF_COUNT`` steps, accepted or rejected, without 6 non-stiff accepted steps
-  in between; back when the Rosenbrock step times the spectral radius of J stays below
-  ``NONSTIFF_HRHO``); ``mode`` 1 and 2 force DOP853 and RODAS4;
+- methods: DOP853 (explicit, order 8; :mod:`rrbody.integrate.dop853`), Radau IIA (implicit,
+  order 5, stage order 3; :mod:`rrbody.integrate.radau`, the stiff method of driven bodies) and
+  RODAS4 (L-stable Rosenbrock, order 4; :mod:`rrbody.integrate.rodas`, the stiff method of free
+  bodies). ``mode`` 0 starts with DOP853 and switches by a stiffness detector (Hairer's for DOP853:
+  h |lambda| from the last two stages above ``STIFF_HLAMB`` on ``STIFF_COUNT`` steps, accepted or
+  rejected, without 6 non-stiff accepted steps in between; back when the stiff step times the
+  spectral radius of J stays below ``NONSTIFF_HRHO``); ``mode`` 1, 2, 3 force DOP853, RODAS4, Radau;
 - events of a driven body (local minima of phi, T_1) are located to the method's accuracy by Newton
   iteration on the step size from the start of the step that brackets them (each iterate is a fresh
   step, so an event inherits the order of the solution rather than that of an interpolant);
@@ -39,6 +40,7 @@ from numba import literally, njit
 from rrbody.integrate.dop853 import error_norm, rk_step, step_factor
 from rrbody.integrate.events import (E_HAVEMIN, E_PHIMIN, E_T1, E_THETA0, E_TMIN, E_TSTOP, STOP_REST, crossings, record_minimum, rest_admissible,
                                      rest_reached, rest_step_limit, stop_reached)
+from rrbody.integrate.radau import radau_step
 from rrbody.integrate.rodas import ros_step, spectral_radius
 from rrbody.physics import params as P
 from rrbody.physics.dynamics import SYSTEM_DRIVEN, jacobian
@@ -47,7 +49,7 @@ __all__ = ["advance", "advance_for", "new_loop_state", "STATUS", "STEP_METHODS",
            "L_NROS", "L_NSWITCH"]
 
 #: ``method`` names -> ``mode`` of :func:`advance`
-STEP_METHODS = {"auto": 0, "dop853": 1, "rodas": 2}
+STEP_METHODS = {"auto": 0, "dop853": 1, "rodas": 2, "radau": 3}
 #: return codes of :func:`advance` (1 means "flip settled" for a driven body, "came to rest" for a free one)
 STATUS = {0: "reached t_end", 1: "stop rule met", 2: "RR decided", 4: "step size underflow", 5: "chunk done"}
 
@@ -59,6 +61,8 @@ _LOOP_SIZE = 16
 #: floor on the stiff cases (H 0.2, k 1e6: step count x30 per decade of rtol instead of 10^(1/4)),
 #: while at 1e-11 its t_f is already within 1e-12 of scipy's Radau at 1e-12 (tests/test_stiff.py)
 STIFF_RTOL_FLOOR: float = 1e-11
+#: the stiff method of the automatic mode for driven bodies (1 RODAS4, 2 Radau IIA)
+STIFF_METHOD: int = 2
 STIFF_HLAMB: float = 6.1
 STIFF_COUNT: int = 15
 NONSTIFF_HRHO: float = 2.0
@@ -69,21 +73,24 @@ def new_loop_state(h0: float, mode: int, yscale: float = 0.0) -> np.ndarray:
     tracked component's |y| so far."""
     st = np.zeros(_LOOP_SIZE)
     st[L_H] = h0
-    st[L_METH] = 1.0 if mode == 2 else 0.0
+    st[L_METH] = {0: 0.0, 1: 0.0, 2: 1.0, 3: 2.0}[mode]
     st[L_YSCALE] = yscale
     return st
 
 
 @njit(cache=True, inline="always")
-def _step(meth, system, t, y, f, h, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost=1.0):  # noqa: ANN001
-    """One trial step of the current method (0 DOP853, 1 RODAS4); returns its error norm (RODAS4's
-    divided by ``boost``: its tolerance is raised to the floor STIFF_RTOL_FLOOR).
+def _step(meth, system, t, y, f, h, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost=1.0,  # noqa: ANN001
+          rtol=1e-10):
+    """One trial step of the current method (0 DOP853, 1 RODAS4, 2 Radau IIA); returns its error
+    norm (RODAS4's divided by ``boost``: its tolerance is raised to the floor STIFF_RTOL_FLOOR).
 
     Both fill ``ynew`` and K[12] = f(t + h, ynew). DOP853 leaves the state of its last stage (at
     t + h) in ``ytmp``, which the stiffness detector reads. Inlined into the loop."""
     if meth == 0:
         rk_step(system, t, y, f, h, p, S, A, B, C, K, ynew, ytmp)
         return error_norm(system, K, h, scale, E3, E5)
+    if meth == 2:
+        return radau_step(system, t, y, f, h, p, S, J, K, ynew, ytmp, scale, rtol)
     return ros_step(system, t, y, f, h, p, S, J, fx, K, ynew, ytmp, scale) / boost
 
 
@@ -179,6 +186,8 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
     driven = system % 10 == SYSTEM_DRIVEN
     rest = stop == STOP_REST
     boost = max(1.0, STIFF_RTOL_FLOOR / rtol)
+    # the stiff method: Radau IIA for the 2-state driven body, RODAS4 otherwise
+    stiff = STIFF_METHOD if driven else 1
     # the carried state lives in locals during the loop (stores into st would alias y and K for the
     # compiler and cost reloads every step); it is written back once, at the exit
     t = st[L_T]
@@ -197,7 +206,7 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
     havemin = ev[E_HAVEMIN] != 0.0
     phimin = ev[E_PHIMIN]
     tmin = ev[E_TMIN]
-    if meth == 1:
+    if meth != 0:
         jacobian(system, t, y, p, S, f, J, fx)
     steps = 0
     code = 0
@@ -226,7 +235,7 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
             break
         if track >= 0:
             scale[track] = rtol * max(yscale, abs(y[track]))
-        err = _step(meth, system, t, y, f, hh, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost)
+        err = _step(meth, system, t, y, f, hh, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost, rtol)
         if not math.isfinite(err):
             err = 1e10
         bad = rest and not rest_admissible(y, ynew, icm)
@@ -240,7 +249,7 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
                 if mode == 0 and _hlamb(K, hh, ynew, ytmp) > STIFF_HLAMB:
                     nstiff += 1
                     if nstiff >= STIFF_COUNT:
-                        meth = 1
+                        meth = stiff
                         nswitch += 1
                         nstiff = 0.0
                         nonstiff = 0.0
@@ -315,7 +324,7 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
                     nonstiff = 0.0
         rejected = False
         if switch:
-            meth = 1
+            meth = stiff
             nswitch += 1
             nstiff = 0.0
             nonstiff = 0.0

@@ -1,6 +1,6 @@
 """Direct ODE path for the circularly driven body: set-up and report around the one stepping loop.
 
-The loop is :func:`rrbody.integrate.loop.advance` (DOP853 with automatic switching to RODAS4 where
+The loop is :func:`rrbody.integrate.loop.advance` (DOP853 with automatic switching to Radau IIA where
 stiff); the events and stop rules are those of :mod:`rrbody.integrate.events`:
 
 - local minima of phi (phi' crosses 0 upwards): every one is recorded (up to a buffer size),
@@ -32,7 +32,7 @@ import numpy as np
 
 from rrbody.integrate.dop853 import TABLEAU
 from rrbody.integrate.events import E_HAVEMIN, E_NMIN, E_PHIMIN, E_T1, E_TMIN, new_event_state
-from rrbody.integrate.loop import L_METH, L_NREJ, L_NROS, L_NSTEP, L_NSWITCH, L_NOUT, L_T, STEP_METHODS, advance_for, \
+from rrbody.integrate.loop import STIFF_METHOD, L_METH, L_NREJ, L_NROS, L_NSTEP, L_NSWITCH, L_NOUT, L_T, STEP_METHODS, advance_for, \
     new_loop_state
 from rrbody.physics import params as P
 from rrbody.physics.dynamics import SYSTEM_DRIVEN, driven_kinematics, driven_rhs, system_from_params
@@ -70,9 +70,9 @@ def integrate_driven(p: np.ndarray, S: np.ndarray, y0: tuple[float, float], *, t
                      progress: bool = False, desc: str = "integrating", method: str = "auto") -> DrivenResult:
     """Integrate the driven body from t = 0 with state y0 = (phi0, phi'0).
 
-    ``method``: ``"auto"`` (default) starts with DOP853 and switches to the L-stable RODAS4 where a
+    ``method``: ``"auto"`` (default) starts with DOP853 and switches to the implicit Radau IIA where a
     stiffness detector finds the explicit method at its stability limit (and back where the problem
-    is no longer stiff); ``"dop853"`` or ``"rodas"`` force one method (:data:`STEP_METHODS`).
+    is no longer stiff); ``"dop853"``, ``"radau"`` or ``"rodas"`` force one method (:data:`STEP_METHODS`).
 
     ``p``/``S`` come from :meth:`rrbody.scene.Scene.kernel_params`. The loop runs in compiled
     chunks so that a progress bar can update and Ctrl-C is honoured between chunks. Memory is
@@ -95,8 +95,8 @@ def integrate_driven(p: np.ndarray, S: np.ndarray, y0: tuple[float, float], *, t
     if mode == 0 and int(p[P.LAW]) == 1 and math.hypot(vx0, vy0) <= 10.0 * p[P.VEPS]:
         # the impulsive start with the CM at rest under dry friction (phi0 = pi) is singularly stiff
         # (the relaxation rate of the velocity direction grows like k / (w^2 t) as t -> 0): start with
-        # RODAS4; the detector hands over to DOP853 where the problem stops being stiff
-        st[L_METH] = 1.0
+        # the stiff method; the detector hands over to DOP853 where the problem stops being stiff
+        st[L_METH] = float(STIFF_METHOD)
     # phi is an angle that grows without bound: absolute scale; phi' tracks its running maximum
     scale = np.array([rtol * math.pi, rtol * max(omega, abs(y[1]))])
     hmax = 0.125 * 2.0 * math.pi / omega  # an event needs at least 8 steps per driving period
