@@ -10,7 +10,6 @@ import numpy as np
 from numba import njit
 
 from rrbody.physics.icr import icr_wrench
-from rrbody.physics.dynamics import driven_rhs
 from rrbody.physics.wrench import sampled_wrench
 
 
@@ -34,14 +33,33 @@ def loop_icr(a, b, n, m, vx, vy, spin, icm):  # noqa: ANN001
     return acc
 
 
-@njit(cache=True)
-def loop_rhs(p, S, m):  # noqa: ANN001
-    """m calls of the driven right-hand side."""
-    y = np.array([3.0, -2.0])
-    out = np.empty(2)
-    acc = 0.0
-    for i in range(m):
-        y[0] = 3.0 + 1e-7 * i
-        driven_rhs(1e-6 * i, y, p, S, out)
-        acc += out[1]
-    return acc
+def loop_rhs(p, S, m):  # noqa: ANN001, ANN201
+    """m calls of the driven right-hand side of ``p``, ``S`` (its system code compiled in)."""
+    from rrbody.physics.dynamics import SYSTEM_DRIVEN, system_from_params
+
+    return loop_rhs_for(system_from_params(p, SYSTEM_DRIVEN))(p, S, m)
+
+
+_RHS_LOOPS: dict[int, object] = {}
+
+
+def loop_rhs_for(system: int):  # noqa: ANN201
+    """m calls of the composed right-hand side with the system code compiled in (as the ODE loop does)."""
+    if system not in _RHS_LOOPS:
+        from rrbody.physics.dynamics import rhs
+
+        code = int(system)
+
+        @njit(cache=True)
+        def run(p, S, m):  # noqa: ANN001
+            y = np.array([3.0, -2.0])
+            out = np.empty((1, 2))
+            acc = 0.0
+            for i in range(m):
+                y[0] = 3.0 + 1e-7 * i
+                rhs(code, 1e-6 * i, y, p, S, out, 0)
+                acc += out[0, 1]
+            return acc
+
+        _RHS_LOOPS[system] = run
+    return _RHS_LOOPS[system]

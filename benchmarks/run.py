@@ -27,6 +27,7 @@ from .common import StudyResult, Target, machine_info, machine_text, md_table, w
 #: study name -> module, in run order (cheap and most important first)
 STUDIES: dict[str, str] = {
     "ode": "benchmarks.ode",
+    "core": "benchmarks.core",
     "scaling": "benchmarks.scaling",
     "area": "benchmarks.area",
     "engine": "benchmarks.engine",

@@ -33,19 +33,28 @@ __all__ = ["FlipResult", "flip_time", "classify_flip", "reverse_rotation_exists"
 
 def flip_time(scene: Scene, *, rtol: float | None = None, accuracy: str = "default", t_max: float | None = None,
               settle_turns: float = 2.0, settle_periods: float = 3.0, max_steps: int = 50_000_000,
-              progress: bool = False) -> FlipResult:
+              progress: bool = False, stepper: str = "auto") -> FlipResult:
     """Flip time of a driven scene by the direct ODE path.
 
     ``t_max`` (s; default ``scene.t_max``, else unbounded) caps the horizon; without friction there
     is no flip and only the RR question is answered. The minimum's time and value are located to
-    the integrator's accuracy (Newton on the step size; see :mod:`rrbody.ode`).
+    the integrator's accuracy (Newton on the step size; see :mod:`rrbody.integrate.ode`).
+    ``stepper``: ``"auto"`` (DOP853 with automatic switching to the stiff Radau IIA), ``"dop853"``,
+    ``"radau"`` or ``"rodas"`` (:data:`rrbody.integrate.ode.STEP_METHODS`). A body with l = 0 (P at the CM) is
+    answered at once: the drive exerts no torque about P, so there is no reverse rotation to end.
     """
     if not scene.driven:
         raise ValueError("flip_time needs a driven scene (drive is None: a free body has no flip)")
-    from rrbody.integrate.ode import integrate_driven
+    from rrbody.integrate.ode import STEP_METHODS, integrate_driven
 
+    if stepper not in STEP_METHODS:
+        raise ValueError(f"stepper must be one of {', '.join(repr(m) for m in STEP_METHODS)}, got {stepper!r}")
     rtol_v = resolve_rtol(rtol, accuracy)
     max_steps = int(check("max_steps", max_steps))  # NaN, negative or fractional would disable the cap
+    if scene.body.l == 0.0:
+        regime = ("l = 0: P is at the CM, so the drive exerts no torque about P and phi (the body angle) only "
+                  "spins down under friction: no reverse rotation, no flip")
+        return FlipResult(None, scene.phi0, 0.0, False, None, True, regime, 0.0, 0, 0, rtol_v, 0.0, np.empty((0, 2)))
     settle_turns = check_range("settle_turns", settle_turns, 0.5, 100.0)
     settle_periods = check_range("settle_periods", settle_periods, 0.0, 1e6)
     horizon = t_max if t_max is not None else scene.t_max
@@ -54,14 +63,15 @@ def flip_time(scene: Scene, *, rtol: float | None = None, accuracy: str = "defau
     y0 = (scene.phi0, scene.initial_phi_dot)
     if not scene.friction.active:
         res = integrate_driven(p, S, y0, t_end=min(horizon, 2.0 * scene.drive.period), rtol=rtol_v,  # type: ignore[union-attr]
-                               stop="rr", max_steps=max_steps)
+                               stop="rr", max_steps=max_steps, method=stepper)
         _, regime, rr, settled, phi_min = classify_flip(scene, status=res.status, has_min=res.has_min,
                                                         phi_min=res.phi_min, t_min=res.t_min, T1=res.T1,
                                                         t_end=res.t_end)
         return FlipResult(None, phi_min, res.t_min, rr, res.T1 if math.isfinite(res.T1) else None, settled,
                           regime, res.t_end, res.n_steps, res.n_minima, rtol_v, res.wall, res.minima)
     res = integrate_driven(p, S, y0, t_end=horizon, rtol=rtol_v, stop="flip", settle_turns=settle_turns,
-                           settle_periods=settle_periods, max_steps=max_steps, progress=progress, desc="flip time")
+                           settle_periods=settle_periods, max_steps=max_steps, progress=progress, desc="flip time",
+                           method=stepper)
     t_f, regime, rr, settled, phi_min = classify_flip(scene, status=res.status, has_min=res.has_min,
                                                       phi_min=res.phi_min, t_min=res.t_min, T1=res.T1,
                                                       t_end=res.t_end)

@@ -85,8 +85,9 @@ def simulate(scene: Scene, *, method: str = "ode", t_max: float | None = None, d
 
 
 def _simulate_ode(scene: Scene, *, t_max: float, dt_out: float, progress: bool = False, rtol: float | None = None,
-                  accuracy: str = "default", max_steps: int = 50_000_000) -> Trajectory:
-    """The direct ODE path (compiled DOP853) for driven bodies; free bodies go to :mod:`rrbody.free`."""
+                  accuracy: str = "default", max_steps: int = 50_000_000, stepper: str = "auto") -> Trajectory:
+    """The direct ODE path for driven bodies (compiled DOP853 switching to Radau IIA where stiff; ``stepper``
+    forces one: "auto", "dop853", "radau", "rodas"); free bodies go to :mod:`rrbody.integrate.free`."""
     rtol_v = resolve_rtol(rtol, accuracy)
     max_steps = int(check("max_steps", max_steps))
     if not scene.driven:
@@ -97,7 +98,7 @@ def _simulate_ode(scene: Scene, *, t_max: float, dt_out: float, progress: bool =
 
     p, S = kernel_params(scene)
     res = integrate_driven(p, S, (scene.phi0, scene.initial_phi_dot), t_end=t_max, rtol=rtol_v, stop="t_end",
-                           dt_out=dt_out, max_steps=max_steps, progress=progress, desc="ode")
+                           dt_out=dt_out, max_steps=max_steps, progress=progress, desc="ode", method=stepper)
     out = res.out
     if res.status == "reached t_end" and (len(out) == 0 or t_max - out[-1, 0] > 1e-9 * dt_out):
         # the output grid k * dt_out need not hit t_max: end on the horizon asked for, with the
@@ -116,5 +117,6 @@ def _simulate_ode(scene: Scene, *, t_max: float, dt_out: float, progress: bool =
     traj.meta = {**traj.meta, "method": "ode", "rtol": rtol_v, "status": res.status, "n_steps": res.n_steps,
                  "n_rejected": res.n_rejected, "wall_s": res.wall}
     if res.status not in ("reached t_end",):
-        traj.meta["warning"] = f"integration stopped early: {res.status} at t={res.t_end:.6g} s"
+        where = "" if " at t=" in res.status else f" at t={res.t_end:.6g} s"
+        traj.meta["warning"] = f"integration stopped early: {res.status}{where}"
     return traj

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from numba import literally, njit
 
 def _load_scipy_tableau():  # noqa: ANN202
     """scipy's DOP853 coefficient module, loaded by file so that ``scipy.integrate`` (0.3 s of
@@ -61,9 +61,12 @@ def rk_step(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp):  # noqa: ANN001 
     Fills K[0..12] (K[12] = f(t+h, ynew)) and ``ynew``. ``system`` selects the equations
     (:func:`rrbody.dynamics.rhs`; an integer rather than a function argument, because numba
     cannot cache functions that take other compiled functions as arguments). ``p`` and ``S``
-    are the parameter vector and the area-sample array.
+    are the parameter vector and the area-sample array. Compiled once per system code (``literally``).
     """
-    n = y.shape[0]
+    literally(system)
+    # the state size as a compile-time constant (2 for a driven body, 6 for a free one), so the stage
+    # loops below have constant trip counts and are unrolled
+    n = 2 if system % 10 == 0 else 6
     for j in range(n):
         K[0, j] = f0[j]
     for s in range(1, N_STAGES):
@@ -72,19 +75,21 @@ def rk_step(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp):  # noqa: ANN001 
             for r in range(s):
                 acc += A[s, r] * K[r, j]
             ytmp[j] = y[j] + h * acc
-        rhs(system, t + C[s] * h, ytmp, p, S, K[s])
+        rhs(system, t + C[s] * h, ytmp, p, S, K, s)
     for j in range(n):
         acc = 0.0
         for r in range(N_STAGES):
             acc += B[r] * K[r, j]
         ynew[j] = y[j] + h * acc
-    rhs(system, t + h, ynew, p, S, K[N_STAGES])
+    rhs(system, t + h, ynew, p, S, K, N_STAGES)
 
 
-@njit(cache=True)
-def error_norm(K, h, scale, E3, E5):  # noqa: ANN001
-    """scipy's DOP853 error norm (RMS over components of the scaled 5th/3rd-order estimates)."""
-    n = scale.shape[0]
+@njit(cache=True, inline="always")
+def error_norm(system, K, h, scale, E3, E5):  # noqa: ANN001
+    """scipy's DOP853 error norm (RMS over components of the scaled 5th/3rd-order estimates);
+    ``system`` fixes the state size at compile time, as in :func:`rk_step` (inlined into the loop,
+    which is compiled per system code)."""
+    n = 2 if system % 10 == 0 else 6
     e5 = 0.0
     e3 = 0.0
     for j in range(n):
@@ -100,7 +105,7 @@ def error_norm(K, h, scale, E3, E5):  # noqa: ANN001
     return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def step_factor(err: float, rejected: bool) -> float:
     """New-step factor from the error norm (scipy's controller)."""
     if err < 1.0:

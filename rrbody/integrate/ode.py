@@ -1,10 +1,10 @@
-"""Direct ODE path: the compiled DOP853 loop with events, for the circularly driven body.
+"""Direct ODE path for the circularly driven body: set-up and report around the one stepping loop.
 
-Events are located to integrator accuracy by Newton iteration on the step size from the start
-of the step that brackets them (each iterate is a fresh DOP853 step, so the event inherits the
-8th-order accuracy of the solution rather than that of an interpolant):
+The loop is :func:`rrbody.integrate.loop.advance` (DOP853 with automatic switching to Radau IIA where
+stiff); the events and stop rules are those of :mod:`rrbody.integrate.events`:
 
-- local minima of phi (phi' crosses 0 upwards): every one is recorded (up to a buffer size);
+- local minima of phi (phi' crosses 0 upwards): every one is recorded (up to a buffer size),
+  located by Newton iteration on the step size (each iterate a fresh step of the method);
 - T_1, the first time theta = phi - omega t + pi has fallen by 2 pi (the RR test, SPEC section 4).
 
 Error control: phi is an angle that grows without bound (|phi| ~ 1e4 in long fast-driving runs),
@@ -29,148 +29,19 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit
 
+from rrbody.integrate.dop853 import TABLEAU
+from rrbody.integrate.events import E_HAVEMIN, E_NMIN, E_PHIMIN, E_T1, E_TMIN, new_event_state
+from rrbody.integrate.loop import STIFF_METHOD, L_METH, L_NREJ, L_NROS, L_NSTEP, L_NSWITCH, L_NOUT, L_T, STEP_METHODS, advance_for, \
+    new_loop_state
 from rrbody.physics import params as P
-from rrbody.integrate.dop853 import TABLEAU, error_norm, rk_step, step_factor
-from rrbody.physics.dynamics import SYSTEM_DRIVEN, driven_rhs
+from rrbody.physics.dynamics import SYSTEM_DRIVEN, driven_kinematics, driven_rhs, system_from_params
 
-__all__ = ["DrivenResult", "integrate_driven", "STOP_RULES"]
+__all__ = ["DrivenResult", "integrate_driven", "STOP_RULES", "STEP_METHODS"]
 
 STOP_RULES = {"t_end": 0, "flip": 1, "rr": 2}
 STATUS = {0: "reached t_end", 1: "flip settled", 2: "RR decided", 3: "max_steps reached",
           4: "step size underflow", 5: "chunk done"}
-
-# indices into the carried state vector `st`
-_T, _H, _PHIMIN, _TMIN, _HAVEMIN, _THETA0, _T1, _NSTEP, _NREJ, _NMIN, _NOUT, _NEXTOUT, _PHID_SCALE, \
-    _REJECTED = range(14)
-_ST_SIZE = 16
-
-
-@njit(cache=True)
-def _refine(t, y, f, h0, hmax, which, p, S, A, B, C, K2, y2, ytmp, omega, target):  # noqa: ANN001
-    """Newton on h in (0, hmax] for the event `which` (0: phi' = 0; 1: theta = target)."""
-    h = min(max(h0, 0.0), hmax)
-    for _ in range(12):
-        rk_step(SYSTEM_DRIVEN, t, y, f, h, p, S, A, B, C, K2, y2, ytmp)
-        if which == 0:
-            g = y2[1]
-            dg = K2[12, 1]
-        else:
-            g = y2[0] - omega * (t + h) + math.pi - target
-            dg = y2[1] - omega
-        if dg == 0.0:
-            break
-        dh = -g / dg
-        hn = min(max(h + dh, 0.0), hmax)
-        if abs(hn - h) <= 4e-16 * (abs(t) + abs(h)) + 1e-300:
-            h = hn
-            break
-        h = hn
-    rk_step(SYSTEM_DRIVEN, t, y, f, h, p, S, A, B, C, K2, y2, ytmp)
-    return h
-
-
-@njit(cache=True)
-def _advance(y, f, st, p, S, t_end, stop, settle_turns, settle_periods, rtol, hmax, max_steps,
-             minima, out, dt_out, A, B, C, E3, E5):  # noqa: ANN001
-    """Advance the carried state until t_end, a stop rule fires, or max_steps accepted steps."""
-    n = y.shape[0]
-    K = np.empty((13, n))
-    K2 = np.empty((13, n))
-    ynew = np.empty(n)
-    y2 = np.empty(n)
-    ytmp = np.empty(n)
-    scale = np.empty(n)
-    omega = p[P.OMEGA]
-    period = 2.0 * math.pi / omega
-    t = st[_T]
-    h = st[_H]
-    steps = 0
-    while True:
-        if t >= t_end:
-            st[_T] = t
-            st[_H] = h
-            return 0
-        if steps >= max_steps:
-            st[_T] = t
-            st[_H] = h
-            return 5
-        hh = min(h, t_end - t, hmax)
-        if hh <= 1e-14 * max(1.0, abs(t)):
-            st[_T] = t
-            st[_H] = h
-            return 4
-        rk_step(SYSTEM_DRIVEN, t, y, f, hh, p, S, A, B, C, K, ynew, ytmp)
-        st[_PHID_SCALE] = max(st[_PHID_SCALE], abs(ynew[1]))
-        scale[0] = rtol * math.pi
-        scale[1] = rtol * st[_PHID_SCALE]
-        err = error_norm(K, hh, scale, E3, E5)
-        rejected = st[_REJECTED] != 0.0
-        if err >= 1.0:
-            h = hh * step_factor(err, rejected)
-            st[_REJECTED] = 1.0
-            st[_NREJ] += 1
-            continue
-        # ---- accepted step [t, t + hh] ----
-        # dense output on the fixed grid, by re-stepping from the step start
-        if dt_out > 0.0:
-            while st[_NEXTOUT] <= t + hh and st[_NOUT] < out.shape[0]:
-                ho = st[_NEXTOUT] - t
-                k = int(st[_NOUT])
-                if ho <= 0.0:
-                    out[k, 0] = t
-                    out[k, 1] = y[0]
-                    out[k, 2] = y[1]
-                else:
-                    rk_step(SYSTEM_DRIVEN, t, y, f, ho, p, S, A, B, C, K2, y2, ytmp)
-                    out[k, 0] = t + ho
-                    out[k, 1] = y2[0]
-                    out[k, 2] = y2[1]
-                st[_NOUT] += 1
-                st[_NEXTOUT] = (st[_NOUT]) * dt_out
-        # local minimum of phi: phi' crosses zero upwards
-        if y[1] < 0.0 and ynew[1] >= 0.0:
-            h0 = hh * (-y[1]) / (ynew[1] - y[1])
-            hm = _refine(t, y, f, h0, hh, 0, p, S, A, B, C, K2, y2, ytmp, omega, 0.0)
-            tm = t + hm
-            k = int(st[_NMIN])
-            if k < minima.shape[0]:
-                minima[k, 0] = tm
-                minima[k, 1] = y2[0]
-            st[_NMIN] += 1
-            if st[_HAVEMIN] == 0.0 or y2[0] < st[_PHIMIN]:
-                st[_PHIMIN] = y2[0]
-                st[_TMIN] = tm
-                st[_HAVEMIN] = 1.0
-        # T_1: theta falls to theta0 - 2 pi for the first time
-        if math.isnan(st[_T1]):
-            target = st[_THETA0] - 2.0 * math.pi
-            g0 = y[0] - omega * t + math.pi - target
-            g1 = ynew[0] - omega * (t + hh) + math.pi - target
-            if g0 > 0.0 and g1 <= 0.0:
-                h0 = hh * g0 / (g0 - g1)
-                hm = _refine(t, y, f, h0, hh, 1, p, S, A, B, C, K2, y2, ytmp, omega, target)
-                st[_T1] = t + hm
-        t = t + hh
-        for j in range(n):
-            y[j] = ynew[j]
-            f[j] = K[12, j]
-        steps += 1
-        st[_NSTEP] += 1
-        st[_REJECTED] = 0.0
-        h = hh * step_factor(err, rejected)
-        # stopping rules
-        if stop == 1 and st[_HAVEMIN] != 0.0:
-            if y[0] >= st[_PHIMIN] + 2.0 * math.pi * settle_turns and t - st[_TMIN] >= settle_periods * period:
-                st[_T] = t
-                st[_H] = h
-                return 1
-        if stop == 2:
-            if not math.isnan(st[_T1]) or omega * t > 2.0 * math.pi:
-                st[_T] = t
-                st[_H] = h
-                return 2
 
 
 @dataclass
@@ -196,31 +67,38 @@ class DrivenResult:
 def integrate_driven(p: np.ndarray, S: np.ndarray, y0: tuple[float, float], *, t_end: float, rtol: float,
                      stop: str = "t_end", dt_out: float = 0.0, settle_turns: float = 2.0,
                      settle_periods: float = 3.0, max_steps: int = 50_000_000, max_minima: int = 200_000,
-                     progress: bool = False, desc: str = "integrating") -> DrivenResult:
+                     progress: bool = False, desc: str = "integrating", method: str = "auto") -> DrivenResult:
     """Integrate the driven body from t = 0 with state y0 = (phi0, phi'0).
+
+    ``method``: ``"auto"`` (default) starts with DOP853 and switches to the implicit Radau IIA where a
+    stiffness detector finds the explicit method at its stability limit (and back where the problem
+    is no longer stiff); ``"dop853"``, ``"radau"`` or ``"rodas"`` force one method (:data:`STEP_METHODS`).
 
     ``p``/``S`` come from :meth:`rrbody.scene.Scene.kernel_params`. The loop runs in compiled
     chunks so that a progress bar can update and Ctrl-C is honoured between chunks. Memory is
     bounded by the output grid (``dt_out``) and the minima buffer, never by the step count.
     """
+    if method not in STEP_METHODS:
+        raise ValueError(f"method must be one of {', '.join(repr(m) for m in STEP_METHODS)}, got {method!r}")
+    mode = STEP_METHODS[method]
     A, B, C, E3, E5 = TABLEAU
     omega = float(p[P.OMEGA])
     y = np.array(y0, dtype=np.float64)
     f = np.empty(2)
     driven_rhs(0.0, y, p, S, f)
-    st = np.zeros(_ST_SIZE)
-    st[_PHIMIN] = np.nan
-    st[_TMIN] = np.nan
-    st[_T1] = np.nan
-    st[_THETA0] = y[0] + math.pi
-    st[_PHID_SCALE] = max(omega, abs(y[1]))
+    ev = new_event_state(y[0], y[1])
     # initial step: a small fraction of the fastest time scale; the controller adapts at once
-    st[_H] = 1e-3 * min(1.0 / omega, 1.0 / max(abs(y[1]), 1e-300))
-    st[_H] = min(st[_H], 1e-2 * (2 * math.pi / omega))
-    if y[1] >= 0.0:  # phi rises from the start: t = 0 is the first minimum candidate
-        st[_PHIMIN] = y[0]
-        st[_TMIN] = 0.0
-        st[_HAVEMIN] = 1.0
+    h0 = 1e-3 * min(1.0 / omega, 1.0 / max(abs(y[1]), 1e-300))
+    h0 = min(h0, 1e-2 * (2 * math.pi / omega))
+    st = new_loop_state(h0, mode, yscale=max(omega, abs(y[1])))
+    _, _, vx0, vy0, _, _ = driven_kinematics(0.0, y[0], y[1], p)
+    if mode == 0 and int(p[P.LAW]) == 1 and math.hypot(vx0, vy0) <= 10.0 * p[P.VEPS]:
+        # the impulsive start with the CM at rest under dry friction (phi0 = pi) is singularly stiff
+        # (the relaxation rate of the velocity direction grows like k / (w^2 t) as t -> 0): start with
+        # the stiff method; the detector hands over to DOP853 where the problem stops being stiff
+        st[L_METH] = float(STIFF_METHOD)
+    # phi is an angle that grows without bound: absolute scale; phi' tracks its running maximum
+    scale = np.array([rtol * math.pi, rtol * max(omega, abs(y[1]))])
     hmax = 0.125 * 2.0 * math.pi / omega  # an event needs at least 8 steps per driving period
     if math.isfinite(t_end) and dt_out > 0.0:
         n_out = int(math.floor(t_end / dt_out + 1e-9)) + 1
@@ -230,6 +108,7 @@ def integrate_driven(p: np.ndarray, S: np.ndarray, y0: tuple[float, float], *, t
     out = np.empty((n_out, 3))
     minima = np.empty((max_minima, 2))
     stop_code = STOP_RULES[stop]
+    run = advance_for(system_from_params(p, SYSTEM_DRIVEN))
     chunk = 200_000
     t0 = time.perf_counter()
     bar = None
@@ -241,25 +120,33 @@ def integrate_driven(p: np.ndarray, S: np.ndarray, y0: tuple[float, float], *, t
     status = 5
     try:
         while True:
-            left = max_steps - int(st[_NSTEP])
+            left = max_steps - int(st[L_NSTEP])
             if left <= 0:
                 status = 3
                 break
-            before = st[_T]
-            status = _advance(y, f, st, p, S, t_end, stop_code, settle_turns, settle_periods, rtol,
-                              hmax, min(chunk, left), minima, out, dt_out, A, B, C, E3, E5)
+            before = st[L_T]
+            status = run(y, f, st, ev, p, S, t_end, stop_code, settle_turns, settle_periods, rtol,
+                             scale, 1, hmax, min(chunk, left), minima, out, dt_out, mode, 0.0, A, B, C, E3, E5)
             if bar is not None:
-                bar.update(st[_T] - before)
+                bar.update(st[L_T] - before)
             if status != 5:
                 break
     finally:
         if bar is not None:
             bar.close()
     wall = time.perf_counter() - t0
-    n_min = int(st[_NMIN])
+    n_min = int(ev[E_NMIN])
+    status_text = STATUS[status]
+    if status == 3:
+        status_text = f"max_steps reached (cap max_steps={max_steps})"
+    elif status == 4:
+        status_text = f"step size underflow (step below {4e-16 * abs(st[L_T]) + 1e-300:.3g} s)"
+    if status in (3, 4):
+        status_text += f" at t={st[L_T]:.6g} s after {wall:.3g} s of computing"
     return DrivenResult(
-        t_end=float(st[_T]), y_end=y.copy(), status=STATUS[status], phi_min=float(st[_PHIMIN]),
-        t_min=float(st[_TMIN]), has_min=bool(st[_HAVEMIN]), T1=float(st[_T1]),
-        minima=minima[: min(n_min, max_minima)].copy(), n_minima=n_min, out=out[: int(st[_NOUT])].copy(),
-        n_steps=int(st[_NSTEP]), n_rejected=int(st[_NREJ]), wall=wall,
+        t_end=float(st[L_T]), y_end=y.copy(), status=status_text, phi_min=float(ev[E_PHIMIN]),
+        t_min=float(ev[E_TMIN]), has_min=bool(ev[E_HAVEMIN]), T1=float(ev[E_T1]),
+        minima=minima[: min(n_min, max_minima)].copy(), n_minima=n_min, out=out[: int(st[L_NOUT])].copy(),
+        n_steps=int(st[L_NSTEP]), n_rejected=int(st[L_NREJ]), wall=wall,
+        stats={"n_stiff_steps": int(st[L_NROS]), "n_switches": int(st[L_NSWITCH])},
     )

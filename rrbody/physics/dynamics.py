@@ -1,4 +1,8 @@
-"""Right-hand sides of the equations of motion (compiled, pure functions of (t, y, p, S)).
+"""Right-hand sides composed from a scene's effects (compiled, pure functions of (t, y, p, S)).
+
+``system`` is the scene's system code (:func:`rrbody.physics.effects.system_code`: kind, friction
+law, area method). The stepping loop is compiled with it as a compile-time constant, so the
+branches below are resolved at compile time and each combination runs its own specialised code.
 
 Driven body (SPEC section 2), state y = (phi, phi') with phi the angle of CM -> P (rad):
 
@@ -6,104 +10,187 @@ Driven body (SPEC section 2), state y = (phi, phi') with phi the angle of CM -> 
 
 The body angle is alpha = phi - beta, so the same state serves l = 0 (P at the CM), where phi is
 simply the body angle shifted by beta. tau_P is the friction torque about P (world frame).
+
+Free body, y = (x, y, alpha, vx, vy, spin) (m, rad, m/s, rad/s): friction alone.
 """
 
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
-from numba import njit
+from numba import literally, njit
 
 from rrbody.physics import params as P
-from rrbody.physics.wrench import body_wrench, point_force
+from rrbody.physics.effects import DRIVEN, drive_circular
+from rrbody.physics.effects.areas import POINT, body_wrench
+from rrbody.physics.effects.laws import NONE, element_perp
 
-__all__ = ["rhs", "driven_rhs", "driven_kinematics", "SYSTEM_DRIVEN", "SYSTEM_FREE"]
+__all__ = ["rhs", "rhs_for", "driven_rhs", "driven_kinematics", "jacobian", "system_from_params", "SYSTEM_DRIVEN",
+           "SYSTEM_FREE"]
 
-SYSTEM_DRIVEN = 0  # y = (phi, phi')
-SYSTEM_FREE = 1    # y = (x, y, alpha, vx, vy, spin): a free body (see free_rhs)
+SYSTEM_DRIVEN = 0  # kind code: y = (phi, phi')
+SYSTEM_FREE = 1    # kind code: y = (x, y, alpha, vx, vy, spin)
+
+driven_kinematics = drive_circular.kinematics
 
 
 @njit(cache=True, inline="always")
-def driven_kinematics(t: float, phi: float, phid: float, p: np.ndarray) -> tuple[float, float, float, float, float, float]:
-    """CM position (m) and velocity (m/s) and P position (m), world frame, for the driven body."""
+def _driven_point(law, t, y, p):  # noqa: ANN001 (numba)
+    """(phi', phi'') of a point mass: friction at the CM only. Work in the frame (e, e_perp) of
+    CM -> P, where the CM velocity is (d w sin psi, d w cos psi - l phi') with psi = phi - w t: two
+    trig calls, and the speed is a sum of squares (no cancelling square root at the phi0 = pi start)."""
     w = p[P.OMEGA]
     d = p[P.D]
     l = p[P.L]
-    cw = math.cos(w * t)
-    sw = math.sin(w * t)
-    cp = math.cos(phi)
-    sp = math.sin(phi)
-    px = d * cw
-    py = d * sw
-    # r = P - l e(phi); r' = P' - l phi' e_perp(phi), e_perp = (-sin, cos)
-    x = px - l * cp
-    y = py - l * sp
-    vx = -d * w * sw + l * phid * sp
-    vy = d * w * cw - l * phid * cp
-    return x, y, vx, vy, px, py
+    psi = y[0] - w * t
+    s = math.sin(psi)
+    torque = drive_circular.torque(s, p)
+    if law != NONE:
+        c = math.cos(psi)
+        f_perp, _, _ = element_perp(law, d * w * s, d * w * c - l * y[1], p[P.COEFF], p[P.VEPS])
+        torque -= l * f_perp  # (r - P) x F with r - P = -l e
+    return y[1], torque / p[P.IP]
 
 
 @njit(cache=True, inline="always")
-def driven_rhs(t, y, p, S, out):  # noqa: ANN001 (numba signature)
-    """out = (phi', phi'') for the circularly driven body."""
+def _driven_extended(law, area, t, y, p, S):  # noqa: ANN001 (numba)
+    """(phi', phi'') of an extended body: four trig calls per evaluation; sin(phi - wt) from the
+    angle-difference identity (its absolute error, ~ulp(phi), is that of sin at the rounded difference)."""
     phi = y[0]
     phid = y[1]
-    w = p[P.OMEGA]
-    d = p[P.D]
-    l = p[P.L]
-    if p[P.BODY] == P.BODY_POINT:
-        # friction acts at the CM only: work in the frame (e, e_perp) of CM -> P, where the CM
-        # velocity is (d w sin psi, d w cos psi - l phi') with psi = phi - w t: two trig calls,
-        # and the speed is a sum of squares (no cancelling square root at the phi0 = pi start)
-        psi = phi - w * t
-        s = math.sin(psi)
-        c = math.cos(psi)
-        torque = w * w * l * d * s
-        if p[P.LAW] != 0.0:
-            _, f_perp = point_force(d * w * s, d * w * c - l * phid, int(p[P.LAW]), p[P.COEFF], p[P.VEPS])
-            torque -= l * f_perp  # (r - P) x F with r - P = -l e
-        out[0] = phid
-        out[1] = torque / p[P.IP]
-        return
-    # extended body: four trig calls per evaluation: sin(phi - wt) from the angle-difference identity (the
-    # absolute error, ~ulp(phi), is the same as evaluating sin at the rounded difference)
-    cw = math.cos(w * t)
-    sw = math.sin(w * t)
-    cp = math.cos(phi)
-    sp = math.sin(phi)
-    torque = w * w * l * d * (sp * cw - cp * sw)
-    if p[P.LAW] != 0.0:
-        vx = -d * w * sw + l * phid * sp
-        vy = d * w * cw - l * phid * cp
-        fx, fy, tau_cm = body_wrench(p, S, phi - p[P.BETA], vx, vy, phid)
+    cw, sw, cp, sp, vx, vy = drive_circular.frame(t, phi, phid, p)
+    torque = drive_circular.torque(sp * cw - cp * sw, p)
+    if law != NONE:
+        fx, fy, tau_cm = body_wrench(area, law, S, p[P.RA], p[P.RB], int(p[P.NQ]), p[P.ICM], phi - p[P.BETA],
+                                     vx, vy, phid, p[P.COEFF], p[P.VEPS])
         # torque about P: tau_cm + (r - P) x F with r - P = -l e(phi)
-        torque += tau_cm - l * (cp * fy - sp * fx)
-    out[0] = phid
-    out[1] = torque / p[P.IP]
+        torque += tau_cm - p[P.L] * (cp * fy - sp * fx)
+    return phid, torque / p[P.IP]
+
+
+@njit(cache=True, inline="always")
+def _free(law, area, t, y, p, S):  # noqa: ANN001 (numba)
+    """Accelerations (Fx, Fy, spin') of a free body: friction alone. A point mass (I_cm = 0) keeps
+    its spin constant: it has no rotational inertia to decelerate."""
+    fx, fy, tau = 0.0, 0.0, 0.0
+    if law != NONE:
+        fx, fy, tau = body_wrench(area, law, S, p[P.RA], p[P.RB], int(p[P.NQ]), p[P.ICM], y[2], y[3], y[4], y[5],
+                                  p[P.COEFF], p[P.VEPS])
+    return fx, fy, (tau / p[P.ICM] if p[P.ICM] > 0.0 else 0.0)
 
 
 @njit(cache=True)
-def free_rhs(t, y, p, S, out):  # noqa: ANN001
-    """Free body, y = (x, y, alpha, vx, vy, spin) (m, rad, m/s, rad/s): friction alone.
+def rhs(system, t, y, p, S, out, row):  # noqa: ANN001
+    """out[row, :] = y' for the equations of the system code ``system`` (module docstring).
 
-    A point mass (I_cm = 0) keeps its spin constant: it has no rotational inertia to decelerate.
-    """
-    out[0] = y[3]
-    out[1] = y[4]
-    out[2] = y[5]
-    fx, fy, tau = 0.0, 0.0, 0.0
-    if p[P.LAW] != 0.0:
-        fx, fy, tau = body_wrench(p, S, y[2], y[3], y[4], y[5])
-    out[3] = fx
-    out[4] = fy
-    out[5] = tau / p[P.ICM] if p[P.ICM] > 0.0 else 0.0
-
-
-@njit(cache=True, inline="always")
-def rhs(system, t, y, p, S, out):  # noqa: ANN001
-    """Dispatch to the equations of ``system`` (SYSTEM_DRIVEN or SYSTEM_FREE)."""
-    if system == SYSTEM_DRIVEN:
-        driven_rhs(t, y, p, S, out)
+    Compiled once per code (``literally``), so the branches below are resolved at compile time. The
+    result goes to a row of a 2-D array (a stage of the integrator's K) rather than to a row view,
+    which would cost a reference-count update per evaluation."""
+    literally(system)
+    kind = system % 10
+    law = (system // 10) % 10
+    area = system // 100
+    if kind == DRIVEN:
+        if area == POINT:
+            a, b = _driven_point(law, t, y, p)
+        else:
+            a, b = _driven_extended(law, area, t, y, p, S)
+        out[row, 0] = a
+        out[row, 1] = b
     else:
-        free_rhs(t, y, p, S, out)
+        ax, ay, aw = _free(law, area, t, y, p, S)
+        out[row, 0] = y[3]
+        out[row, 1] = y[4]
+        out[row, 2] = y[5]
+        out[row, 3] = ax
+        out[row, 4] = ay
+        out[row, 5] = aw
+
+
+def system_from_params(p: np.ndarray, kind: int) -> int:
+    """The system code of a parameter vector from :func:`rrbody.physics.bind.kernel_params`
+    (Python side, once per run: the hot loop never reads codes from ``p``)."""
+    return int(kind) + 10 * int(p[P.LAW]) + 100 * int(p[P.BODY])
+
+
+_RHS_KERNELS: dict[int, Any] = {}
+
+
+def rhs_for(system: int) -> Any:
+    """A compiled ``f(t, y, p, S, out)`` with the system code compiled in (built once per code,
+    cached on disk by numba: the closure constant is part of the cache key)."""
+    if system not in _RHS_KERNELS:
+        code = int(system)
+
+        @njit(cache=True)
+        def kernel(t, y, p, S, out):  # noqa: ANN001
+            rhs(code, t, y, p, S, out.reshape((1, out.shape[0])), 0)
+
+        _RHS_KERNELS[system] = kernel
+    return _RHS_KERNELS[system]
+
+
+def driven_rhs(t: float, y: np.ndarray, p: np.ndarray, S: np.ndarray, out: np.ndarray) -> None:
+    """out = (phi', phi'') for the driven body of ``p``, ``S`` (a convenience for tests and set-up:
+    the stepping loop calls :func:`rhs` with its system code compiled in)."""
+    rhs_for(system_from_params(p, SYSTEM_DRIVEN))(t, y, p, S, out)
+
+
+def free_rhs(t: float, y: np.ndarray, p: np.ndarray, S: np.ndarray, out: np.ndarray) -> None:
+    """out = y' for the free body of ``p``, ``S`` (set-up convenience, as :func:`driven_rhs`)."""
+    rhs_for(system_from_params(p, SYSTEM_FREE))(t, y, p, S, out)
+
+
+@njit(cache=True)
+def jacobian(system, t, y, p, S, f0, J, fx):  # noqa: ANN001
+    """J = df/dy and fx = df/dt at (t, y) for the equations of ``system``; f0 = f(t, y).
+
+    Analytic for the driven point mass (where the stiffness lives): with psi = phi - w t the CM
+    velocity in the frame (e, e_perp) is (v_e, v_p) = (d w sin psi, d w cos psi - l phi');
+    phi'' = (w^2 l d sin psi - l f_p(v_e, v_p)) / I_P, d/dt = -w d/dphi at fixed phi'. Elsewhere
+    one-sided finite differences with steps 1.5e-8 times the component's size (error ~1e-8
+    relative: a Rosenbrock method keeps its stability with an approximate J, and its order
+    conditions here are met to that level, far below the tolerances it is used at).
+    """
+    literally(system)
+    kind = system % 10
+    law = (system // 10) % 10
+    area = system // 100
+    if kind == DRIVEN and area == POINT:
+        w = p[P.OMEGA]
+        d = p[P.D]
+        l = p[P.L]
+        ip = p[P.IP]
+        psi = y[0] - w * t
+        s = math.sin(psi)
+        c = math.cos(psi)
+        dtq_dphi = w * w * l * d * c
+        dtq_dphid = 0.0
+        if law != NONE:
+            _, dfe, dfp = element_perp(law, d * w * s, d * w * c - l * y[1], p[P.COEFF], p[P.VEPS])
+            # torque -= l f_p; dv_e/dphi = d w c, dv_p/dphi = -d w s, dv_p/dphi' = -l
+            dtq_dphi -= l * (dfe * d * w * c - dfp * d * w * s)
+            dtq_dphid -= l * (-l * dfp)
+        J[0, 0] = 0.0
+        J[0, 1] = 1.0
+        J[1, 0] = dtq_dphi / ip
+        J[1, 1] = dtq_dphid / ip
+        fx[0] = 0.0
+        fx[1] = -w * dtq_dphi / ip
+        return
+    n = y.shape[0]
+    yp = y.copy()
+    fp = np.empty((1, n))
+    for j in range(n):
+        dj = 1.5e-8 * max(abs(y[j]), 1.0)
+        yp[j] = y[j] + dj
+        rhs(system, t, yp, p, S, fp, 0)
+        for i in range(n):
+            J[i, j] = (fp[0, i] - f0[i]) / dj
+        yp[j] = y[j]
+    dt = 1.5e-8 * max(abs(t), 1.0)
+    rhs(system, t + dt, y, p, S, fp, 0)
+    for i in range(n):
+        fx[i] = (fp[0, i] - f0[i]) / dt

@@ -45,6 +45,8 @@ import math
 import numpy as np
 from numba import njit
 
+from rrbody.physics.quadrature import quadrature_tables
+
 __all__ = ["icr_wrench", "NODE_COUNTS", "KAPPA_SWITCH", "X_END", "TRANSLATION_EPS", "ECC_ETA", "ECC_FAR"]
 
 #: allowed nodes per panel; the kernel rounds a request up to the next one
@@ -61,48 +63,7 @@ ECC_ETA: float = 0.7
 ECC_FAR: float = 0.8
 
 
-def _gauss_legendre(n: int) -> tuple[np.ndarray, np.ndarray]:
-    """Gauss-Legendre nodes and weights on [-1, 1] by Newton's method on P_n (vectorised, O(n^2);
-    numpy's eigenvalue-based leggauss costs O(n^3), 0.3 s of import time for the larger rules)."""
-    k = np.arange(1, n + 1)
-    x = np.cos(np.pi * (k - 0.25) / (n + 0.5))
-    for _ in range(100):
-        p0 = np.ones_like(x)
-        p1 = x.copy()
-        for j in range(2, n + 1):
-            p0, p1 = p1, ((2 * j - 1) * x * p1 - (j - 1) * p0) / j
-        dp = n * (x * p1 - p0) / (x * x - 1.0)
-        dx = p1 / dp
-        x = x - dx
-        if np.max(np.abs(dx)) < 1e-16:
-            break
-    p0 = np.ones_like(x)
-    p1 = x.copy()
-    for j in range(2, n + 1):
-        p0, p1 = p1, ((2 * j - 1) * x * p1 - (j - 1) * p0) / j
-    dp = n * (x * p1 - p0) / (x * x - 1.0)
-    w = 2.0 / ((1.0 - x * x) * dp * dp)
-    return x[::-1].copy(), w[::-1].copy()
-
-
-def _tables() -> tuple[np.ndarray, ...]:
-    """Packed Gauss-Legendre rules on [-1, 1] for every allowed node count, plus sin/cos of the
-    nodes scaled to the full panel [-pi/2, pi/2] and the middle panel [-(pi/2 - X_END), pi/2 - X_END]."""
-    sizes = np.array(NODE_COUNTS, dtype=np.int64)
-    offs = np.zeros(len(sizes) + 1, dtype=np.int64)
-    offs[1:] = np.cumsum(sizes)
-    x = np.empty(offs[-1])
-    w = np.empty(offs[-1])
-    for i, n in enumerate(sizes):
-        xi, wi = _gauss_legendre(int(n))
-        x[offs[i]:offs[i + 1]] = xi
-        w[offs[i]:offs[i + 1]] = wi
-    half = 0.5 * math.pi
-    mid = half - X_END
-    return sizes, offs, x, w, np.sin(half * x), np.cos(half * x), np.sin(mid * x), np.cos(mid * x)
-
-
-_SIZES, _OFFS, _GX, _GW, _FULL_S, _FULL_C, _MID_S, _MID_C = _tables()
+_SIZES, _OFFS, _GX, _GW, _FULL_S, _FULL_C, _MID_S, _MID_C = quadrature_tables(NODE_COUNTS, X_END)
 
 
 @njit(cache=True, inline="always")

@@ -2,6 +2,10 @@
 
 Kernels take parameters as arguments (no closures) so one compiled function serves every scene.
 :func:`rrbody.physics.bind.kernel_params` fills this vector from a :class:`rrbody.model.scene.Scene`; nothing else writes it.
+The codes LAW and BODY are read once per run, in Python, to form the scene's system code
+(:func:`rrbody.physics.dynamics.system_from_params`), which the stepping loop is compiled for; the hot
+loop reads only the effects' numeric parameters from ``p``. (The engine's per-step hook,
+:func:`rrbody.physics.wrench.body_wrench`, still decodes them at run time.)
 """
 
 OMEGA = 0      # drive rate (rad/s); 0 for a free body

@@ -1,83 +1,46 @@
-"""The friction wrench kernels shared by both integrator paths (compiled, pure array functions).
+"""Friction wrench kernels for callers that hold a parameter vector (the engine path, tests).
 
-Parameters travel as arguments (no closures), so one compiled function serves every scene; the
-ODE right-hand side and the pymunk per-step hook call the same functions.
+The effects themselves live in :mod:`rrbody.physics.effects` (one module per law and per area
+method); these wrappers decode the law and area codes of ``p`` at run time, which is right for a
+per-step engine hook and for set-up code. The ODE loop instead calls the effects with the codes as
+compile-time constants (:mod:`rrbody.physics.dynamics`).
 
-Units (per unit mass, world frame): forces in m/s^2, torques in m^2/s^2. Law codes: 0 none,
-1 dry, 2 viscous (:data:`rrbody.model.friction.LAW_CODES`).
+Units (per unit mass, world frame): forces in m/s^2, torques about the CM in m^2/s^2. Law codes:
+0 none, 1 dry, 2 viscous (:data:`rrbody.physics.effects.LAWS`).
 """
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 from numba import njit
 
 from rrbody.physics import params as P
-from rrbody.physics.icr import icr_wrench
+from rrbody.physics.effects import area_sampled
+from rrbody.physics.effects.areas import body_wrench as _area_wrench
+from rrbody.physics.effects.laws import element_force
 
 __all__ = ["point_force", "sampled_wrench", "body_wrench"]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def point_force(vx: float, vy: float, law: int, coeff: float, v_eps: float) -> tuple[float, float]:
-    """Friction force per unit mass (m/s^2) on a mass element moving with velocity (vx, vy) m/s.
-
-    Dry friction at |v| <= v_eps returns zero: the direction of a vanishing velocity is undefined
-    and the impulsive start's self-consistent limit is zero torque (SPEC section 2).
-    """
-    if law == 1:
-        speed = math.hypot(vx, vy)
-        if speed <= v_eps:
-            return 0.0, 0.0
-        return -coeff * vx / speed, -coeff * vy / speed
-    if law == 2:
-        return -coeff * vx, -coeff * vy
-    return 0.0, 0.0
+    """Friction force per unit mass (m/s^2) of law ``law`` on an element moving with (vx, vy) m/s;
+    dry friction at |v| <= v_eps is zero (SPEC section 2)."""
+    return element_force(law, vx, vy, coeff, v_eps)
 
 
 @njit(cache=True)
 def sampled_wrench(samples: np.ndarray, alpha: float, vx: float, vy: float, spin: float,
                    law: int, coeff: float, v_eps: float) -> tuple[float, float, float]:
-    """Force (m/s^2) and torque about the CM (m^2/s^2) per unit mass from area samples.
-
-    ``samples`` has rows (x_b, y_b, w): body-frame offsets from the CM (m) and mass fractions
-    summing to 1. ``alpha`` is the body angle (rad), (vx, vy) the CM velocity and ``spin`` the
-    angular velocity (rad/s). Element velocity: v_cm + spin z x rho.
-    """
-    ca = math.cos(alpha)
-    sa = math.sin(alpha)
-    fx_t = 0.0
-    fy_t = 0.0
-    tau = 0.0
-    for i in range(samples.shape[0]):
-        rx = ca * samples[i, 0] - sa * samples[i, 1]
-        ry = sa * samples[i, 0] + ca * samples[i, 1]
-        w = samples[i, 2]
-        fx, fy = point_force(vx - spin * ry, vy + spin * rx, law, coeff, v_eps)
-        fx_t += w * fx
-        fy_t += w * fy
-        tau += w * (rx * fy - ry * fx)
-    return fx_t, fy_t, tau
+    """Force (m/s^2) and torque about the CM (m^2/s^2) per unit mass from area samples (rows x_b,
+    y_b, w): body angle ``alpha`` (rad), CM velocity (vx, vy) (m/s), ``spin`` (rad/s)."""
+    return area_sampled.wrench(law, samples, 0.0, 0.0, 0, 0.0, alpha, vx, vy, spin, coeff, v_eps)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def body_wrench(p: np.ndarray, S: np.ndarray, alpha: float, vx: float, vy: float,
                 spin: float) -> tuple[float, float, float]:
-    """Friction force (m/s^2) and torque about the CM (m^2/s^2) per unit mass for the scene's body.
-
-    Dispatches on the area model in ``p`` (see :mod:`rrbody._params`): a point mass feels the law
-    at its CM; a sampled body sums its elements ``S``; an ellipse or disk with the
-    instantaneous-centre model uses the quadrature of :mod:`rrbody._icr`.
-    """
-    law = int(p[P.LAW])
-    coeff = p[P.COEFF]
-    v_eps = p[P.VEPS]
-    model = int(p[P.BODY])
-    if model == P.BODY_POINT:
-        fx, fy = point_force(vx, vy, law, coeff, v_eps)
-        return fx, fy, 0.0
-    if model == P.BODY_ICR:
-        return icr_wrench(p[P.RA], p[P.RB], int(p[P.NQ]), alpha, vx, vy, spin, law, coeff, v_eps, p[P.ICM])
-    return sampled_wrench(S, alpha, vx, vy, spin, law, coeff, v_eps)
+    """Friction force (m/s^2) and torque about the CM (m^2/s^2) per unit mass for the body of ``p``
+    (law and area method decoded from p[LAW], p[BODY]; see :mod:`rrbody.physics.params`)."""
+    return _area_wrench(int(p[P.BODY]), int(p[P.LAW]), S, p[P.RA], p[P.RB], int(p[P.NQ]), p[P.ICM], alpha,
+                        vx, vy, spin, p[P.COEFF], p[P.VEPS])

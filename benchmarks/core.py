@@ -1,0 +1,198 @@
+"""Core (issue 14): per-step cost against a lean DOP853, the stiff case against scipy LSODA, RHS costs.
+
+Three measurements, each interleaved (the contenders alternate within every repeat, so a burst of
+load on the shared machine hits both) and reduced to the best of several repeats:
+
+1. **DOP853 step vs a lean compiled DOP853** (``benchmarks/_lean.py``: two states, the point-mass
+   right-hand side inline, scipy's tableau, error norm and controller, no events): phixtpm
+   (H 0.2, k 0.05, w 0.6) to t = 60 s at rtol 1e-13 with rrbody's loop forced to DOP853
+   (``stepper="dop853"``, no output grid); cost per accepted step.
+2. **Stiff case vs scipy LSODA given the analytic Jacobian** (w 0.01, H 0.25, k 7.5), over the same
+   horizon (rrbody's default flip-time stop time): scipy's RHS and Jacobian in plain Python (the
+   competitor's normal use), a non-terminal event on phi' = 0 for the minima. Reference t_f:
+   rrbody at rtol 1e-13, cross-checked against scipy Radau at 1e-12. Speed ratio at matched error:
+   for each LSODA run, the cheapest rrbody run (rtol 1e-6 .. 1e-13) at least as accurate.
+3. **Right-hand side cost**: point mass vs disk and ellipse (delta 0.5) by the instantaneous-centre
+   quadrature at their default node counts (<= 1e-10 relative wrench error, docs/extended.md),
+   each called in a compiled loop with its system code compiled in (as the stepping loop does).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+from typing import Any
+
+
+from .common import StudyResult, Target, fmt, machine_text, md_table, write_csv
+
+NAME = "core"
+TITLE = "Core: DOP853 step vs a lean baseline, stiff case vs LSODA, RHS cost by body"
+
+STIFF = (0.25, 7.5, 0.01)
+
+
+def _interleaved(fns: dict[str, Any], repeats: int) -> dict[str, float]:
+    """Best wall time of each callable, the callables alternating within every repeat."""
+    best = {k: math.inf for k in fns}
+    for _ in range(repeats):
+        for k, fn in fns.items():
+            t0 = time.perf_counter()
+            fn()
+            best[k] = min(best[k], time.perf_counter() - t0)
+    return best
+
+
+def _step_study(repeats: int) -> tuple[list[dict[str, Any]], Target]:
+    from rrbody.integrate.dop853 import TABLEAU
+    from rrbody.integrate.ode import integrate_driven
+    from rrbody.model.scene import rod_mass_scene
+    from rrbody.physics.bind import kernel_params
+
+    from ._lean import lean_dop853
+
+    H, k, w, t_end, rtol = 0.2, 0.05, 0.6, 60.0, 1e-13
+    sc = rod_mass_scene(H, k, w)
+    p, S = kernel_params(sc)
+    y0 = (sc.phi0, sc.initial_phi_dot)
+    lean = lambda: lean_dop853(H, k, w, t_end, rtol, *TABLEAU)  # noqa: E731
+    ours = lambda: integrate_driven(p, S, y0, t_end=t_end, rtol=rtol, method="dop853")  # noqa: E731
+    lean()
+    ours()  # compile outside the timing
+    phi_lean, n_lean = lean()
+    res = ours()
+    best = _interleaved({"lean": lean, "rrbody": ours}, repeats)
+    per_lean = best["lean"] / n_lean
+    per_ours = best["rrbody"] / res.n_steps
+    ratio = per_ours / per_lean
+    rows = [{"what": "lean DOP853 (benchmarks/_lean.py)", "steps": n_lean, "wall_s": best["lean"],
+             "ns_per_step": per_lean * 1e9, "phi_end": phi_lean},
+            {"what": "rrbody loop, stepper=dop853", "steps": res.n_steps, "wall_s": best["rrbody"],
+             "ns_per_step": per_ours * 1e9, "phi_end": float(res.y_end[0])}]
+    tgt = Target("DOP853 step vs lean compiled DOP853", "<= 1.3x",
+                 f"{ratio:.2f}x ({per_ours * 1e9:.0f} vs {per_lean * 1e9:.0f} ns per step; {res.n_steps} vs {n_lean} "
+                 f"steps, phi(60 s) differs by {abs(phi_lean - res.y_end[0]):.1e} rad)", ratio <= 1.3,
+                 "loaded machine: re-run on a quiet one")
+    return rows, tgt
+
+
+def _scipy_lsoda(H: float, k: float, w: float, t_end: float, rtol: float, method: str = "LSODA") -> tuple[float, float]:
+    """(t_f, wall) by scipy's ``method`` with the analytic Jacobian, in plain Python (d = 1 m): the
+    tests' independent reference (tests/reference.py), timed as a whole."""
+    from tests.reference import scipy_stiff_flip_time
+
+    t0 = time.perf_counter()
+    try:
+        tf, _ = scipy_stiff_flip_time(H, k, w, t_end, method=method, rtol=rtol)
+    except RuntimeError:
+        tf = math.nan
+    return tf, time.perf_counter() - t0
+
+
+def _stiff_study(repeats: int, quick: bool) -> tuple[list[dict[str, Any]], Target, dict[str, Any]]:
+    from rrbody.analysis.flip import flip_time
+    from rrbody.model.scene import rod_mass_scene
+
+    H, k, w = STIFF
+    sc = rod_mass_scene(H, k, w)
+    ref = flip_time(sc, rtol=1e-13)
+    horizon = ref.t_stop
+    radau_tf, radau_wall = _scipy_lsoda(H, k, w, horizon, 1e-12, method="Radau")
+    rr_rtols = [1e-6, 1e-8, 1e-10, 1e-12] if quick else [10.0 ** -e for e in range(6, 14)]
+    ls_rtols = [1e-6, 1e-9] if quick else [1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12]
+    rows: list[dict[str, Any]] = []
+    mine = []
+    for r in rr_rtols:
+        res = flip_time(sc, rtol=r, t_max=horizon)
+        best = _interleaved({"x": lambda: flip_time(sc, rtol=r, t_max=horizon)}, repeats)["x"]
+        err = abs(res.t_f - ref.t_f) / ref.t_f if res.t_f is not None else math.inf
+        mine.append((r, err, best))
+        rows.append({"method": "rrbody (auto: DOP853 + RODAS4)", "rtol": r, "t_f": res.t_f, "err": err, "wall_s": best,
+                     "steps": res.n_steps})
+    ratios = []
+    for r in ls_rtols:
+        walls = []
+        tf = math.nan
+        for _ in range(max(1, repeats // 2)):
+            tf, wl = _scipy_lsoda(H, k, w, horizon, r)
+            walls.append(wl)
+        wall = min(walls)
+        err = abs(tf - ref.t_f) / ref.t_f if math.isfinite(tf) else math.inf
+        rows.append({"method": "scipy LSODA + analytic Jacobian", "rtol": r, "t_f": tf, "err": err, "wall_s": wall,
+                     "steps": None})
+        ok = [m for m in mine if m[1] <= err]
+        if ok and math.isfinite(err):
+            cheapest = min(ok, key=lambda m: m[2])
+            ratios.append((r, err, wall, cheapest[0], cheapest[2], wall / cheapest[2]))
+    worst = min((x[5] for x in ratios), default=math.nan)
+    tgt = Target("stiff case (w 0.01, H 0.25, k 7.5) vs scipy LSODA with analytic Jacobian, same horizon",
+                 ">= 10x at matched t_f error", f"{worst:.0f}x (lowest over {len(ratios)} LSODA tolerances)",
+                 bool(worst >= 10.0) if math.isfinite(worst) else None, "loaded machine: re-run on a quiet one")
+    extra = {"ref_tf": ref.t_f, "radau_tf": radau_tf, "radau_rel": abs(radau_tf - ref.t_f) / ref.t_f,
+             "horizon": horizon, "ratios": ratios}
+    return rows, tgt, extra
+
+
+def _rhs_study(repeats: int) -> tuple[list[dict[str, Any]], Target]:
+    from rrbody.model.bodies import Disk, Ellipse
+    from rrbody.model.drive import CircularDrive
+    from rrbody.model.friction import Friction
+    from rrbody.model.scene import Scene, rod_mass_scene
+    from rrbody.physics.bind import kernel_params
+    from rrbody.physics.dynamics import SYSTEM_DRIVEN, system_from_params
+    from rrbody.physics import params as P
+
+    from ._kernels import loop_rhs_for
+
+    drive = CircularDrive(omega=0.6, d=1.0)
+    scenes = {"point mass": rod_mass_scene(0.2, 0.05, 0.6),
+              "disk R 0.1 (icr)": Scene(body=Disk(R=0.1, l=0.2), drive=drive, friction=Friction("dry", 0.05)),
+              "ellipse R0 0.1 delta 0.5 (icr)": Scene(body=Ellipse(R0=0.1, delta=0.5, l=0.2), drive=drive,
+                                                       friction=Friction("dry", 0.05))}
+    calls = {}
+    for name, sc in scenes.items():
+        p, S = kernel_params(sc)
+        run = loop_rhs_for(system_from_params(p, SYSTEM_DRIVEN))
+        m = 1_000_000 if name == "point mass" else 100_000
+        run(p, S, 10)
+        calls[name] = (lambda run=run, p=p, S=S, m=m: run(p, S, m), m, int(p[P.NQ]))
+    best = _interleaved({k: v[0] for k, v in calls.items()}, repeats)
+    rows = [{"body": k, "nodes_per_panel": calls[k][2], "ns_per_eval": best[k] / calls[k][1] * 1e9} for k in calls]
+    pt = rows[0]["ns_per_eval"]
+    ell = rows[2]["ns_per_eval"]
+    tgt = Target("ellipse RHS vs point-mass RHS (ICR, <= 1e-10 wrench error)", "<= 5x",
+                 f"{ell / pt:.1f}x ({ell:.0f} vs {pt:.0f} ns; disk {rows[1]['ns_per_eval'] / pt:.1f}x)", ell / pt <= 5.0,
+                 "loaded machine: re-run on a quiet one")
+    return rows, tgt
+
+
+def run(out: Path, *, quick: bool = False) -> StudyResult:
+    t0 = time.perf_counter()
+    repeats = 3 if quick else 7
+    step_rows, step_t = _step_study(repeats)
+    print(f"[core] step: {step_t.measured}", flush=True)
+    rhs_rows, rhs_t = _rhs_study(repeats)
+    print(f"[core] rhs: {rhs_t.measured}", flush=True)
+    stiff_rows, stiff_t, extra = _stiff_study(repeats, quick)
+    print(f"[core] stiff: {stiff_t.measured}", flush=True)
+    files = [str(write_csv(out / "core_step.csv", step_rows)), str(write_csv(out / "core_rhs.csv", rhs_rows)),
+             str(write_csv(out / "core_stiff.csv", stiff_rows))]
+    md = [f"## {TITLE}", "", machine_text(), "", "### DOP853 step vs a lean compiled DOP853 (phixtpm to 60 s, rtol 1e-13)",
+          "", md_table(["what", "steps", "wall (s)", "ns per step", "phi(60 s)"],
+                       [(r["what"], r["steps"], r["wall_s"], r["ns_per_step"], f"{r['phi_end']:.15g}") for r in step_rows]),
+          "", "### Right-hand side cost by body (compiled loop, system code compiled in)", "",
+          md_table(["body", "ICR nodes per panel", "ns per evaluation"],
+                   [(r["body"], r["nodes_per_panel"], r["ns_per_eval"]) for r in rhs_rows]),
+          "", f"### Stiff case w 0.01, H 0.25, k 7.5 over {fmt(extra['horizon'])} s (rrbody's default stop time)", "",
+          f"Reference t_f = {extra['ref_tf']!r} s (rrbody rtol 1e-13); scipy Radau at 1e-12 differs by "
+          f"{fmt(extra['radau_rel'])} relative.", "",
+          md_table(["method", "rtol", "t_f", "t_f rel err", "wall (s)", "steps"],
+                   [(r["method"], r["rtol"], r["t_f"], r["err"], r["wall_s"], r["steps"]) for r in stiff_rows]), "",
+          md_table(["LSODA rtol", "LSODA t_f err", "LSODA wall (s)", "rrbody rtol", "rrbody wall (s)", "ratio"],
+                   [(a, b, c, d, e, f"{g:.0f}x") for a, b, c, d, e, g in extra["ratios"]]), "",
+          "Data: `core_step.csv`, `core_rhs.csv`, `core_stiff.csv`."]
+    res = StudyResult(NAME, TITLE, [step_t, stiff_t, rhs_t], "\n".join(md), files)
+    res.wall_s = time.perf_counter() - t0
+    res.extra = {"highlights": [f"{t.name}: {t.measured} ({t.verdict})" for t in (step_t, stiff_t, rhs_t)]}
+    return res

@@ -1,0 +1,371 @@
+"""The one stepping loop: every system (driven body, free body, the next ones), explicit or stiff.
+
+:func:`advance` integrates y' = f(t, y) for the equations ``system`` of
+:func:`rrbody.physics.dynamics.rhs` with an adaptive one-step method and reports through the one
+event detector of :mod:`rrbody.integrate.events`:
+
+- methods: DOP853 (explicit, order 8; :mod:`rrbody.integrate.dop853`), Radau IIA (implicit,
+  order 5, stage order 3; :mod:`rrbody.integrate.radau`, the stiff method of driven bodies) and
+  RODAS4 (L-stable Rosenbrock, order 4; :mod:`rrbody.integrate.rodas`, the stiff method of free
+  bodies). ``mode`` 0 starts with DOP853 and switches by a stiffness detector (Hairer's for DOP853:
+  h |lambda| from the last two stages above ``STIFF_HLAMB`` on ``STIFF_COUNT`` steps, accepted or
+  rejected, without 6 non-stiff accepted steps in between; back when the stiff step times the
+  spectral radius of J stays below ``NONSTIFF_HRHO``); ``mode`` 1, 2, 3 force DOP853, RODAS4, Radau;
+- events of a driven body (local minima of phi, T_1) are located to the method's accuracy by Newton
+  iteration on the step size from the start of the step that brackets them (each iterate is a fresh
+  step, so an event inherits the order of the solution rather than that of an interpolant);
+- stop rules (``stop``, :data:`rrbody.integrate.events.STOP_T_END` ...): flip settled, RR decided,
+  rest of a free body under dry friction (``rest``: steps capped at a fraction of the time left to
+  rest, steps that would gain energy or reverse a motion rejected, the last stretch below ``u_stop``
+  completed analytically);
+- dense output on a fixed grid ``dt_out`` by re-stepping from the step start: out rows (t, y...).
+
+Error control: RMS over components of (error / scale), scale = ``scale`` (rtol times each
+component's size; absolute for angles, which grow without bound); component ``track`` (-1: none)
+has its scale raised to rtol times its running maximum of |y|.
+
+The loop state ``st`` (float vector, :func:`new_loop_state`) carries time, step, counters and the
+current method between calls, so a long run goes in compiled chunks (progress bar, Ctrl-C).
+Return codes: :data:`STATUS`.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numba import literally, njit
+
+from rrbody.integrate.dop853 import error_norm, rk_step, step_factor
+from rrbody.integrate.events import (E_HAVEMIN, E_PHIMIN, E_T1, E_THETA0, E_TMIN, E_TSTOP, STOP_REST, crossings, record_minimum, rest_admissible,
+                                     rest_reached, rest_step_limit, stop_reached)
+from rrbody.integrate.radau import radau_step
+from rrbody.integrate.rodas import ros_step, spectral_radius
+from rrbody.physics import params as P
+from rrbody.physics.dynamics import SYSTEM_DRIVEN, jacobian
+
+__all__ = ["advance", "advance_for", "new_loop_state", "STATUS", "STEP_METHODS", "L_T", "L_H", "L_NSTEP", "L_NREJ", "L_NOUT",
+           "L_NROS", "L_NSWITCH"]
+
+#: ``method`` names -> ``mode`` of :func:`advance`
+STEP_METHODS = {"auto": 0, "dop853": 1, "rodas": 2, "radau": 3}
+#: return codes of :func:`advance` (1 means "flip settled" for a driven body, "came to rest" for a free one)
+STATUS = {0: "reached t_end", 1: "stop rule met", 2: "RR decided", 4: "step size underflow", 5: "chunk done"}
+
+L_T, L_H, L_NSTEP, L_NREJ, L_NOUT, L_NEXTOUT, L_REJECTED, L_METH, L_NSTIFF, L_NONSTIFF, L_NSWITCH, L_NROS, \
+    L_YSCALE = range(13)
+_LOOP_SIZE = 16
+
+#: RODAS4 never works below this tolerance: at rtol 1e-13 its error estimate is at its rounding
+#: floor on the stiff cases (H 0.2, k 1e6: step count x30 per decade of rtol instead of 10^(1/4)),
+#: while at 1e-11 its t_f is already within 1e-12 of scipy's Radau at 1e-12 (tests/test_stiff.py)
+STIFF_RTOL_FLOOR: float = 1e-11
+#: the stiff method of the automatic mode for driven bodies (1 RODAS4, 2 Radau IIA)
+STIFF_METHOD: int = 2
+STIFF_HLAMB: float = 6.1
+STIFF_COUNT: int = 15
+NONSTIFF_HRHO: float = 2.0
+
+
+def new_loop_state(h0: float, mode: int, yscale: float = 0.0) -> np.ndarray:
+    """Loop state at t = 0 with first trial step h0 (s); ``yscale``: running maximum of the
+    tracked component's |y| so far."""
+    st = np.zeros(_LOOP_SIZE)
+    st[L_H] = h0
+    st[L_METH] = {0: 0.0, 1: 0.0, 2: 1.0, 3: 2.0}[mode]
+    st[L_YSCALE] = yscale
+    return st
+
+
+@njit(cache=True, inline="always")
+def _step(meth, system, t, y, f, h, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost=1.0,  # noqa: ANN001
+          rtol=1e-10):
+    """One trial step of the current method (0 DOP853, 1 RODAS4, 2 Radau IIA); returns its error
+    norm (RODAS4's divided by ``boost``: its tolerance is raised to the floor STIFF_RTOL_FLOOR).
+
+    Both fill ``ynew`` and K[12] = f(t + h, ynew). DOP853 leaves the state of its last stage (at
+    t + h) in ``ytmp``, which the stiffness detector reads. Inlined into the loop."""
+    if meth == 0:
+        rk_step(system, t, y, f, h, p, S, A, B, C, K, ynew, ytmp)
+        return error_norm(system, K, h, scale, E3, E5)
+    if meth == 2:
+        return radau_step(system, t, y, f, h, p, S, J, K, ynew, ytmp, scale, rtol)
+    return ros_step(system, t, y, f, h, p, S, J, fx, K, ynew, ytmp, scale) / boost
+
+
+@njit(cache=True, inline="always")
+def _ros_factor(err, rejected):  # noqa: ANN001
+    """RODAS4 step factor: err^(-1/4) with safety 0.9, within [1/5, 6] (Hairer's FAC1, FAC2)."""
+    fac = 6.0 if err == 0.0 else min(6.0, max(0.2, 0.9 * err ** -0.25))
+    if rejected:
+        fac = min(1.0, fac)
+    return fac
+
+
+@njit(cache=True, inline="always")
+def _hlamb(K, h, ynew, ystage):  # noqa: ANN001
+    """h |lambda| from DOP853's last two evaluations, both at t + h (Hairer's stiffness test)."""
+    num = 0.0
+    den = 0.0
+    for j in range(ynew.shape[0]):
+        num += (K[12, j] - K[11, j]) ** 2
+        den += (ynew[j] - ystage[j]) ** 2
+    if den <= 0.0:
+        return 0.0
+    return h * math.sqrt(num / den)
+
+
+@njit(cache=True)
+def _refine(meth, system, t, y, f, h0, hmax, which, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
+            omega, target):  # noqa: ANN001
+    """Newton on h in (0, hmax] for the event `which` (1: phi' = 0; 2: theta = target); every
+    iterate is a fresh step of the current method from the step start. Leaves the event's state in y2."""
+    literally(system)
+    h = min(max(h0, 0.0), hmax)
+    for _ in range(12):
+        _step(meth, system, t, y, f, h, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5)
+        if which == 1:
+            g = y2[1]
+            dg = K2[12, 1]
+        else:
+            g = y2[0] - omega * (t + h) + math.pi - target
+            dg = y2[1] - omega
+        if dg == 0.0:
+            break
+        hn = min(max(h - g / dg, 0.0), hmax)
+        if abs(hn - h) <= 4e-16 * (abs(t) + abs(h)) + 1e-300:
+            h = hn
+            break
+        h = hn
+    _step(meth, system, t, y, f, h, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5)
+    return h
+
+
+@njit(cache=True)
+def _rest_output(t, y, tau, out, st, dt_out, t_end, icm):  # noqa: ANN001
+    """Output rows over the analytic last stretch (uniform deceleration over tau s), then rest."""
+    n = y.shape[0]
+    while st[L_NEXTOUT] <= t_end and st[L_NOUT] < out.shape[0]:
+        k = int(st[L_NOUT])
+        to = st[L_NEXTOUT]
+        dtl = min(max(to - t, 0.0), tau)
+        frac = 1.0 - dtl / tau if tau > 0.0 else 0.0
+        move = dtl * (1.0 - 0.5 * dtl / tau) if tau > 0.0 else 0.0
+        out[k, 0] = to
+        for j in range(n // 2):
+            out[k, 1 + j] = y[j] + y[n // 2 + j] * move
+            out[k, 1 + n // 2 + j] = y[n // 2 + j] * frac
+        if icm <= 0.0:
+            out[k, n] = 0.0
+        st[L_NOUT] += 1
+        st[L_NEXTOUT] = st[L_NOUT] * dt_out
+
+
+@njit(cache=True)
+def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_periods, rtol, scale, track,  # noqa: ANN001
+            hmax, max_steps, minima, out, dt_out, mode, u_stop, A, B, C, E3, E5):
+    """Advance (y, f = f(t, y)) from st[L_T] until t_end, a stop rule, or max_steps accepted steps.
+
+    Returns a key of :data:`STATUS`. ``ev`` is the event state (:func:`rrbody.integrate.events.new_event_state`),
+    ``minima`` its buffer of located minima, ``u_stop`` the speed (m/s) below which a free body's
+    stop is completed analytically (``stop`` = STOP_REST). ``system`` (the scene's system code,
+    :func:`rrbody.physics.effects.system_code`) is compiled in as a constant: one specialised loop
+    per combination of effects."""
+    literally(system)
+    n = y.shape[0]
+    K = np.empty((13, n))
+    K2 = np.empty((13, n))
+    ynew = np.empty(n)
+    y2 = np.empty(n)
+    ytmp = np.empty(n)
+    J = np.empty((n, n))
+    fx = np.empty(n)
+    omega = p[P.OMEGA]
+    icm = p[P.ICM]
+    driven = system % 10 == SYSTEM_DRIVEN
+    rest = stop == STOP_REST
+    boost = max(1.0, STIFF_RTOL_FLOOR / rtol)
+    # the stiff method: Radau IIA for the 2-state driven body, RODAS4 otherwise
+    stiff = STIFF_METHOD if driven else 1
+    # the carried state lives in locals during the loop (stores into st would alias y and K for the
+    # compiler and cost reloads every step); it is written back once, at the exit
+    t = st[L_T]
+    h = st[L_H]
+    meth = int(st[L_METH])
+    nstep = st[L_NSTEP]
+    nrej = st[L_NREJ]
+    rejected = st[L_REJECTED] != 0.0
+    nstiff = st[L_NSTIFF]
+    nonstiff = st[L_NONSTIFF]
+    nswitch = st[L_NSWITCH]
+    nros = st[L_NROS]
+    yscale = st[L_YSCALE]
+    t1_open = math.isnan(ev[E_T1])
+    target = ev[E_THETA0] - 2.0 * math.pi
+    havemin = ev[E_HAVEMIN] != 0.0
+    phimin = ev[E_PHIMIN]
+    tmin = ev[E_TMIN]
+    if meth != 0:
+        jacobian(system, t, y, p, S, f, J, fx)
+    steps = 0
+    code = 0
+    while True:
+        if t >= t_end or steps >= max_steps:
+            code = 0 if t >= t_end else 5
+            break
+        if rest:
+            reached, tau = rest_reached(y, f, icm, u_stop)
+            if reached:
+                if dt_out > 0.0:
+                    _rest_output(t, y, tau, out, st, dt_out, t_end, icm)
+                for j in range(n // 2):
+                    y[j] += 0.5 * y[n // 2 + j] * tau
+                    y[n // 2 + j] = 0.0
+                ev[E_TSTOP] = t + tau
+                t = t_end
+                code = 1
+                break
+        hh = min(h, t_end - t, hmax)
+        if rest:
+            hh = min(hh, rest_step_limit(y, f, icm))
+        # the smallest step that still moves t (a few ulps); below it the problem is singular
+        if hh <= 4e-16 * abs(t) + 1e-300:
+            code = 4
+            break
+        if track >= 0:
+            scale[track] = rtol * max(yscale, abs(y[track]))
+        err = _step(meth, system, t, y, f, hh, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost, rtol)
+        if not math.isfinite(err):
+            err = 1e10
+        bad = rest and not rest_admissible(y, ynew, icm)
+        if bad or err >= 1.0:
+            if bad:
+                h = 0.5 * hh
+            elif meth == 0:
+                h = hh * step_factor(err, rejected)
+                # a rejected step at the stability limit is stiffness evidence too: at the impulsive
+                # start the controller alternates rejections and acceptances there
+                if mode == 0 and _hlamb(K, hh, ynew, ytmp) > STIFF_HLAMB:
+                    nstiff += 1
+                    if nstiff >= STIFF_COUNT:
+                        meth = stiff
+                        nswitch += 1
+                        nstiff = 0.0
+                        nonstiff = 0.0
+                        jacobian(system, t, y, p, S, f, J, fx)
+            else:
+                h = hh * _ros_factor(err, rejected)
+            rejected = True
+            nrej += 1
+            continue
+        # ---- accepted step [t, t + hh] ----
+        if track >= 0:
+            yscale = max(yscale, abs(ynew[track]))
+        switch = False
+        if mode == 0 and meth == 0:  # stiffness test, before ytmp is reused below
+            if _hlamb(K, hh, ynew, ytmp) > STIFF_HLAMB:
+                nonstiff = 0.0
+                nstiff += 1
+                switch = nstiff >= STIFF_COUNT
+            else:
+                nonstiff += 1
+                if nonstiff >= 6:
+                    nstiff = 0.0
+        if dt_out > 0.0:
+            while st[L_NEXTOUT] <= t + hh and st[L_NOUT] < out.shape[0]:
+                ho = st[L_NEXTOUT] - t
+                k = int(st[L_NOUT])
+                out[k, 0] = t + ho if ho > 0.0 else t
+                if ho <= 0.0:
+                    for j in range(n):
+                        out[k, 1 + j] = y[j]
+                else:
+                    _step(meth, system, t, y, f, ho, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5)
+                    for j in range(n):
+                        out[k, 1 + j] = y2[j]
+                st[L_NOUT] += 1
+                st[L_NEXTOUT] = st[L_NOUT] * dt_out
+        if driven:
+            which, gmin, gt1 = crossings(t1_open, target, t, y[0], y[1], t + hh, ynew[0], ynew[1], omega)
+            if which & 1:
+                hm = _refine(meth, system, t, y, f, gmin, hh, 1, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
+                             omega, 0.0)
+                record_minimum(ev, minima, t + hm, y2[0])
+                havemin = True
+                phimin = ev[E_PHIMIN]
+                tmin = ev[E_TMIN]
+            if which & 2:
+                hm = _refine(meth, system, t, y, f, gt1, hh, 2, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
+                             omega, target)
+                ev[E_T1] = t + hm
+                t1_open = False
+        t = t + hh
+        for j in range(n):
+            y[j] = ynew[j]
+            f[j] = K[12, j]
+        steps += 1
+        nstep += 1
+        if meth == 0:
+            h = hh * step_factor(err, rejected)
+        else:
+            nros += 1
+            h = hh * _ros_factor(err, rejected)
+            jacobian(system, t, y, p, S, f, J, fx)
+            if mode == 0:
+                if min(h, hmax) * spectral_radius(J) < NONSTIFF_HRHO:
+                    nonstiff += 1
+                    if nonstiff >= STIFF_COUNT:
+                        meth = 0
+                        nswitch += 1
+                        nonstiff = 0.0
+                        nstiff = 0.0
+                else:
+                    nonstiff = 0.0
+        rejected = False
+        if switch:
+            meth = stiff
+            nswitch += 1
+            nstiff = 0.0
+            nonstiff = 0.0
+            jacobian(system, t, y, p, S, f, J, fx)
+        if driven:
+            code = stop_reached(stop, havemin, phimin, tmin, not t1_open, t, y[0], omega, settle_turns,
+                                settle_periods)
+            if code != 0:
+                break
+    st[L_T] = t
+    st[L_H] = h
+    st[L_METH] = float(meth)
+    st[L_NSTEP] = nstep
+    st[L_NREJ] = nrej
+    st[L_REJECTED] = 1.0 if rejected else 0.0
+    st[L_NSTIFF] = nstiff
+    st[L_NONSTIFF] = nonstiff
+    st[L_NSWITCH] = nswitch
+    st[L_NROS] = nros
+    st[L_YSCALE] = yscale
+    return code
+
+
+_SPECIALISED: dict[int, Any] = {}
+
+
+def advance_for(system: int) -> Any:
+    """The loop specialised for the system code ``system``: a compiled function with the arguments of
+    :func:`advance` after ``system``. Built on first use per combination of effects; numba caches
+    each on disk (its closure constant is part of the cache key), and calling it costs no dispatch
+    on the code (a direct call of :func:`advance` with a literal argument would retype per call)."""
+    if system not in _SPECIALISED:
+        _SPECIALISED[system] = _make_advance(int(system))
+    return _SPECIALISED[system]
+
+
+def _make_advance(code: int) -> Any:
+    @njit(cache=True)
+    def run(y, f, st, ev, p, S, t_end, stop, settle_turns, settle_periods, rtol, scale, track,  # noqa: ANN001
+            hmax, max_steps, minima, out, dt_out, mode, u_stop, A, B, C, E3, E5):
+        return advance(code, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_periods, rtol, scale, track,
+                       hmax, max_steps, minima, out, dt_out, mode, u_stop, A, B, C, E3, E5)
+
+    return run

@@ -1,0 +1,50 @@
+"""Effects: one small module each, composed into a scene's right-hand side (the REBOUNDx model).
+
+A scene lists its effects; each contributes one term through one signature:
+
+- drive: ``drive_circular`` (the pivot on a circle; its torque about P and the kinematics);
+- friction laws (force on a mass element, ``force(vx, vy, coeff, v_eps)``; and its component along
+  one axis with derivatives, ``perp``, for the point-mass Jacobian): ``law_dry``, ``law_viscous``;
+- area integration (the wrench of the law over the body,
+  ``wrench(law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps) -> (Fx, Fy, tau_cm)``, also
+  what the engine applies): ``area_point``, ``area_sampled``, ``area_icr``.
+
+Composition: the combination a scene lists is one small integer, its *system code*
+(:func:`system_code`: kind + 10 law + 100 area). The stepping loop is compiled for the code as a
+compile-time constant (``numba.literally``), so every branch on law and area is resolved when the
+kernel is compiled: each combination gets its own specialised machine code, cached on disk by numba,
+and a point mass never executes, nor pays registers for, the extended-body code. The float
+parameter vector ``p`` (:mod:`rrbody.physics.params`) carries the effects' parameters only.
+
+Adding an effect: one module with the signature of its kind plus its registration, a code here and
+one branch in :mod:`.laws` (a law) or :mod:`.areas` (an area method).
+"""
+
+from __future__ import annotations
+
+__all__ = ["KINDS", "LAWS", "AREAS", "system_code", "describe_system", "DRIVEN", "FREE"]
+
+DRIVEN, FREE = 0, 1
+#: kinds of system: which equations (the drive is the effect that makes a body driven)
+KINDS: dict[str, int] = {"driven": DRIVEN, "free": FREE}
+#: friction laws -> code (modules law_<name>; "none" lists no friction effect)
+LAWS: dict[str, int] = {"none": 0, "dry": 1, "viscous": 2}
+#: area-integration methods -> code (modules area_<name>)
+AREAS: dict[str, int] = {"point": 0, "sampled": 1, "icr": 2}
+
+
+def system_code(kind: str, law: str, area: str) -> int:
+    """The system code of a combination of effects (what the compiled loop is specialised on)."""
+    for name, value, table in (("kind", kind, KINDS), ("law", law, LAWS), ("area", area, AREAS)):
+        if value not in table:
+            raise ValueError(f"{name} must be one of {', '.join(repr(k) for k in table)}, got {value!r}")
+    return KINDS[kind] + 10 * LAWS[law] + 100 * AREAS[area]
+
+
+def describe_system(code: int) -> dict[str, str]:
+    """The effects behind a system code (inverse of :func:`system_code`)."""
+    inv = [{v: k for k, v in t.items()} for t in (KINDS, LAWS, AREAS)]
+    try:
+        return {"kind": inv[0][code % 10], "law": inv[1][(code // 10) % 10], "area": inv[2][code // 100]}
+    except KeyError:
+        raise ValueError(f"system code {code!r} names no registered combination of effects") from None

@@ -1,0 +1,27 @@
+"""Registration of the area-integration methods: the one place that maps a code to its module.
+
+The code is a compile-time constant in every composed right-hand side, so the branches are resolved
+when the kernel is compiled. Adding a method: a module with ``wrench`` (see :mod:`.area_point`), a
+code in :data:`rrbody.physics.effects.AREAS` and one branch here.
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+from rrbody.physics.effects import area_icr, area_point, area_sampled
+
+__all__ = ["body_wrench", "POINT", "SAMPLED", "ICR"]
+
+POINT, SAMPLED, ICR = 0, 1, 2
+
+
+@njit(cache=True, inline="always")
+def body_wrench(area, law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps):  # noqa: ANN001 (numba)
+    """(Fx, Fy, tau_cm): friction force (m/s^2, world frame) and torque about the CM (m^2/s^2) per
+    unit mass by area method ``area`` and law ``law`` (body angle alpha rad, CM velocity m/s, spin rad/s)."""
+    if area == ICR:
+        return area_icr.wrench(law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps)
+    if area == SAMPLED:
+        return area_sampled.wrench(law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps)
+    return area_point.wrench(law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps)
