@@ -30,7 +30,7 @@ T = TypeVar("T")
 
 @dataclass
 class Target:
-    """One speed/accuracy target of issue 7 and its measured outcome.
+    """One speed/accuracy target and its measured outcome.
 
     ``met`` is True/False, or None when the measurement could not be made (the note says why).
     """

@@ -95,7 +95,7 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
             {"process": "python -c 'import numpy'", "best_wall_s": best["numpy"]}]
     files = [str(write_csv(out / "startup.csv", rows))]
     equal = mismatches == 0 and len(answers) == n_lines
-    targets = [Target(f"{n_lines} lines of `flip-time --batch` vs one single `flip-time` call (issue 13)",
+    targets = [Target(f"{n_lines} lines of `flip-time --batch` vs one single `flip-time` call",
                       "< 3x, results equal the single calls'",
                       f"{fmt(ratio)}x ({fmt(best['batch'])} s vs {fmt(best['single'])} s); "
                       f"{n_check - mismatches} of {n_check} checked lines equal to single calls",

@@ -28,7 +28,7 @@ from .common import StudyResult, Target, best_time, fmt, machine_text, md_table,
 NAME = "sweeps"
 TITLE = "Sweeps: H_c and flip-time sweeps vs worker processes"
 
-TARGET_VALUES = 50   # values of the friction parameter k per law (issue 7: ">= 50 k values each")
+TARGET_VALUES = 50   # values of the friction parameter k per law (">= 50 k values each")
 TARGET_SECONDS = 120.0
 
 

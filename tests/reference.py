@@ -1,4 +1,4 @@
-"""Independent references for the tests: a plain scipy solution of SPEC Eq. 2 and the exact
+"""Independent references for the tests: a plain scipy solution of the paper's Eq. 2 and the exact
 quasi-static (omega -> 0) flip time. Nothing here imports rrbody's integrator."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Finding classes "Python API" and "horizon" (issue 13, findings 7 and 8): max_steps must be a whole
+"""Finding classes "Python API" and "horizon": max_steps must be a whole
 number of steps in range (NaN switched the cap off); a trajectory ends at the horizon asked for."""
 
 from __future__ import annotations

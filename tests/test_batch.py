@@ -1,4 +1,4 @@
-"""Batch mode (issue 13): one JSON object of options per line in, one JSON result per line out, in
+"""Batch mode: one JSON object of options per line in, one JSON result per line out, in
 order and flushed; a bad line yields {"error", "line"} and the rest still run; exit 2 if any line
 failed; results equal the single calls' bit for bit. Also what the flip-time path imports."""
 

@@ -28,7 +28,7 @@ def test_flip_time_json_matches_scipy(cli) -> None:  # noqa: ANN001
     d = json.loads(r.out)
     assert {"t_f", "phi_min", "reverse_rotation"} <= d.keys()
     ref, _ = scipy_flip_time(0.2, 0.05, 0.6, math.pi, d["t_stop"])
-    assert d["t_f"] == pytest.approx(ref, rel=1e-6)  # issue 2: <= 1e-6 relative vs tight scipy
+    assert d["t_f"] == pytest.approx(ref, rel=1e-6)  # <= 1e-6 relative vs tight scipy
     assert d["reverse_rotation"] is True
 
 

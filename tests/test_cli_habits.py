@@ -1,4 +1,4 @@
-"""Finding class "CLI habits" (issue 13, finding 6): negative numbers and expressions as option
+"""Finding class "CLI habits": negative numbers and expressions as option
 values, the deg suffix and the degrees warning, did-you-mean, all missing options at once, and a
 unit and range in every option's help. Real CLI in subprocesses (the help check reads the parser)."""
 

@@ -1,4 +1,4 @@
-"""Finding class "outputs" (issue 13, finding 3): an output path that is not a regular file or absent
+"""Finding class "outputs": an output path that is not a regular file or absent
 is refused, with or without --force: FIFO, directory, device, socket, a link to one, a dangling link.
 Real CLI in subprocesses: exit 2, one line naming the option, no traceback, nothing written."""
 

@@ -1,4 +1,4 @@
-"""Finding class "processes" (issue 13, findings 1 and 2): no command leaves a process behind; the
+"""Finding class "processes": no command leaves a process behind; the
 sweep pool never has more processes than points; its processes die with their parent on SIGTERM,
 SIGINT and kill -9; an interrupted sweep says how to --resume. Real CLI, in subprocesses (Linux /proc)."""
 

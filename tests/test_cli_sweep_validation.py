@@ -1,6 +1,6 @@
-"""Finding class "late validation" (issue 13, finding 5): a sweep checks every option and every axis
+"""Finding class "late validation": a sweep checks every option and every axis
 value before any work (exit 2, one line naming the option, no checkpoint, no output), like flip-time.
-Also sweeps over any scene (issue 14, item 7). Real CLI in subprocesses."""
+Also sweeps over any scene. Real CLI in subprocesses."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Finding class "tracebacks" (issue 13, finding 4): subnormal and absurd magnitudes get the same
+"""Finding class "tracebacks": subnormal and absurd magnitudes get the same
 one-line error as negatives (no ZeroDivisionError), and a closed pipe ends quietly. Real CLI."""
 
 from __future__ import annotations

@@ -79,7 +79,7 @@ def test_plain_pymunk_is_first_order() -> None:
 
 
 def test_done_when_phixtpm_cli(cli) -> None:  # noqa: ANN001
-    """Issue 4: `rrbody flip-time --method engine --dt 1e-3` for the phixtpm parameters."""
+    """`rrbody flip-time --method engine --dt 1e-3` for the phixtpm parameters."""
     r = cli("flip-time", "--method", "engine", "--dt", "1e-3", "--H", "0.2", "--k", "0.05", "--omega", "0.6",
             "--phi0", "pi", "--json")
     assert r.code == 0, r.err
@@ -120,7 +120,7 @@ def test_pivot_stays_on_circle(kind: str) -> None:
 
 def test_joint_produces_the_impulsive_start() -> None:
     """A body at rest whose P is jerked to speed d*omega: pymunk's joint impulse alone gives
-    phi' = omega l d cos(phi - omega t) / (I_P/m), the impulsive start of SPEC Eq. 3."""
+    phi' = omega l d cos(phi - omega t) / (I_P/m), the impulsive start of the paper's Eq. 3."""
     sc = Scene(body=Disk(R=0.1, l=0.2), drive=CircularDrive(0.6), friction=Friction("none"), phi0=2.0)
     dt = 1e-3
     space = pymunk.Space()

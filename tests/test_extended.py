@@ -156,7 +156,7 @@ def test_orientation_y_equals_swapped_axes() -> None:
 
 
 def test_H_is_derived_and_the_paper_values_hold() -> None:
-    # SPEC section 5: the ExtendedPhi bodies all have H = 0.607
+    # the paper's Fig. ExtendedPhi caption: the ExtendedPhi bodies all have H = 0.607
     for body in (Disk(R=0.4036, l=0.2), Ellipse(R0=0.3, delta=0.9, l=0.2), Ellipse(R0=0.3, delta=-0.9, l=0.2)):
         assert _scene(body).H == pytest.approx(0.607, abs=5e-4)
 

@@ -1,4 +1,4 @@
-"""Flip time (SPEC section 4): agreement with an independent scipy solution, convergence as the
+"""Flip time (README, "Definitions rrbody fixes"): agreement with an independent scipy solution, convergence as the
 tolerance tightens, the stopping rule, the phi0 = pi start and the regimes."""
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ def test_phixtpm_agrees_with_tight_scipy(friction: str) -> None:
     ours = flip_time(rod_mass_scene(H, k, w, friction=friction))
     assert ours.settled and ours.t_f is not None
     ref_tf, ref_phi = scipy_flip_time(H, k, w, math.pi, ours.t_stop, viscous=(friction == "viscous"))
-    # issue 2's acceptance bound: <= 1e-6 relative against a tight (rtol=atol=1e-13) scipy solution
+    # the flip-time acceptance bound: <= 1e-6 relative against a tight (rtol=atol=1e-13) scipy solution
     assert ours.t_f == pytest.approx(ref_tf, rel=1e-6)
     assert ours.phi_min == pytest.approx(ref_phi, rel=1e-6)
 

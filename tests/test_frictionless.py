@@ -1,4 +1,4 @@
-"""Exact references without friction: the rotating-frame pendulum (SPEC section 2).
+"""Exact references without friction: the rotating-frame pendulum (docs/physics.md).
 
 With k = 0, theta = phi - w t + pi obeys H theta'' = -w^2 sin(theta). From phi0 = pi the pendulum
 starts at the bottom with theta' = -w (1 + 1/H), so one backward revolution takes
@@ -26,7 +26,7 @@ def exact_Hc0() -> float:
 
 
 def test_exact_Hc0_value() -> None:
-    # the paper quotes 0.793; SPEC gives 0.7927...
+    # the paper quotes 0.793; the exact root is 0.7927...
     assert abs(exact_Hc0() - 0.7927) < 1e-4
 
 

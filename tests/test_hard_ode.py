@@ -1,4 +1,4 @@
-"""Hard cases for the direct ODE path (issue 8), each against a reference or an invariant."""
+"""Hard cases for the direct ODE path, each against a reference or an invariant."""
 
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ from .reference import quasi_static_tf_times_omega
 
 
 def test_slow_driving_strong_friction_matches_quasi_static_limit() -> None:
-    # k / w^2 = 1e5 (issue 8's upper end): stiff for an explicit method (the velocity direction
+    # k / w^2 = 1e5 (the hard cases' upper end): stiff for an explicit method (the velocity direction
     # relaxes ~1e5x faster than the drive). The exact w -> 0 limit (tests/reference.py) must be met up to the inertial
     # correction, measured to be ~1.2 w^2/k (tests/test_flip.py checks its w^2 scaling).
     H, k, w = 0.25, 10.0, 0.01

@@ -1,4 +1,4 @@
-"""The stiff regime (issue 14): large k at omega = 0.6, the impulsive start from phi0 = pi, the
+"""The stiff regime: large k at omega = 0.6, the impulsive start from phi0 = pi, the
 automatic switch between DOP853 and the Rosenbrock method RODAS4, and bounded, explained runs."""
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ KS = (1e2, 1e3, 1e4, 1e5, 1e6)
 @pytest.mark.parametrize("H", [0.05, 0.1, 0.2])
 @pytest.mark.parametrize("k", KS)
 def test_stiff_flip_time_matches_implicit_reference(H: float, k: float) -> None:
-    # issue 14, "Done when": the default flip-time (no flag) gives t_f to 1e-6 relative. The reference
+    # the stiff-regime acceptance bound: the default flip-time (no flag) gives t_f to 1e-6 relative. The reference
     # is scipy's Radau IIA (implicit, order 5) at rtol 1e-12 with the analytic Jacobian written
     # independently in tests/reference.py, with a zero-speed dead band 1e4 times narrower than
     # rrbody's (so the band's effect is checked too). Measured agreement: <= 6e-13 on this grid.

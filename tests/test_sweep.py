@@ -131,7 +131,7 @@ def test_cli_sweep_and_report(tmp_path: Path, cli) -> None:  # type: ignore[no-u
 
 
 def test_extended_body_sweep_resumes_and_matches_flip_time(tmp_path: Path) -> None:
-    """Sweeps over any scene (issue 14, item 7): a disk over l and phi0 with the same resume machinery."""
+    """Sweeps over any scene: a disk over l and phi0 with the same resume machinery."""
     from rrbody.analysis.flip import flip_time
     from rrbody.model.scene import scene_from_params
 

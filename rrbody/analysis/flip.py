@@ -1,4 +1,4 @@
-"""Flip time, the reverse-rotation (RR) test and the critical geometry H_c (SPEC section 4).
+"""Flip time, the reverse-rotation (RR) test and the critical geometry H_c (README, "Definitions rrbody fixes").
 
 Definitions
 -----------
@@ -81,7 +81,7 @@ def flip_time(scene: Scene, *, rtol: float | None = None, accuracy: str = "defau
 
 
 def reverse_rotation_exists(scene: Scene, *, rtol: float | None = None, accuracy: str = "default") -> bool:
-    """SPEC section 4: T_1 exists and omega T_1 < 2 pi. Integrates at most one driving period."""
+    """T_1 exists and omega T_1 < 2 pi. Integrates at most one driving period."""
     from rrbody.integrate.ode import integrate_driven
 
     p, S = kernel_params(scene)

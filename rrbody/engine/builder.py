@@ -106,7 +106,7 @@ class EngineHandle:
             self._omega, self._d = scene.drive.omega, scene.drive.d
             phi0, w0 = scene.phi0, scene.initial_phi_dot
             e = (math.cos(phi0), math.sin(phi0))
-            # r = P - l e(phi); r' = P' - l phi' e_perp(phi): the impulsive start, SPEC Eq. 3
+            # r = P - l e(phi); r' = P' - l phi' e_perp(phi): the impulsive start, the paper's Eq. 3
             pos0 = (self._d - body.l * e[0], -body.l * e[1])
             v0 = (body.l * w0 * e[1], self._d * self._omega - body.l * w0 * e[0], w0)
             vel = v0

@@ -39,7 +39,7 @@ class Scene:
         Initial angle of CM -> P (rad). The body starts with its R_A axis along x or y
         (``body.orientation``), so P's direction in the body frame is ``phi0 - body.alpha0``.
     phi_dot0 : float or None
-        Initial phi' (rad/s). ``None`` (default) applies the impulsive start, SPEC Eq. 3:
+        Initial phi' (rad/s). ``None`` (default) applies the impulsive start, the paper's Eq. 3:
         phi'(0) = (omega / H) cos(phi0).
     t_max : float or None
         Horizon (s). ``None``: analyses choose (the flip-time rule stops by itself).

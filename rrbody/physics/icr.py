@@ -4,7 +4,7 @@ Pure numba kernel (no imports from the rest of rrbody, so :mod:`rrbody.friction`
 without an import cycle). Units per unit mass: force m/s^2, torque about the CM m^2/s^2; inputs
 in SI, velocities and the returned force in the world frame.
 
-Method (SPEC section 3; derivation in ``docs/extended.md``)
+Method (derivation in ``docs/extended.md``)
 ----------------------------------------------------------
 With spin Omega != 0 the velocity field is v(s) = Omega z x (s - c), c = CM + z x v_cm / Omega,
 so a dry element feels -mu g sgn(Omega) z x u, u the unit vector from c to the element. Work in
@@ -275,7 +275,7 @@ def icr_wrench(a: float, b: float, n: int, alpha: float, vx: float, vy: float, s
 
     ``law``: 1 dry (``coeff`` = mu g, m/s^2), 2 viscous (``coeff`` = gamma, 1/s; ``icm`` = I_cm/m
     in m^2), else no friction. ``n``: Gauss nodes per panel (rounded up to an allowed count).
-    Dry friction with every element slower than ``v_eps`` (m/s) gives zero (SPEC section 2).
+    Dry friction with every element slower than ``v_eps`` (m/s) gives zero (the impulsive start, docs/physics.md).
     """
     if law == 2:
         return -coeff * vx, -coeff * vy, -coeff * icm * spin

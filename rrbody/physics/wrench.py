@@ -25,7 +25,7 @@ __all__ = ["point_force", "sampled_wrench", "body_wrench"]
 @njit(cache=True)
 def point_force(vx: float, vy: float, law: int, coeff: float, v_eps: float) -> tuple[float, float]:
     """Friction force per unit mass (m/s^2) of law ``law`` on an element moving with (vx, vy) m/s;
-    dry friction at |v| <= v_eps is zero (SPEC section 2)."""
+    dry friction at |v| <= v_eps is zero (the impulsive start, docs/physics.md)."""
     return element_force(law, vx, vy, coeff, v_eps)
 
 
