@@ -27,7 +27,7 @@ from rrbody.model.checks import check, check_positive, check_range
 from rrbody.model.scene import Scene, rod_mass_scene
 from rrbody.analysis.simulate import resolve_rtol
 
-__all__ = ["FlipResult", "flip_time", "classify_flip", "reverse_rotation_exists", "critical_h", "frictionless_T1",
+__all__ = ["flip_time", "reverse_rotation_exists", "critical_h", "frictionless_T1",
            "frictionless_critical_h"]
 
 

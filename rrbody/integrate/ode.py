@@ -5,13 +5,14 @@ stiff); the events and stop rules are those of :mod:`rrbody.integrate.events`:
 
 - local minima of phi (phi' crosses 0 upwards): every one is recorded (up to a buffer size),
   located by Newton iteration on the step size (each iterate a fresh step of the method);
-- T_1, the first time theta = phi - omega t + pi has fallen by 2 pi (the RR test, SPEC section 4).
+- T_1, the first time theta = phi - omega t + pi has fallen by 2 pi (the RR test, README, "Definitions rrbody fixes").
 
 Error control: phi is an angle that grows without bound (|phi| ~ 1e4 in long fast-driving runs),
 so its error scale is absolute, ``rtol * pi``; phi' is scaled by ``rtol * max(omega, |phi'(0)|,
 |phi'|)``. A tolerance thus means the same thing at t = 0 and after ten thousand turns.
 
 Stopping rules (``stop``):
+
 - ``"t_end"``: run to the horizon;
 - ``"flip"``: stop once the flip is settled: the lowest minimum so far, phi_min at t_min, is
   followed by a rise of phi to at least phi_min + 2 pi * ``settle_turns`` and at least

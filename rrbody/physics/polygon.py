@@ -5,8 +5,9 @@ the torque is in m (multiply by mu m g). Geometry and velocities are in the **bo
 origin is the point the torque is taken about (the body's centre of gravity); vertices are
 counter-clockwise. Units: m, m/s, rad/s.
 
-Method (docs/extended.md: with spin every point moves about the instantaneous centre c)
-----------------------------------------------------------------------------------
+Method
+------
+With spin every point moves about the instantaneous centre c (docs/extended.md).
 The body moves with velocity v at the origin and spin Omega; with Omega != 0 every point s moves
 with v(s) = Omega z x (s - c), c = z x v / Omega, so a dry element feels -sgn(Omega) z x u(s),
 u = (s - c)/|s - c|. The wrench needs two area integrals over the polygon S (area A):
