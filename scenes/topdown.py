@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pymunk
 
-from rrbody.engine import PlaneFriction
+from rrbody.plugin import PlaneFriction
 
 
 def main(out_dir: Path, *, force: bool = True) -> None:
