@@ -2,8 +2,8 @@
 
 Six driven bodies (disks and ellipses, rrbody's builder with collisions on) ride concentric drive
 circles d = 1.0 ... 3.85 m at alternating rates (0.6 and 0.45 rad/s, so neighbours keep meeting); they
-form a binary mixture: three have P far from the CM (H ~ 0.2-0.35, below H_c: alone they reverse-rotate)
-and three have P almost at the CM (H from 1.8 to 3.9, above H_c(0) = 0.79: alone they cannot). Six free bodies,
+form a binary mixture: three have P far from the CM (H 0.11-0.34, below H_c: alone they reverse-rotate)
+and three have P near the CM (H 1.46-3.41, above H_c(0) = 0.79: alone they cannot). Six free bodies,
 boxes and L-shapes (two boxes on one pymunk body), lie in the swept rings and are knocked about
 (mu g = 0.3 m/s^2). Nothing touches at t = 0.
 All twelve feel area-integrated dry friction from rrbody's PlaneFriction (k = mu g / d = 0.02 s^-2
@@ -112,7 +112,8 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     import matplotlib.pyplot as plt
 
     from rrbody.analysis.flip import flip_time
-    from rrbody.analysis.report import save_figure, write_summary
+    from rrbody.analysis.report import write_summary
+    from rrbody.render.figures import save_figure
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -153,23 +154,35 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     for j, (name, b) in enumerate(free, start=len(driven)):
         summary["bodies"][name] = {"collisions": len(hits[j]), "at_rest_since_s": pf.stop_time(b)}
     write_summary(out_dir, summary, force=force)
-    # figure: phi(t) per driven body with its episodes, and every body's path
-    fig, (a, b) = plt.subplots(1, 2, figsize=(13, 5.5))
+    # figure: phi(t) of each driven body in its own row, its episodes shaded there only; every body's path
+    fig = plt.figure(figsize=(13, 7.5), constrained_layout=True)
+    grid = fig.add_gridspec(len(driven), 2, width_ratios=(1.25, 1.0))
+    rows = [fig.add_subplot(grid[j, 0]) for j in range(len(driven))]
     for j, (name, _, _) in enumerate(driven):
-        line, = a.plot(t, phi[:, j, 0] / (2 * math.pi) + 3 * j, lw=0.8, label=name)
-        for e in summary["bodies"][name]["episodes"]:
-            a.axvspan(e["t_start"], e["t_end"], color=line.get_color(), alpha=0.25 if e["starts_at_collision"] else 0.1)
-        a.plot(hits[j], np.interp(hits[j], t, phi[:, j, 0] / (2 * math.pi) + 3 * j), "k|", ms=6)
-    a.set(xlabel="t (s)", ylabel="phi / 2 pi (offset 3 per body)",
-          title="phi(t): RR episodes shaded (dark: started at a collision |)")
-    a.legend(fontsize=7, loc="upper left")
+        a, info = rows[j], summary["bodies"][name]
+        line, = a.plot(t, phi[:, j, 0] / (2 * math.pi), lw=0.9, color=f"C{j}")  # its path's colour on the right
+        for e in info["episodes"]:
+            a.axvspan(e["t_start"], e["t_end"], color=line.get_color(), alpha=0.35 if e["starts_at_collision"] else 0.12,
+                      lw=0)
+        a.plot(hits[j], np.interp(hits[j], t, phi[:, j, 0] / (2 * math.pi)), "k|", ms=7)
+        alone = "reverse-rotates alone" if info["reverse_rotation_alone"] else "cannot reverse-rotate alone"
+        a.set_title(f"{name}: {alone}; {info['rr_episodes']} RR episodes, "
+                    f"{info['rr_episodes_starting_at_collision']} started at a collision", fontsize=8, loc="left")
+        a.set_ylabel(r"$\phi/2\pi$", fontsize=8)
+        a.tick_params(labelsize=7)
+        if j < len(driven) - 1:
+            a.tick_params(labelbottom=False)
+    rows[-1].set_xlabel("t (s)")
+    rows[0].text(1.0, 1.35, "shaded: reverse-rotation episodes (dark: started at a collision); |: collisions",
+                 transform=rows[0].transAxes, ha="right", fontsize=8)
+    b = fig.add_subplot(grid[:, 1])
     for j, name in enumerate(names):
-        b.plot(pose[:, j, 0], pose[:, j, 1], lw=0.6)
+        b.plot(pose[:, j, 0], pose[:, j, 1], lw=0.6, color=f"C{j}" if j < len(driven) else "0.55")  # free: grey
         for o in _outline(bodies[j]):
             x, y, ang = pose[-1, j]
             c, s = math.cos(ang), math.sin(ang)
             b.plot(x + c * o[:, 0] - s * o[:, 1], y + s * o[:, 0] + c * o[:, 1], "k-", lw=0.8)
-    b.set(xlabel="x (m)", ylabel="y (m)", aspect="equal", title=f"paths over {T_END:g} s, final poses")
+    b.set(xlabel="x (m)", ylabel="y (m)", aspect="equal", title=f"paths over {T_END:g} s (driven: the colour of their row; free: grey), final poses")
     save_figure(fig, out_dir, "collisions", force=force)
     plt.close(fig)
     _movie(t, pose, [_outline(x) for x in bodies], len(driven), MOVIES / "collisions.mp4", force=force)

@@ -121,7 +121,7 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     c.legend(fontsize=7)
     e.plot(t, ball_y, lw=1.2, label="pymunk ball (same space, not added to the plugin)")
     e.plot(t, -5.0 - 0.1 * t, "k--", lw=0.8, label=r"exact straight line $y_0 + v_y t$")
-    e.set(xlabel="t (s)", ylabel="ball y (m)", title="the user's own body: a coasting ball, unaffected by the plugin")
+    e.set(xlabel="t (s)", ylabel="ball y (m)", title="the user's own ball: unaffected by the plugin")
     e.legend(fontsize=8)
     summary["ball_y_exact_m"] = -5.0 - 0.1 * T_MAX
     save_figure(fig, out_dir, "pymunk_plugin", force=force)

@@ -51,3 +51,21 @@ def test_write_report_rejects_missing_folder(tmp_path: Path) -> None:
     with pytest.raises(ValueError, match="results"):
         write_report(tmp_path / "nope")
     assert inspect.signature(write_report).parameters["force"].default is True
+
+
+@pytest.mark.parametrize("name", [n for n, _ in list_scenes()])
+def test_scene_imports_resolve(name: str) -> None:
+    """Every rrbody name a scene script imports (at any depth, lazy imports too) exists: a scene
+    must not fail on an import after hours of computing (a moved helper is caught here, not there)."""
+    import importlib
+    import importlib.util
+
+    path = scenes_dir() / f"{name.replace('-', '_')}.py"
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom) and (node.module or "").split(".")[0] == "rrbody":
+            if node.module in ("rrbody.engine", "rrbody.plugin") or node.module.startswith("rrbody.engine."):
+                pytest.importorskip("pymunk")
+            module = importlib.import_module(node.module)
+            for alias in node.names:
+                assert hasattr(module, alias.name) or importlib.util.find_spec(f"{node.module}.{alias.name}"), \
+                    f"{path.name}: {node.module} has no {alias.name}"
