@@ -182,7 +182,8 @@ def main(out_dir: Path, *, force: bool = True) -> None:
             x, y, ang = pose[-1, j]
             c, s = math.cos(ang), math.sin(ang)
             b.plot(x + c * o[:, 0] - s * o[:, 1], y + s * o[:, 0] + c * o[:, 1], "k-", lw=0.8)
-    b.set(xlabel="x (m)", ylabel="y (m)", aspect="equal", title=f"paths over {T_END:g} s (driven: the colour of their row; free: grey), final poses")
+    b.set(xlabel="x (m)", ylabel="y (m)", aspect="equal",
+          title=f"paths over {T_END:g} s (driven: the colour of their row; free: grey), final poses")
     save_figure(fig, out_dir, "collisions", force=force)
     plt.close(fig)
     _movie(t, pose, [_outline(x) for x in bodies], len(driven), MOVIES / "collisions.mp4", force=force)
