@@ -14,7 +14,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from rrbody.common import StudyResult, Target, fmt, machine_text, md_table, module_available, write_csv
+from .common import StudyResult, Target, fmt, machine_text, md_table, module_available, write_csv
 
 NAME = "render"
 TITLE = "Rendering: ms per 1280x720 movie frame"

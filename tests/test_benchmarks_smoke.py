@@ -39,3 +39,13 @@ def test_quick_ode_benchmark_writes_consistent_results(tmp_path: Path) -> None:
     targets = json.loads((out / "ode_targets.json").read_text())["targets"]
     assert any(t["name"].startswith("default `flip-time` converged") for t in targets)
     assert "## Targets" in (out / "SUMMARY.md").read_text()
+
+
+def test_every_study_imports() -> None:
+    """Every study registered with the runner imports (a moved helper fails here, not in `make bench`)."""
+    import importlib
+
+    from benchmarks.run import STUDIES
+
+    for name, module in STUDIES.items():
+        assert hasattr(importlib.import_module(module), "run"), name
