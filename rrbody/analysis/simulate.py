@@ -93,7 +93,8 @@ def _simulate_ode(scene: Scene, *, t_max: float, dt_out: float, progress: bool =
     if not scene.driven:
         from rrbody.integrate.free import simulate_free
 
-        return simulate_free(scene, t_max=t_max, dt_out=dt_out, rtol=rtol_v, max_steps=max_steps, progress=progress)
+        return simulate_free(scene, t_max=t_max, dt_out=dt_out, rtol=rtol_v, max_steps=max_steps, progress=progress,
+                             stepper=stepper)
     from rrbody.integrate.ode import integrate_driven
 
     p, S = kernel_params(scene)

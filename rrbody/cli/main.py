@@ -21,7 +21,8 @@ from typing import Any
 from rrbody._version import __version__
 from rrbody.cli.args import CliError, Parser, angle, check_options, number, option_help, option_message, \
     preprocess_argv, suggest
-from rrbody.cli.options import add_accuracy_options, add_integrator_options, add_scene_options, scene_from_args
+from rrbody.cli.options import (add_accuracy_options, add_integrator_options, add_scene_options, scene_from_args,
+                                stepper_option)
 
 __all__ = ["main", "entry", "build_parser", "scene_from_args", "run_command"]
 
@@ -51,6 +52,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 
     scene = scene_from_args(args, required=("--t-max",))
     check_options(args, ("--dt-out", "--fps", "--movie-speed"))
+    stepper = stepper_option(args)
     for opt, suffix in (("out", ""), ("movie", ".mp4"), ("rerun", ".rrd")):
         path = getattr(args, opt, None)
         if path:
@@ -66,7 +68,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
 
     opts: dict[str, Any] = {"max_steps": args.max_steps}
     if args.method == "ode":
-        opts.update(rtol=args.rtol, accuracy=args.accuracy)
+        opts.update(rtol=args.rtol, accuracy=args.accuracy, **stepper)
     else:
         opts.update({k: v for k, v in (("dt", args.dt), ("iterations", args.iterations)) if v is not None})
     traj = simulate(scene, method=args.method, dt_out=args.dt_out, progress=_progress(args), **opts)
@@ -117,6 +119,7 @@ def cmd_flip_time(args: argparse.Namespace) -> int:
     scene = scene_from_args(args)
     if not scene.driven:
         raise CliError("--no-drive: a free body has no flip time (use `rrbody simulate`)")
+    stepper = stepper_option(args)
     if args.method == "engine":
         from rrbody.engine import engine_flip_time
 
@@ -126,7 +129,7 @@ def cmd_flip_time(args: argparse.Namespace) -> int:
         from rrbody.analysis.flip import flip_time
 
         res = flip_time(scene, rtol=args.rtol, accuracy=args.accuracy, t_max=args.t_max, max_steps=args.max_steps,
-                        progress=_progress(args))
+                        progress=_progress(args), **stepper)
     d = res.as_dict()
     d.update(H=scene.H, k=scene.k, omega=scene.omega, phi0=scene.phi0, friction=scene.friction.law,
              body=scene.body.kind, method=args.method)

@@ -10,11 +10,14 @@ from typing import Any
 from rrbody.cli.args import CliError, angle, check_options, float_list, integer, number, option_help, option_message
 
 __all__ = ["add_scene_options", "add_integrator_options", "add_accuracy_options", "scene_from_args", "scene_params", "SCENE_OPTIONS",
-           "INTEGRATOR_OPTIONS"]
+           "INTEGRATOR_OPTIONS", "STEPPERS", "stepper_option"]
 
 #: the numeric scene options (each names a parameter of the model's table)
 SCENE_OPTIONS = ("--H", "--l", "--R0", "--delta", "--omega", "--d", "--k", "--mu", "--g", "--phi0", "--phi-dot0",
                  "--samples", "--v0", "--spin0")
+#: --stepper's values: the keys of rrbody.integrate.loop.STEP_METHODS (tests/test_cli_stepper.py checks they
+#: agree; spelled out here so that parsing the command line does not load the compiled core)
+STEPPERS = ("auto", "dop853", "radau", "rodas")
 INTEGRATOR_OPTIONS = ("--rtol", "--dt", "--iterations", "--max-steps", "--t-max")
 
 
@@ -70,6 +73,12 @@ def add_integrator_options(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("integrator")
     g.add_argument("--method", choices=("ode", "engine"), default="ode", help="direct ODE (default) or pymunk engine")
     add_accuracy_options(g)
+    g.add_argument("--stepper", choices=STEPPERS, default=None,
+                   help="ODE stepping method (--method ode only): auto (default) DOP853, switching to the implicit "
+                        "Radau IIA (free bodies: RODAS4) where the run is stiff and back where it is not; dop853 "
+                        "the explicit DOP853 throughout (slow or failing where stiff); radau the implicit Radau "
+                        "IIA (order 5, analytic Jacobian) throughout, driven bodies only; rodas the linearly "
+                        "implicit RODAS4 (order 4) throughout, its tolerance raised to at least 1e-11")
     g.add_argument("--dt", type=number("--dt"), default=None,
                    help=option_help("dt", "engine time step (default: from the fastest period)"))
     g.add_argument("--iterations", type=integer("--iterations"), default=None,
@@ -78,6 +87,18 @@ def add_integrator_options(p: argparse.ArgumentParser) -> None:
                    help=option_help("max_steps", "cap on integration steps (runaway guard)", "5e7"))
     g.add_argument("--t-max", type=number("--t-max"), default=None,
                    help=option_help("t_max", "horizon (flip-time: a cap; simulate: required)"))
+
+
+def stepper_option(a: argparse.Namespace) -> dict[str, str]:
+    """``{"stepper": ...}`` for the ODE path ({} if --stepper was not given); CliError if it was given with
+    --method engine, which has a fixed time step and no stepping method to choose."""
+    stepper = getattr(a, "stepper", None)
+    if stepper is None:
+        return {}
+    if getattr(a, "method", "ode") == "engine":
+        raise CliError(f"--stepper {stepper} applies to --method ode only (the engine steps with a fixed --dt); "
+                       f"drop --stepper or use --method ode")
+    return {"stepper": stepper}
 
 
 def scene_params(a: argparse.Namespace) -> dict[str, Any]:

@@ -1,5 +1,7 @@
 """The run loop for rrbody's scenes in pymunk: trajectories (:func:`simulate_engine`) and flip times
-(:func:`engine_flip_time`) with the ODE path's definitions. Units: SI (s, rad, m)."""
+(:func:`engine_flip_time`) with the ODE path's definitions: events come from the one event detector
+(:func:`rrbody.integrate.events.on_step`, called once per engine step), a free body's rest from the
+plugin's rest rule. Units: SI (s, rad, m)."""
 
 from __future__ import annotations
 
@@ -12,6 +14,8 @@ import numpy as np
 
 from rrbody.engine.builder import attach
 from rrbody.engine.settings import EngineSettings, check_dt, coarse_meta, make_settings
+from rrbody.integrate.events import (E_HAVEMIN, E_NMIN, E_PHIMIN, E_T1, E_TMIN, E_TSTOP, FLIP_SETTLED, GO_ON,
+                                     RR_DECIDED, STOP_FLIP, STOP_REST, STOP_RR, STOP_T_END, new_event_state, on_step)
 from rrbody.model.checks import check_int, check_positive, check_range
 from rrbody.model.scene import Scene
 
@@ -27,7 +31,7 @@ class _RunResult:
     t_min: float
     has_min: bool
     T1: float
-    minima: list[tuple[float, float]]
+    minima: np.ndarray  # rows (t s, phi rad), the first max_minima local minima of phi
     n_minima: int
     out: np.ndarray
     n_steps: int
@@ -37,35 +41,32 @@ class _RunResult:
     extra: dict[str, Any] = field(default_factory=dict)
 
 
-def _parabola_min(t0: float, f0: float, t1: float, f1: float, t2: float, f2: float) -> tuple[float, float]:
-    """Vertex (t, f) of the parabola through three points; the middle point if it is degenerate."""
-    a = (t1 - t0) * (f1 - f2)
-    b = (t1 - t2) * (f1 - f0)
-    den = a - b
-    if den == 0.0:
-        return t1, f1
-    tv = t1 - 0.5 * ((t1 - t0) * a - (t1 - t2) * b) / den
-    if not (t0 <= tv <= t2):
-        return t1, f1
-    # value: Lagrange interpolation at tv
-    l0 = (tv - t1) * (tv - t2) / ((t0 - t1) * (t0 - t2))
-    l1 = (tv - t0) * (tv - t2) / ((t1 - t0) * (t1 - t2))
-    l2 = (tv - t0) * (tv - t1) / ((t2 - t0) * (t2 - t1))
-    return tv, f0 * l0 + f1 * l1 + f2 * l2
+#: the engine's stop names -> the shared detector's stop rules (rrbody.integrate.events)
+_STOPS = {"t_end": STOP_T_END, "flip": STOP_FLIP, "rr": STOP_RR, "rest": STOP_REST}
+_STATUS = {FLIP_SETTLED: "flip settled", RR_DECIDED: "RR decided"}
 
 
 def _run(scene: Scene, settings: EngineSettings, *, t_end: float, stop: str, dt_out: float = 0.0,
          settle_turns: float = 2.0, settle_periods: float = 3.0, max_steps: int = 50_000_000,
          progress: bool = False, max_minima: int = 200_000) -> _RunResult:
     """Step a fresh space holding ``scene`` until ``t_end`` or the ``stop`` rule ("t_end", "flip",
-    "rr", "rest"); record phi on the ``dt_out`` grid (linear interpolation between steps)."""
+    "rr", "rest"); record the state on the ``dt_out`` grid (linear interpolation between steps).
+
+    Driven events come from the shared detector (:func:`rrbody.integrate.events.on_step`), called once
+    per step with (t, phi, phi') at both ends of the step, phi' being the handle's second-order
+    velocity (the mean of the two half-step spins): local minima of phi and T_1 are located on the cubic
+    Hermite interpolant of (phi, phi') over the step, and the settle and RR stop rules are the ODE
+    path's. A free body's rest is the plugin's rest rule (:mod:`rrbody.engine.kernel`); its time goes
+    into the same event slot (E_TSTOP) the ODE path's free bodies use.
+    """
     import pymunk
 
+    if stop not in _STOPS:
+        raise ValueError(f"stop must be one of {', '.join(repr(k) for k in _STOPS)}, got {stop!r}")
     space = pymunk.Space()
     h = attach(space, scene, settings=settings)
     dt = settings.dt
     omega = scene.omega
-    period = 2.0 * math.pi / omega if omega > 0 else math.inf
     driven = h.driver is not None
     n_grid = int(math.floor(t_end / dt_out + 1e-9)) + 1 if (dt_out > 0.0 and math.isfinite(t_end)) else 0
     # the trajectory ends on t_end itself when the grid k * dt_out misses it (as the ODE path does)
@@ -86,20 +87,12 @@ def _run(scene: Scene, settings: EngineSettings, *, t_end: float, stop: str, dt_
         out[0, 0] = 0.0
         out[0, 1:] = s_prev
         k_out = 1
-    phi0 = h.phi
-    phi_min, t_min, has_min = math.nan, math.nan, False
-    if driven and h.phi_dot >= 0.0:  # phi rises from the start: t = 0 is the first minimum candidate
-        phi_min, t_min, has_min = phi0, 0.0, True
-    theta0 = phi0 + math.pi
-    T1 = math.nan
-    minima: list[tuple[float, float]] = []
-    n_minima = 0
-    # the last three samples of (t, phi) for minimum detection
-    ta, fa = math.nan, math.nan
-    tb, fb = 0.0, phi0
+    # the one event detector: t = 0 is a minimum candidate if phi rises from the start
+    ev = new_event_state(scene.phi0, scene.initial_phi_dot) if driven else new_event_state(scene.phi0, 0.0)
+    minima = np.empty((max_minima, 2))
+    rule = _STOPS[stop] if driven else STOP_T_END
     max_piv = 0.0
     status = "reached t_end"
-    t_stop: float | None = None
     bar = None
     if progress:
         from tqdm import tqdm
@@ -129,34 +122,17 @@ def _run(scene: Scene, settings: EngineSettings, *, t_end: float, stop: str, dt_
                         out[k_out, j + 1] = s_prev[j] + w * (s[j] - s_prev[j])
                     k_out += 1
             if driven:
-                f = s[0]
                 if n % 64 == 0:
                     max_piv = max(max_piv, h.pivot_error())
-                # discrete local minimum of phi at the middle sample: refine by a parabola
-                if fb < fa and fb <= f:
-                    tm, fm = _parabola_min(ta, fa, tb, fb, t, f)
-                    if len(minima) < max_minima:
-                        minima.append((tm, fm))
-                    n_minima += 1
-                    if not has_min or fm < phi_min:
-                        phi_min, t_min, has_min = fm, tm, True
-                # T_1: theta = phi - omega t + pi falls to theta0 - 2 pi (linear interpolation)
-                if math.isnan(T1):
-                    g0 = fb - omega * tb + math.pi - (theta0 - 2.0 * math.pi)
-                    g1 = f - omega * t + math.pi - (theta0 - 2.0 * math.pi)
-                    if g0 > 0.0 and g1 <= 0.0:
-                        T1 = tb + (t - tb) * g0 / (g0 - g1)
-                ta, fa, tb, fb = tb, fb, t, f
-                if stop == "flip" and has_min and f >= phi_min + 2.0 * math.pi * settle_turns \
-                        and t - t_min >= settle_periods * period:
-                    status = "flip settled"
+                code = on_step(ev, minima, t_prev, s_prev[0], s_prev[1], t, s[0], s[1], omega, rule,
+                               settle_turns, settle_periods)
+                if code != GO_ON:
+                    status = _STATUS[code]
                     break
-                if stop == "rr" and (not math.isnan(T1) or omega * t > 2.0 * math.pi):
-                    status = "RR decided"
-                    break
-            else:
-                if t_stop is None and h.t_rest is not None:
-                    t_stop = h.t_rest
+            elif math.isnan(ev[E_TSTOP]):
+                t_rest = h.t_rest
+                if t_rest is not None:
+                    ev[E_TSTOP] = t_rest
                     if stop == "rest":
                         status = "at rest"
                         break
@@ -167,9 +143,11 @@ def _run(scene: Scene, settings: EngineSettings, *, t_end: float, stop: str, dt_
         if bar is not None:
             bar.close()
     wall = time.perf_counter() - wall0
-    return _RunResult(t_end=h.t, status=status, phi_min=phi_min, t_min=t_min, has_min=has_min, T1=T1,
-                      minima=minima, n_minima=n_minima, out=out[:k_out], n_steps=n, wall=wall,
-                      max_pivot_error=max_piv, t_stop=t_stop)
+    n_min = int(ev[E_NMIN])
+    return _RunResult(t_end=h.t, status=status, phi_min=float(ev[E_PHIMIN]), t_min=float(ev[E_TMIN]),
+                      has_min=bool(ev[E_HAVEMIN]), T1=float(ev[E_T1]), minima=minima[:min(n_min, max_minima)].copy(),
+                      n_minima=n_min, out=out[:k_out], n_steps=n, wall=wall, max_pivot_error=max_piv,
+                      t_stop=None if math.isnan(ev[E_TSTOP]) else float(ev[E_TSTOP]))
 
 
 def simulate_engine(scene: Scene, *, t_max: float, dt_out: float, progress: bool = False, dt: float | None = None,
@@ -181,8 +159,10 @@ def simulate_engine(scene: Scene, *, t_max: float, dt_out: float, progress: bool
     ``dt`` (s; default :func:`default_dt`) and ``iterations`` are the engine settings; a dt above
     :func:`valid_dt_range` raises ValueError, one above COARSE_FRACTION of the shortest motion period
     or above the friction time is labelled ``meta["coarse"] = True`` with a warning. Driven events:
-    ``minima`` (parabola through the three engine samples around each discrete minimum of phi),
-    ``phi_min``, ``t_phi_min``, ``T1``; free: ``t_stop``, ``stop_position``, ``distance``, ``turn``.
+    ``minima`` (every local minimum of phi, located by the shared detector on the cubic Hermite
+    interpolant of (phi, phi') over the engine step, :func:`rrbody.integrate.events.on_step`),
+    ``phi_min``, ``t_phi_min``, ``T1``, with the ODE path's meanings; free: ``t_stop`` (the plugin's
+    rest rule), ``stop_position``, ``distance``, ``turn``, as on the ODE path.
     """
     from rrbody.model.trajectory import Trajectory, driven_trajectory
 
@@ -199,15 +179,15 @@ def simulate_engine(scene: Scene, *, t_max: float, dt_out: float, progress: bool
                    **coarse_meta(scene, settings.dt)}
     if scene.driven:
         traj = driven_trajectory(scene, res.out[:, 0], res.out[:, 1], res.out[:, 2])
-        minima = [m for m in res.minima]
-        below = [m for m in minima if m[1] < scene.phi0]
-        best = min(below, key=lambda m: m[1]) if below else None
+        minima = res.minima
+        i = int(np.argmin(minima[:, 1])) if len(minima) else -1
+        best = minima[i] if i >= 0 and minima[i, 1] < scene.phi0 else None
         traj.events = {
-            "minima": [list(m) for m in minima],
+            "minima": minima.tolist(),
             "n_minima": res.n_minima,
             "T1": res.T1 if math.isfinite(res.T1) else None,
-            "phi_min": float(best[1]) if best else scene.phi0,
-            "t_phi_min": float(best[0]) if best else 0.0,
+            "phi_min": float(best[1]) if best is not None else scene.phi0,
+            "t_phi_min": float(best[0]) if best is not None else 0.0,
         }
         meta_engine["max_pivot_error_m"] = res.max_pivot_error
     else:
@@ -239,8 +219,9 @@ def engine_flip_time(scene: Scene, *, t_max: float | None = None, dt: float | No
                      max_steps: int = 50_000_000, point_inertia: float = 1e-9, staggered: bool = True,
                      progress: bool = False) -> Any:
     """Flip time of a driven scene by the engine path, with the ODE path's definitions and stopping
-    rule (:func:`rrbody.analysis.flip_time`): t_f is the time of the lowest minimum of phi, located
-    by a parabola through the three engine samples around it. ``t_max`` None: run until settled.
+    rule (:func:`rrbody.analysis.flip_time`), from the same event detector
+    (:func:`rrbody.integrate.events.on_step`): t_f is the time of the lowest minimum of phi, located on
+    the cubic Hermite interpolant of (phi, phi') over the engine step. ``t_max`` None: run until settled.
     ``FlipResult.rtol`` is NaN (the engine has a step, not a tolerance)."""
     from rrbody.integrate.events import FlipResult, classify_flip
 
@@ -254,14 +235,13 @@ def engine_flip_time(scene: Scene, *, t_max: float | None = None, dt: float | No
     horizon = t_max if t_max is not None else scene.t_max
     horizon = math.inf if horizon is None else check_positive("t_max", horizon, unit="s")
     assert scene.drive is not None
-    minima_arr = lambda r: np.array(r.minima, dtype=float).reshape(-1, 2)  # noqa: E731
     if not scene.friction.active:
         res = _run(scene, settings, t_end=min(horizon, 2.0 * scene.drive.period), stop="rr", max_steps=max_steps)
         _, regime, rr, settled, phi_min = classify_flip(scene, status=res.status, has_min=res.has_min,
                                                         phi_min=res.phi_min, t_min=res.t_min, T1=res.T1,
                                                         t_end=res.t_end)
         return FlipResult(None, phi_min, res.t_min, rr, res.T1 if math.isfinite(res.T1) else None, settled,
-                          regime, res.t_end, res.n_steps, res.n_minima, math.nan, res.wall, minima_arr(res))
+                          regime, res.t_end, res.n_steps, res.n_minima, math.nan, res.wall, res.minima)
     res = _run(scene, settings, t_end=horizon, stop="flip", settle_turns=settle_turns, settle_periods=settle_periods,
                max_steps=max_steps, progress=progress)
     t_f, regime, rr, settled, phi_min = classify_flip(scene, status=res.status, has_min=res.has_min,
@@ -271,4 +251,4 @@ def engine_flip_time(scene: Scene, *, t_max: float | None = None, dt: float | No
     if cm.get("coarse"):
         regime += f" [{cm['warning']}]"
     return FlipResult(t_f, phi_min, res.t_min, rr, res.T1 if math.isfinite(res.T1) else None, settled, regime,
-                      res.t_end, res.n_steps, res.n_minima, math.nan, res.wall, minima_arr(res))
+                      res.t_end, res.n_steps, res.n_minima, math.nan, res.wall, res.minima)

@@ -41,7 +41,11 @@ from rrbody.physics import params as P
 from rrbody.physics.bind import kernel_params
 from rrbody.physics.dynamics import SYSTEM_FREE, free_rhs, system_from_params
 
-__all__ = ["simulate_free", "STEP_FRACTION", "STOP_SPEED_FRACTION"]
+__all__ = ["simulate_free", "FREE_STEPPERS", "STEP_FRACTION", "STOP_SPEED_FRACTION"]
+
+#: the stepping methods for free bodies: the loop's Radau IIA serves the 2-state driven body only (its
+#: stiff method for free bodies, also under "auto", is RODAS4)
+FREE_STEPPERS: tuple[str, ...] = tuple(m for m in STEP_METHODS if m != "radau")
 
 
 def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e-10, max_steps: int = 50_000_000,
@@ -53,12 +57,14 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     the body point at distance l along the direction ``phi0`` at t = 0. ``events['t_stop']`` is
     the time of rest (s; None if the body still moves at ``t_max``), ``events['stop_position']``
     the CM there (m). ``rtol`` scales the error control: positions by the sliding distance scale,
-    velocities by the initial speed, angles by pi, spin by the initial rotation rate.
+    velocities by the initial speed, angles by pi, spin by the initial rotation rate. ``stepper``
+    (:data:`FREE_STEPPERS`): "auto" (DOP853, switching to RODAS4 where stiff), "dop853" or "rodas".
     """
     if scene.driven:
         raise ValueError("simulate_free needs a free scene (drive=None); use rrbody.simulate for driven ones")
-    if stepper not in STEP_METHODS:
-        raise ValueError(f"stepper must be one of {', '.join(repr(m) for m in STEP_METHODS)}, got {stepper!r}")
+    if stepper not in FREE_STEPPERS:
+        raise ValueError(f"stepper must be one of {', '.join(repr(m) for m in FREE_STEPPERS)} for a free body "
+                         f"(Radau IIA is the driven body's stiff method), got {stepper!r}")
     A, B, C, E3, E5 = TABLEAU
     p, S = kernel_params(scene)
     body = scene.body
