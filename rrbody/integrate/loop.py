@@ -37,7 +37,7 @@ from typing import Any
 import numpy as np
 from numba import literally, njit
 
-from rrbody.integrate.dop853 import error_norm, rk_step, step_factor
+from rrbody.integrate.dop853 import error_norm, rk_step, step_factor, trial_step
 from rrbody.integrate.events import (E_HAVEMIN, E_PHIMIN, E_T1, E_THETA0, E_TMIN, E_TSTOP, STOP_REST, crossings, record_minimum, rest_admissible,
                                      rest_reached, rest_step_limit, stop_reached)
 from rrbody.integrate.radau import radau_step
@@ -235,7 +235,10 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
             break
         if track >= 0:
             scale[track] = rtol * max(yscale, abs(y[track]))
-        err = _step(meth, system, t, y, f, hh, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost, rtol)
+        if meth == 0:  # a direct call, not the inlined _step: see trial_step
+            err = trial_step(system, t, y, f, hh, p, S, A, B, C, E3, E5, K, ynew, ytmp, scale)
+        else:
+            err = _step(meth, system, t, y, f, hh, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost, rtol)
         if not math.isfinite(err):
             err = 1e10
         bad = rest and not rest_admissible(y, ynew, icm)
