@@ -61,7 +61,8 @@ def rk_step(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp):  # noqa: ANN001 
     Fills K[0..12] (K[12] = f(t+h, ynew)) and ``ynew``. ``system`` selects the equations
     (:func:`rrbody.dynamics.rhs`; an integer rather than a function argument, because numba
     cannot cache functions that take other compiled functions as arguments). ``p`` and ``S``
-    are the parameter vector and the area-sample array. Compiled once per system code (``literally``).
+    are the parameter vector and the area-sample array. Inlined into :func:`trial_step`, which is
+    compiled once per system code (``literally``).
     """
     # the state size as a compile-time constant (2 for a driven body, 6 for a free one), so the stage
     # loops below have constant trip counts and are unrolled
