@@ -35,7 +35,7 @@ _co = _load_scipy_tableau()
 
 from rrbody.physics.dynamics import rhs
 
-__all__ = ["TABLEAU", "rk_step", "error_norm", "ORDER"]
+__all__ = ["TABLEAU", "rk_step", "error_norm", "trial_step", "ORDER"]
 
 N_STAGES: int = _co.N_STAGES
 ORDER: int = 8
@@ -54,16 +54,16 @@ TABLEAU: tuple[np.ndarray, ...] = (
 )
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def rk_step(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp):  # noqa: ANN001 (numba)
     """One DOP853 step of size h from (t, y) with f0 = rhs(system, t, y, ...).
 
     Fills K[0..12] (K[12] = f(t+h, ynew)) and ``ynew``. ``system`` selects the equations
     (:func:`rrbody.dynamics.rhs`; an integer rather than a function argument, because numba
     cannot cache functions that take other compiled functions as arguments). ``p`` and ``S``
-    are the parameter vector and the area-sample array. Compiled once per system code (``literally``).
+    are the parameter vector and the area-sample array. Inlined into :func:`trial_step`, which is
+    compiled once per system code (``literally``).
     """
-    literally(system)
     # the state size as a compile-time constant (2 for a driven body, 6 for a free one), so the stage
     # loops below have constant trip counts and are unrolled
     n = 2 if system % 10 == 0 else 6
@@ -103,6 +103,18 @@ def error_norm(system, K, h, scale, E3, E5):  # noqa: ANN001
     if e5 == 0.0 and e3 == 0.0:
         return 0.0
     return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)
+
+
+@njit(cache=True, _nrt=False)
+def trial_step(system, t, y, f0, h, p, S, A, B, C, E3, E5, K, ynew, ytmp, scale):  # noqa: ANN001
+    """One DOP853 trial step (:func:`rk_step`) and its error norm (:func:`error_norm`), as one
+    compiled call for the stepping loop. Compiled without reference counting (``_nrt=False``: it
+    only reads and writes the arrays it is given): a call from the loop then costs no atomic
+    count updates of its 13 array arguments, which on this 2-state system cost about as much as
+    the stages' arithmetic."""
+    literally(system)
+    rk_step(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp)
+    return error_norm(system, K, h, scale, E3, E5)
 
 
 @njit(cache=True, inline="always")

@@ -37,7 +37,7 @@ from typing import Any
 import numpy as np
 from numba import literally, njit
 
-from rrbody.integrate.dop853 import error_norm, rk_step, step_factor
+from rrbody.integrate.dop853 import step_factor, trial_step
 from rrbody.integrate.events import (E_HAVEMIN, E_PHIMIN, E_T1, E_THETA0, E_TMIN, E_TSTOP, STOP_REST, crossings, record_minimum, rest_admissible,
                                      rest_reached, rest_step_limit, stop_reached)
 from rrbody.integrate.radau import radau_step
@@ -87,8 +87,7 @@ def _step(meth, system, t, y, f, h, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, 
     Both fill ``ynew`` and K[12] = f(t + h, ynew). DOP853 leaves the state of its last stage (at
     t + h) in ``ytmp``, which the stiffness detector reads. Inlined into the loop."""
     if meth == 0:
-        rk_step(system, t, y, f, h, p, S, A, B, C, K, ynew, ytmp)
-        return error_norm(system, K, h, scale, E3, E5)
+        return trial_step(system, t, y, f, h, p, S, A, B, C, E3, E5, K, ynew, ytmp, scale)
     if meth == 2:
         return radau_step(system, t, y, f, h, p, S, J, K, ynew, ytmp, scale, rtol)
     return ros_step(system, t, y, f, h, p, S, J, fx, K, ynew, ytmp, scale) / boost
@@ -235,7 +234,10 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
             break
         if track >= 0:
             scale[track] = rtol * max(yscale, abs(y[track]))
-        err = _step(meth, system, t, y, f, hh, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost, rtol)
+        if meth == 0:  # a direct call: the inlined _step would update the reference counts of its arrays
+            err = trial_step(system, t, y, f, hh, p, S, A, B, C, E3, E5, K, ynew, ytmp, scale)
+        else:
+            err = _step(meth, system, t, y, f, hh, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost, rtol)
         if not math.isfinite(err):
             err = 1e10
         bad = rest and not rest_admissible(y, ynew, icm)
