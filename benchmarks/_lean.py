@@ -1,7 +1,7 @@
 """A lean compiled DOP853 for the rod-mass equation: the per-step floor rrbody's loop is measured against.
 
 Everything is specialised by hand: two states, the point-mass dry right-hand side written inline
-(SPEC Eq. 2 in the frame of the rod, d = 1 m), scipy's tableau, scipy's error norm and step-size
+(the paper's Eq. 2 in the frame of the rod, d = 1 m), scipy's tableau, scipy's error norm and step-size
 controller, the same error scales as rrbody (phi absolute rtol*pi, phi' rtol times its running
 maximum). No events, no output, no dispatch: only the arithmetic of a DOP853 step.
 """

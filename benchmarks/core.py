@@ -1,4 +1,4 @@
-"""Core (issue 14): per-step cost against a lean DOP853, the stiff case against scipy LSODA, RHS costs.
+"""Core: per-step cost against a lean DOP853, the stiff case against scipy LSODA, RHS costs.
 
 Three measurements, each interleaved (the contenders alternate within every repeat, so a burst of
 load on the shared machine hits both) and reduced to the best of several repeats:

@@ -9,7 +9,7 @@ Four rod-mass cases (d = 1 m, phi0 = pi, dry friction, impulsive start phi'(0) =
 
 Measured: the relative error of the flip time t_f and the absolute error of phi at a fixed time
 ``t_fix`` against a tight reference, and the wall time of each run (best of a few repeats after
-compilation). scipy integrates SPEC Eq. 2 written in plain Python (the dry term's 0/0 at rest is
+compilation). scipy integrates the paper's Eq. 2 written in plain Python (the dry term's 0/0 at rest is
 taken as 0, as rrbody does), with rtol = atol, a non-terminal event on phi' = 0 (direction +1) for
 the minima of phi, over the reference run's horizon. t_f is the time of the lowest minimum.
 
@@ -39,7 +39,7 @@ RTOLS = [10.0 ** -e for e in range(4, 14)]            # rrbody: 1e-4 ... 1e-13
 SCIPY_RTOLS = [1e-4, 1e-6, 1e-8, 1e-10, 1e-12]
 SCIPY_METHODS = ["RK45", "DOP853", "LSODA", "Radau"]
 LEVELS = {"draft": 1e-4, "default": 1e-6, "paper": 1e-9}   # t_f relative-error level of each preset
-TARGET_RATIO = {"phixtpm": 100.0, "slow": 100.0, "fast": 100.0, "weak": 100.0}  # issue 14: each hard case >= 100x
+TARGET_RATIO = {"phixtpm": 100.0, "slow": 100.0, "fast": 100.0, "weak": 100.0}  # each hard case >= 100x at matched t_f error
 
 
 @dataclass(frozen=True)
@@ -61,7 +61,7 @@ CASES = [
 
 
 # ---------------------------------------------------------------------------------------------
-# scipy side: SPEC Eq. 2 in plain Python
+# scipy side: the paper's Eq. 2 in plain Python
 # ---------------------------------------------------------------------------------------------
 class _Capped(Exception):
     def __init__(self, t: float) -> None:
@@ -70,7 +70,7 @@ class _Capped(Exception):
 
 
 def _python_rhs(H: float, k: float, w: float, deadline: float | None = None) -> Any:
-    """SPEC Eq. 2 (rod-mass, d = 1): phi'' = (w^2/H) sin s + (k/H)(w cos s - H phi')/|v|, s = phi - w t.
+    """the paper's Eq. 2 (rod-mass, d = 1): phi'' = (w^2/H) sin s + (k/H)(w cos s - H phi')/|v|, s = phi - w t.
 
     |v| = sqrt(w^2 + H^2 phi'^2 - 2 w H phi' cos s) is the CM speed over d; where it vanishes (the
     impulsive start from phi0 = pi) the dry term is 0/0 and is taken as 0, like rrbody's kernels.
@@ -401,7 +401,7 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     md = [f"## {TITLE}", "", machine, "",
           "Reference: rrbody's flip_time / integrate_driven at rtol = 1e-14; its uncertainty is the largest "
           "difference to the runs at 1e-13 and 1e-15 (round-off limits long runs: |phi| reaches 2e4 rad in "
-          "the fast case). scipy integrates SPEC Eq. 2 in pure Python (rtol = atol), horizon = the reference "
+          "the fast case). scipy integrates the paper's Eq. 2 in pure Python (rtol = atol), horizon = the reference "
           "run's stop time; t_f = time of the lowest phi' = 0 (+) event. Times are best of up to 3 runs "
           f"(after compilation for rrbody; runs over 1 s are timed once). phi is compared at t_fix = {', '.join(f'{c.t_fix:g} s ({c.name})' for c in cases)}.",
           "", md_table(["case", "t_f ref (s)", "rel. unc.", "phi(t_fix) ref (rad)", "abs. unc.", "stop time (s)"],

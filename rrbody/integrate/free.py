@@ -137,7 +137,7 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
         n_done = n_out
     o = out[:n_done]
     if status in (0, 1) and (n_done == 0 or t_max - o[-1, 0] > 1e-9 * dt_out):
-        o = np.vstack([o, np.concatenate([[t_max], y])])  # end on the horizon asked for (issue 13)
+        o = np.vstack([o, np.concatenate([[t_max], y])])  # end on the horizon asked for
     t = o[:, 0]
     alpha = o[:, 3]
     beta = scene.phi0 - body.alpha0

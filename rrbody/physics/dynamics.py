@@ -4,7 +4,7 @@
 law, area method). The stepping loop is compiled with it as a compile-time constant, so the
 branches below are resolved at compile time and each combination runs its own specialised code.
 
-Driven body (SPEC section 2), state y = (phi, phi') with phi the angle of CM -> P (rad):
+Driven body (the impulsive start, docs/physics.md), state y = (phi, phi') with phi the angle of CM -> P (rad):
 
     (I_cm/m + l^2) phi'' = omega^2 l d sin(phi - omega t) + tau_P / m
 

@@ -2,7 +2,7 @@
 
 Parameter: ``coeff`` = mu g (m/s^2). Below the zero-speed dead band ``v_eps`` (m/s) the direction
 of the velocity is undefined and the force is zero: the self-consistent limit at the impulsive
-start from phi0 = pi (SPEC section 2; the band's width and its bounded effect are in
+start from phi0 = pi (the equation of motion (docs/physics.md); the band's width and its bounded effect are in
 :mod:`rrbody.physics.bind`).
 """
 
