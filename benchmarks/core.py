@@ -27,6 +27,15 @@ from typing import Any
 
 from .common import StudyResult, Target, fmt, machine_text, md_table, write_csv
 
+def _load_note() -> str:
+    """A warning for the targets table when the machine was busy: a 1-minute load average of at
+    least the number of cores means another job shared every core during the timings."""
+    import os
+
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else 0.0
+    return f"loaded machine (load {load:.1f}): re-run on a quiet one" if load >= (os.cpu_count() or 1) else ""
+
+
 NAME = "core"
 TITLE = "Core: DOP853 step vs a lean baseline, stiff case vs LSODA, RHS cost by body"
 
@@ -73,7 +82,7 @@ def _step_study(repeats: int) -> tuple[list[dict[str, Any]], Target]:
     tgt = Target("DOP853 step vs lean compiled DOP853", "<= 1.3x",
                  f"{ratio:.2f}x ({per_ours * 1e9:.0f} vs {per_lean * 1e9:.0f} ns per step; {res.n_steps} vs {n_lean} "
                  f"steps, phi(60 s) differs by {abs(phi_lean - res.y_end[0]):.1e} rad)", ratio <= 1.3,
-                 "loaded machine: re-run on a quiet one")
+                 _load_note())
     return rows, tgt
 
 
@@ -128,7 +137,7 @@ def _stiff_study(repeats: int, quick: bool) -> tuple[list[dict[str, Any]], Targe
     worst = min((x[5] for x in ratios), default=math.nan)
     tgt = Target("stiff case (w 0.01, H 0.25, k 7.5) vs scipy LSODA with analytic Jacobian, same horizon",
                  ">= 10x at matched t_f error", f"{worst:.0f}x (lowest over {len(ratios)} LSODA tolerances)",
-                 bool(worst >= 10.0) if math.isfinite(worst) else None, "loaded machine: re-run on a quiet one")
+                 bool(worst >= 10.0) if math.isfinite(worst) else None, _load_note())
     extra = {"ref_tf": ref.t_f, "radau_tf": radau_tf, "radau_rel": abs(radau_tf - ref.t_f) / ref.t_f,
              "horizon": horizon, "ratios": ratios}
     return rows, tgt, extra
@@ -163,7 +172,7 @@ def _rhs_study(repeats: int) -> tuple[list[dict[str, Any]], Target]:
     ell = rows[2]["ns_per_eval"]
     tgt = Target("ellipse RHS vs point-mass RHS (ICR, <= 1e-10 wrench error)", "<= 5x",
                  f"{ell / pt:.1f}x ({ell:.0f} vs {pt:.0f} ns; disk {rows[1]['ns_per_eval'] / pt:.1f}x)", ell / pt <= 5.0,
-                 "loaded machine: re-run on a quiet one")
+                 _load_note())
     return rows, tgt
 
 
