@@ -34,7 +34,7 @@ import numpy as np
 from rrbody._version import __version__
 from rrbody.integrate.dop853 import TABLEAU
 from rrbody.integrate.events import E_TSTOP, STEP_FRACTION, STOP_REST, STOP_SPEED_FRACTION, STOP_T_END, new_event_state
-from rrbody.integrate.loop import L_NREJ, L_NOUT, L_NSTEP, L_T, STEP_METHODS, advance_for, new_loop_state
+from rrbody.integrate.loop import L_NREJ, L_NOUT, L_NSTEP, L_T, STEP_METHODS, advance_for, new_loop_state, run_in_chunks
 from rrbody.model.scene import Scene
 from rrbody.model.trajectory import Trajectory
 from rrbody.physics import params as P
@@ -92,40 +92,20 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     # above the kernels' zero-speed threshold v_eps, below which dry friction is switched off
     u_stop = max(STOP_SPEED_FRACTION * max(u0, 1e-300), 10.0 * p[P.VEPS])
     t0 = time.perf_counter()
-    status = 0
-    bar = None
-    if progress:
-        from tqdm import tqdm
-
-        bar = tqdm(total=t_max, desc="free body", unit="s(sim)", leave=False, dynamic_ncols=True)
-    try:
-        if u0 == 0.0 and dry:
-            ev[E_TSTOP] = 0.0
-            status = 1
-            out[:, 0] = np.arange(n_out) * dt_out
-            out[:, 1:] = y
-            out[:, 4:7] = 0.0
-            st[L_NOUT] = n_out
-        else:
-            chunk = 200_000
-            minima = np.empty((0, 2))
-            run = advance_for(system_from_params(p, SYSTEM_FREE))
-            while True:
-                left = max_steps - int(st[L_NSTEP])
-                if left <= 0:
-                    status = 3
-                    break
-                before = st[L_T]
-                status = run(y, f, st, ev, p, S, t_max, STOP_REST if dry else STOP_T_END, 0.0, 0.0,
-                                 rtol, scale, -1, math.inf, min(chunk, left), minima, out, dt_out,
-                                 STEP_METHODS[stepper], u_stop, A, B, C, E3, E5)
-                if bar is not None:
-                    bar.update(st[L_T] - before)
-                if status != 5:
-                    break
-    finally:
-        if bar is not None:
-            bar.close()
+    if u0 == 0.0 and dry:
+        ev[E_TSTOP] = 0.0
+        status = 1
+        out[:, 0] = np.arange(n_out) * dt_out
+        out[:, 1:] = y
+        out[:, 4:7] = 0.0
+        st[L_NOUT] = n_out
+    else:
+        minima = np.empty((0, 2))
+        run = advance_for(system_from_params(p, SYSTEM_FREE))
+        status = run_in_chunks(
+            lambda n: run(y, f, st, ev, p, S, t_max, STOP_REST if dry else STOP_T_END, 0.0, 0.0, rtol, scale, -1,
+                          math.inf, n, minima, out, dt_out, STEP_METHODS[stepper], u_stop, A, B, C, E3, E5),
+            st, max_steps, progress=progress, total=t_max, desc="free body")
     wall = time.perf_counter() - t0
     n_done = int(st[L_NOUT])
     if status == 1 and n_done < n_out:

@@ -33,7 +33,7 @@ import numpy as np
 
 from rrbody.integrate.dop853 import TABLEAU
 from rrbody.integrate.events import E_HAVEMIN, E_NMIN, E_PHIMIN, E_T1, E_TMIN, new_event_state
-from rrbody.integrate.loop import STIFF_METHOD, L_METH, L_NREJ, L_NROS, L_NSTEP, L_NSWITCH, L_NOUT, L_T, STEP_METHODS, advance_for, \
+from rrbody.integrate.loop import STIFF_METHOD, L_METH, L_NREJ, L_NROS, L_NSTEP, L_NSWITCH, L_NOUT, L_T, STEP_METHODS, advance_for, run_in_chunks, \
     new_loop_state
 from rrbody.physics import params as P
 from rrbody.physics.dynamics import SYSTEM_DRIVEN, driven_kinematics, driven_rhs, system_from_params
@@ -110,31 +110,11 @@ def integrate_driven(p: np.ndarray, S: np.ndarray, y0: tuple[float, float], *, t
     minima = np.empty((max_minima, 2))
     stop_code = STOP_RULES[stop]
     run = advance_for(system_from_params(p, SYSTEM_DRIVEN))
-    chunk = 200_000
     t0 = time.perf_counter()
-    bar = None
-    if progress:
-        from tqdm import tqdm
-
-        total = t_end if math.isfinite(t_end) else None
-        bar = tqdm(total=total, desc=desc, unit="s(sim)", leave=False, dynamic_ncols=True)
-    status = 5
-    try:
-        while True:
-            left = max_steps - int(st[L_NSTEP])
-            if left <= 0:
-                status = 3
-                break
-            before = st[L_T]
-            status = run(y, f, st, ev, p, S, t_end, stop_code, settle_turns, settle_periods, rtol,
-                             scale, 1, hmax, min(chunk, left), minima, out, dt_out, mode, 0.0, A, B, C, E3, E5)
-            if bar is not None:
-                bar.update(st[L_T] - before)
-            if status != 5:
-                break
-    finally:
-        if bar is not None:
-            bar.close()
+    status = run_in_chunks(
+        lambda n: run(y, f, st, ev, p, S, t_end, stop_code, settle_turns, settle_periods, rtol, scale, 1, hmax, n,
+                      minima, out, dt_out, mode, 0.0, A, B, C, E3, E5),
+        st, max_steps, progress=progress, total=t_end if math.isfinite(t_end) else None, desc=desc)
     wall = time.perf_counter() - t0
     n_min = int(ev[E_NMIN])
     status_text = STATUS[status]
