@@ -10,7 +10,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from rrbody.model.checks import check_int, check_positive, check_range
+from rrbody.model.checks import check, check_range
 from rrbody.model.scene import Scene
 
 __all__ = ["EngineSettings", "valid_dt_range", "check_dt", "default_dt", "coarse_meta", "make_settings",
@@ -52,8 +52,8 @@ class EngineSettings:
     staggered: bool = True
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "dt", check_range("dt", self.dt, 0.0, 10.0, lo_open=True))
-        object.__setattr__(self, "iterations", check_int("iterations", self.iterations, 1, 100_000))
+        object.__setattr__(self, "dt", float(check("dt", self.dt)))
+        object.__setattr__(self, "iterations", int(check("iterations", self.iterations)))
         object.__setattr__(self, "point_inertia", check_range("point_inertia", self.point_inertia, 1e-12, 1e-2))
         for name in ("collide", "staggered"):
             if not isinstance(getattr(self, name), bool):
@@ -115,7 +115,7 @@ def default_dt(scene: Scene) -> float:
 
 
 def make_settings(scene: Scene, dt: float | None, iterations: int | None, **kw: Any) -> EngineSettings:
-    dt_v = default_dt(scene) if dt is None else check_positive("dt", dt, unit="s")
+    dt_v = default_dt(scene) if dt is None else float(check("dt", dt))
     return EngineSettings(dt=dt_v, iterations=10 if iterations is None else iterations, **kw)
 
 
