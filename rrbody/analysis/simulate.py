@@ -14,7 +14,6 @@ from typing import Any
 import numpy as np
 
 from rrbody.physics.bind import kernel_params
-from rrbody._version import __version__
 from rrbody.model.checks import check
 from rrbody.model.scene import Scene
 from rrbody.model.trajectory import Trajectory, driven_trajectory

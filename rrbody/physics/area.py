@@ -20,19 +20,15 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
-from rrbody.physics import params as P
 from rrbody.model.checks import check_int, check_positive, check_real
 from rrbody.physics.icr import ECC_ETA, NODE_COUNTS
 from rrbody.physics.icr import icr_wrench as _icr_kernel
 from rrbody.model.bodies import Body, Disk, Ellipse
+from rrbody.model.friction import LAW_CODES
 
 __all__ = ["icr_supported", "icr_nodes", "area_samples", "icr_wrench", "sampled_wrench", "disk_closed_form",
            "disk_closed_form_ratio"]
-
-_LAW_CODES = {"none": 0, "dry": 1, "viscous": 2}
-
 
 def icr_supported(body: Body, law: str) -> bool:
     """Whether the instantaneous-centre quadrature applies: disks and ellipses, dry or viscous."""
@@ -83,9 +79,9 @@ def area_samples(body: Body, n: int) -> np.ndarray:
 
 
 def _law_code(law: str) -> int:
-    if law not in _LAW_CODES:
-        raise ValueError(f"law must be one of {', '.join(repr(k) for k in _LAW_CODES)}, got {law!r}")
-    return _LAW_CODES[law]
+    if law not in LAW_CODES:
+        raise ValueError(f"law must be one of {', '.join(repr(k) for k in LAW_CODES)}, got {law!r}")
+    return LAW_CODES[law]
 
 
 def _motion(alpha: float, vx: float, vy: float, spin: float) -> tuple[float, float, float, float]:

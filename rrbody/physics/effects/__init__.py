@@ -22,13 +22,15 @@ one branch in :mod:`.laws` (a law) or :mod:`.areas` (an area method).
 
 from __future__ import annotations
 
+from rrbody.model.friction import LAW_CODES
+
 __all__ = ["KINDS", "LAWS", "AREAS", "system_code", "describe_system", "DRIVEN", "FREE"]
 
 DRIVEN, FREE = 0, 1
 #: kinds of system: which equations (the drive is the effect that makes a body driven)
 KINDS: dict[str, int] = {"driven": DRIVEN, "free": FREE}
 #: friction laws -> code (modules law_<name>; "none" lists no friction effect)
-LAWS: dict[str, int] = {"none": 0, "dry": 1, "viscous": 2}
+LAWS: dict[str, int] = LAW_CODES  # the model's table: one code per law everywhere
 #: area-integration methods -> code (modules area_<name>)
 AREAS: dict[str, int] = {"point": 0, "sampled": 1, "icr": 2}
 
