@@ -51,18 +51,21 @@ def test_stiff_trend_to_exact_quasi_static_limit(H: float) -> None:
 
 
 def test_method_switches_only_where_stiff() -> None:
-    # phixtpm (k / omega^2 = 0.14) is not stiff: after the singular impulsive start (CM at rest, taken
-    # by RODAS4) DOP853 runs to the end; from phi0 = pi/2 (CM moving) DOP853 throughout. The slow case
-    # (k / omega^2 = 7.5e4) is stiff: RODAS4 takes over, in a fraction of the 290k explicit steps the
-    # old loop needed.
-    sc = rod_mass_scene(0.2, 0.05, 0.6)
+    # phixtpm (k / omega^2 = 0.14) is not stiff, not even at its impulsive start (CM at rest): there
+    # h |lambda| at steps h ~ t is the same at every t, 0.02 here (ode._stiff_start), far inside
+    # DOP853's stability limit STIFF_HLAMB, so DOP853 runs throughout; so it does from phi0 = pi/2.
+    # At k = 100 (h |lambda| ~ 46 at the start) the run starts with the stiff method. The slow case
+    # (k / omega^2 = 7.5e4) is stiff: the stiff method takes over, in a fraction of the 290k explicit
+    # steps the old loop needed.
+    for phi0 in (math.pi, math.pi / 2):
+        sc = rod_mass_scene(0.2, 0.05, 0.6, phi0)
+        p, S = kernel_params(sc)
+        easy = integrate_driven(p, S, (sc.phi0, sc.initial_phi_dot), t_end=math.inf, rtol=1e-13, stop="flip")
+        assert easy.stats["n_stiff_steps"] == 0 and easy.stats["n_switches"] == 0
+    sc = rod_mass_scene(0.2, 100.0, 0.6)
     p, S = kernel_params(sc)
-    easy = integrate_driven(p, S, (sc.phi0, sc.initial_phi_dot), t_end=math.inf, rtol=1e-13, stop="flip")
-    assert easy.stats["n_switches"] == 1 and easy.stats["n_stiff_steps"] < 0.05 * easy.n_steps
-    sc = rod_mass_scene(0.2, 0.05, 0.6, math.pi / 2)
-    p, S = kernel_params(sc)
-    easy = integrate_driven(p, S, (sc.phi0, sc.initial_phi_dot), t_end=math.inf, rtol=1e-13, stop="flip")
-    assert easy.stats["n_stiff_steps"] == 0
+    start = integrate_driven(p, S, (sc.phi0, sc.initial_phi_dot), t_end=1e-3, rtol=1e-10)
+    assert start.stats["n_stiff_steps"] == start.n_steps > 0
     sc = rod_mass_scene(0.25, 7.5, 0.01)
     p, S = kernel_params(sc)
     hard = integrate_driven(p, S, (sc.phi0, sc.initial_phi_dot), t_end=math.inf, rtol=1e-13, stop="flip")

@@ -43,9 +43,9 @@ from rrbody.integrate.events import (E_HAVEMIN, E_PHIMIN, E_T1, E_THETA0, E_TMIN
 from rrbody.integrate.radau import radau_step
 from rrbody.integrate.rodas import ros_step, spectral_radius
 from rrbody.physics import params as P
-from rrbody.physics.dynamics import SYSTEM_DRIVEN, jacobian
+from rrbody.physics.dynamics import SYSTEM_DRIVEN, jacobian, rhs
 
-__all__ = ["advance", "advance_for", "new_loop_state", "STATUS", "STEP_METHODS", "L_T", "L_H", "L_NSTEP", "L_NREJ", "L_NOUT",
+__all__ = ["advance", "advance_for", "stiffness_probe_for", "new_loop_state", "STATUS", "STEP_METHODS", "L_T", "L_H", "L_NSTEP", "L_NREJ", "L_NOUT",
            "L_NROS", "L_NSWITCH"]
 
 #: ``method`` names -> ``mode`` of :func:`advance`
@@ -117,11 +117,16 @@ def _hlamb(K, h, ynew, ystage):  # noqa: ANN001
 
 @njit(cache=True)
 def _refine(meth, system, t, y, f, h0, hmax, which, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
-            omega, target):  # noqa: ANN001
+            omega, target, rtol):  # noqa: ANN001
     """Newton on h in (0, hmax] for the event `which` (1: phi' = 0; 2: theta = target); every
-    iterate is a fresh step of the current method from the step start. Leaves the event's state in y2."""
+    iterate is a fresh step of the current method from the step start. Leaves the event's state in y2.
+
+    The iteration stops once the Newton update is below rtol * hmax (or a few ulps of t): the event
+    time is then known to the accuracy the step itself has, and since Newton converges
+    quadratically the iterate whose step is in y2 is returned without a further step."""
     literally(system)
     h = min(max(h0, 0.0), hmax)
+    htol = max(rtol * hmax, 4e-16 * (abs(t) + abs(hmax)) + 1e-300)
     for _ in range(12):
         _step(meth, system, t, y, f, h, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5)
         if which == 1:
@@ -131,11 +136,10 @@ def _refine(meth, system, t, y, f, h0, hmax, which, p, S, J, fx, K2, y2, ytmp, s
             g = y2[0] - omega * (t + h) + math.pi - target
             dg = y2[1] - omega
         if dg == 0.0:
-            break
+            return h
         hn = min(max(h - g / dg, 0.0), hmax)
-        if abs(hn - h) <= 4e-16 * (abs(t) + abs(h)) + 1e-300:
-            h = hn
-            break
+        if abs(hn - h) <= htol:
+            return h
         h = hn
     _step(meth, system, t, y, f, h, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5)
     return h
@@ -292,14 +296,14 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
             which, gmin, gt1 = crossings(t1_open, target, t, y[0], y[1], t + hh, ynew[0], ynew[1], omega)
             if which & 1:
                 hm = _refine(meth, system, t, y, f, gmin, hh, 1, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
-                             omega, 0.0)
+                             omega, 0.0, rtol)
                 record_minimum(ev, minima, t + hm, y2[0])
                 havemin = True
                 phimin = ev[E_PHIMIN]
                 tmin = ev[E_TMIN]
             if which & 2:
                 hm = _refine(meth, system, t, y, f, gt1, hh, 2, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
-                             omega, target)
+                             omega, target, rtol)
                 ev[E_T1] = t + hm
                 t1_open = False
         t = t + hh
@@ -387,6 +391,29 @@ def advance_for(system: int) -> Any:
     if system not in _SPECIALISED:
         _SPECIALISED[system] = _make_advance(int(system))
     return _SPECIALISED[system]
+
+
+_PROBES: dict[int, Any] = {}
+
+
+def stiffness_probe_for(system: int) -> Any:
+    """Compiled ``probe(t, y, p, S) -> t * rho(J(t, y))`` for the system code ``system``: h |lambda| of
+    a step of size t, with rho the spectral radius of the Jacobian (as :func:`advance_for`, one
+    specialisation per combination of effects)."""
+    if system not in _PROBES:
+        code = int(system)
+
+        @njit(cache=True)
+        def probe(t, y, p, S):  # noqa: ANN001
+            n = y.shape[0]
+            f = np.empty((1, n))
+            rhs(code, t, y, p, S, f, 0)
+            J = np.empty((n, n))
+            jacobian(code, t, y, p, S, f[0], J, np.empty(n))
+            return t * spectral_radius(J)
+
+        _PROBES[system] = probe
+    return _PROBES[system]
 
 
 def _make_advance(code: int) -> Any:
