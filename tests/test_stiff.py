@@ -52,7 +52,7 @@ def test_stiff_trend_to_exact_quasi_static_limit(H: float) -> None:
 
 def test_method_switches_only_where_stiff() -> None:
     # phixtpm (k / omega^2 = 0.14) is not stiff, not even at its impulsive start (CM at rest): there
-    # h |lambda| at steps h ~ t is the same at every t, 0.02 here (ode._stiff_start), far inside
+    # h |lambda| at steps h ~ t is the same at every t, 0.02 here (ode._start_for), far inside
     # DOP853's stability limit STIFF_HLAMB, so DOP853 runs throughout; so it does from phi0 = pi/2.
     # At k = 100 (h |lambda| ~ 46 at the start) the run starts with the stiff method. The slow case
     # (k / omega^2 = 7.5e4) is stiff: the stiff method takes over, in a fraction of the 290k explicit

@@ -43,9 +43,9 @@ from rrbody.integrate.events import (E_HAVEMIN, E_PHIMIN, E_T1, E_THETA0, E_TMIN
 from rrbody.integrate.radau import radau_step
 from rrbody.integrate.rodas import ros_step, spectral_radius
 from rrbody.physics import params as P
-from rrbody.physics.dynamics import SYSTEM_DRIVEN, jacobian, rhs
+from rrbody.physics.dynamics import SYSTEM_DRIVEN, jacobian
 
-__all__ = ["advance", "advance_for", "stiffness_probe_for", "new_loop_state", "STATUS", "STEP_METHODS", "L_T", "L_H", "L_NSTEP", "L_NREJ", "L_NOUT",
+__all__ = ["advance", "advance_for", "new_loop_state", "STATUS", "STEP_METHODS", "L_T", "L_H", "L_NSTEP", "L_NREJ", "L_NOUT",
            "L_NROS", "L_NSWITCH"]
 
 #: ``method`` names -> ``mode`` of :func:`advance`
@@ -391,29 +391,6 @@ def advance_for(system: int) -> Any:
     if system not in _SPECIALISED:
         _SPECIALISED[system] = _make_advance(int(system))
     return _SPECIALISED[system]
-
-
-_PROBES: dict[int, Any] = {}
-
-
-def stiffness_probe_for(system: int) -> Any:
-    """Compiled ``probe(t, y, p, S) -> t * rho(J(t, y))`` for the system code ``system``: h |lambda| of
-    a step of size t, with rho the spectral radius of the Jacobian (as :func:`advance_for`, one
-    specialisation per combination of effects)."""
-    if system not in _PROBES:
-        code = int(system)
-
-        @njit(cache=True)
-        def probe(t, y, p, S):  # noqa: ANN001
-            n = y.shape[0]
-            f = np.empty((1, n))
-            rhs(code, t, y, p, S, f, 0)
-            J = np.empty((n, n))
-            jacobian(code, t, y, p, S, f[0], J, np.empty(n))
-            return t * spectral_radius(J)
-
-        _PROBES[system] = probe
-    return _PROBES[system]
 
 
 def _make_advance(code: int) -> Any:

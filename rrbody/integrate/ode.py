@@ -28,15 +28,19 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+from numba import njit
 
 from rrbody.integrate.dop853 import TABLEAU
 from rrbody.integrate.events import E_HAVEMIN, E_NMIN, E_PHIMIN, E_T1, E_TMIN, new_event_state
 from rrbody.integrate.loop import STIFF_HLAMB, STIFF_METHOD, L_METH, L_NREJ, L_NROS, L_NSTEP, L_NSWITCH, L_NOUT, L_T, \
-    STEP_METHODS, advance_for, new_loop_state, run_in_chunks, stiffness_probe_for
+    STEP_METHODS, advance_for, new_loop_state, run_in_chunks
+from rrbody.integrate.rodas import spectral_radius
+from rrbody.model.friction import LAW_CODES
 from rrbody.physics import params as P
-from rrbody.physics.dynamics import SYSTEM_DRIVEN, driven_kinematics, driven_rhs, system_from_params
+from rrbody.physics.dynamics import SYSTEM_DRIVEN, driven_kinematics, jacobian, rhs, system_from_params
 
 __all__ = ["DrivenResult", "integrate_driven", "STOP_RULES", "STEP_METHODS"]
 
@@ -65,20 +69,42 @@ class DrivenResult:
     stats: dict[str, float] = field(default_factory=dict)
 
 
-def _stiff_start(system: int, y: np.ndarray, f: np.ndarray, p: np.ndarray, S: np.ndarray, h0: float) -> bool:
-    """Whether the run starts stiff: dry friction with the CM at rest at t = 0 (phi0 = pi), and the
-    stiffness at the first step, h0 times the spectral radius of J at (h0, y0 + h0 f0), beyond
-    DOP853's stability limit (the detector's STIFF_HLAMB).
+_STARTS: dict[int, Any] = {}
 
+
+def _start_for(system: int) -> Any:
+    """Compiled ``start(y, f, p, S, h0) -> bool`` for the system code ``system``: fills f = f(0, y)
+    and says whether the run starts stiff, probing with a step of h0 s (one call: the set-up is part
+    of every short run's cost).
+
+    Stiff start: dry friction with the CM at rest at t = 0 (phi0 = pi), and h0 times the spectral
+    radius of J at (h0, y + h0 f) beyond DOP853's stability limit (the detector's STIFF_HLAMB).
     There the CM speed grows like t, so the relaxation rate of its direction, mu g / |v|, falls like
-    1 / t and h |lambda| at steps h ~ t is the same at every t near the start (k = mu g / (d w^2) times
-    about H / (1 + H) for the rod-mass body): one probe decides. Below the limit DOP853 steps through
-    the start as cheaply as anywhere else (phixtpm: h |lambda| = 0.02), and more accurately than the
-    stiff method at loose tolerances."""
-    _, _, vx0, vy0, _, _ = driven_kinematics(0.0, y[0], y[1], p)
-    if int(p[P.LAW]) != 1 or math.hypot(vx0, vy0) > 10.0 * p[P.VEPS]:
-        return False
-    return stiffness_probe_for(system)(h0, y + h0 * f, p, S) > STIFF_HLAMB
+    1 / t and h |lambda| at steps h ~ t is the same at every t near the start (about k H / (1 + H) in
+    the paper's units): one probe decides. Below the limit DOP853 steps through the start as cheaply
+    as anywhere else (phixtpm: h |lambda| = 0.02), and more accurately than the stiff method at loose
+    tolerances."""
+    if system not in _STARTS:
+        code = int(system)
+        dry = (code // 10) % 10 == LAW_CODES["dry"]
+
+        @njit(cache=True)
+        def start(y, f, p, S, h0):  # noqa: ANN001
+            rhs(code, 0.0, y, p, S, f.reshape((1, 2)), 0)
+            if not dry:
+                return False
+            _, _, vx, vy, _, _ = driven_kinematics(0.0, y[0], y[1], p)
+            if math.hypot(vx, vy) > 10.0 * p[P.VEPS]:
+                return False
+            yp = y + h0 * f
+            fp = np.empty((1, 2))
+            rhs(code, h0, yp, p, S, fp, 0)
+            J = np.empty((2, 2))
+            jacobian(code, h0, yp, p, S, fp[0], J, np.empty(2))
+            return h0 * spectral_radius(J) > STIFF_HLAMB
+
+        _STARTS[system] = start
+    return _STARTS[system]
 
 
 def integrate_driven(p: np.ndarray, S: np.ndarray, y0: tuple[float, float], *, t_end: float, rtol: float,
@@ -102,20 +128,20 @@ def integrate_driven(p: np.ndarray, S: np.ndarray, y0: tuple[float, float], *, t
     omega = float(p[P.OMEGA])
     y = np.array(y0, dtype=np.float64)
     f = np.empty(2)
-    driven_rhs(0.0, y, p, S, f)
     ev = new_event_state(y[0], y[1])
-    # initial step: a small fraction of the fastest time scale; the controller adapts at once
-    h0 = 1e-3 * min(1.0 / omega, 1.0 / max(abs(y[1]), 1e-300))
-    h0 = min(h0, 1e-2 * (2 * math.pi / omega))
-    st = new_loop_state(h0, mode, yscale=max(omega, abs(y[1])))
-    system = system_from_params(p, SYSTEM_DRIVEN)
-    if mode == 0 and _stiff_start(system, y, f, p, S, h0):
-        # the impulsive start with the CM at rest under strong dry friction (phi0 = pi) is singularly
-        # stiff: start with the stiff method; the detector hands over to DOP853 where it stops being stiff
-        st[L_METH] = float(STIFF_METHOD)
     # phi is an angle that grows without bound: absolute scale; phi' tracks its running maximum
     scale = np.array([rtol * math.pi, rtol * max(omega, abs(y[1]))])
     hmax = 0.125 * 2.0 * math.pi / omega  # an event needs at least 8 steps per driving period
+    # initial step: a small fraction of the fastest time scale; the controller adapts at once
+    h0 = 1e-3 * min(1.0 / omega, 1.0 / max(abs(y[1]), 1e-300))
+    h0 = min(h0, 1e-2 * (2 * math.pi / omega))
+    system = system_from_params(p, SYSTEM_DRIVEN)
+    stiff = _start_for(system)(y, f, p, S, h0)
+    st = new_loop_state(h0, mode, yscale=max(omega, abs(y[1])))
+    if stiff and mode == 0:
+        # the impulsive start with the CM at rest under strong dry friction (phi0 = pi) is singularly
+        # stiff: start with the stiff method; the detector hands over to DOP853 where it stops being stiff
+        st[L_METH] = float(STIFF_METHOD)
     if math.isfinite(t_end) and dt_out > 0.0:
         n_out = int(math.floor(t_end / dt_out + 1e-9)) + 1
     else:
