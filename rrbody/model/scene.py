@@ -45,7 +45,7 @@ class Scene:
         Horizon (s). ``None``: analyses choose (the flip-time rule stops by itself).
     friction_method : {"auto", "sampled", "icr", "table"}
         Area integration for extended bodies ("auto": the instantaneous-centre method where it
-        applies, else sampled elements; "table": a precomputed table of the instantaneous-centre
+        applies, its table for a disk under dry friction, else sampled elements; "table": a precomputed table of the instantaneous-centre
         wrench for disks and ellipses, built once per aspect ratio, <= 1e-10 from "icr" and several
         times cheaper per evaluation; docs/extended.md).
     samples : int
