@@ -43,7 +43,7 @@ import time
 import numpy as np
 from numba import njit, prange
 
-from rrbody.physics.icr import TRANSLATION_EPS, icr_wrench
+from rrbody.physics.icr import TRANSLATION_EPS, icr_wrench, scaled_icr, translation_wrench
 
 __all__ = ["build_table", "table_wrench", "table_stats", "NT", "NM", "OCTAVES", "TAIL_TOL", "BUILD_NODES"]
 
@@ -273,7 +273,7 @@ def table_wrench(S, ra, rb, alpha, vx, vy, spin, coeff, v_eps):  # noqa: ANN001
     if S[0, 0] == 1.0:
         # disk: no body angle needed; r = |v| / (|Omega| R), force opposite v_cm
         if wr <= TRANSLATION_EPS * speed:
-            return -coeff * vx / speed, -coeff * vy / speed, -coeff * spin / speed * 0.25 * ra * ra
+            return translation_wrench(ra, rb, 1.0, 0.0, vx, vy, spin, speed, coeff)
         r = speed / wr
         if r < 1.0:
             ip, zt = _locate(S, 1.0 - r, 0)
@@ -292,17 +292,8 @@ def table_wrench(S, ra, rb, alpha, vx, vy, spin, coeff, v_eps):  # noqa: ANN001
     ca = math.cos(alpha)
     sa = math.sin(alpha)
     if wr <= TRANSLATION_EPS * speed:
-        # near-pure translation, as icr_wrench: v_hat uniform to O(eps^2), torque the linear response
-        ex = vx / speed
-        ey = vy / speed
-        ebx = ca * ex + sa * ey
-        eby = -sa * ex + ca * ey
-        m2 = 0.25 * (ra * ra * ebx * ebx + rb * rb * eby * eby)
-        return -coeff * ex, -coeff * ey, -coeff * spin / speed * m2
-    vbx = ca * vx + sa * vy
-    vby = -sa * vx + ca * vy
-    qx = -vby / (spin * ra)
-    qy = vbx / (spin * rb)
+        return translation_wrench(ra, rb, ca, sa, vx, vy, spin, speed, coeff)
+    qx, qy = scaled_icr(ra, rb, ca, sa, vx, vy, spin)
     ax_ = abs(qx)
     ay_ = abs(qy)
     if ay_ <= ax_:
