@@ -111,6 +111,16 @@ def test_friction_method_table_binds_and_rejects_a_point_mass() -> None:
                                                                   "friction_method": "table"}))
 
 
+def test_auto_picks_the_table_for_a_dry_disk_only() -> None:
+    drive = CircularDrive(omega=0.6, d=1.0)
+    for body, method, law, want in [(Disk(R=0.1, l=0.2), "auto", "dry", P.BODY_TABLE),
+                                    (Disk(R=0.1, l=0.2), "icr", "dry", P.BODY_ICR),
+                                    (Disk(R=0.1, l=0.2), "auto", "viscous", P.BODY_ICR),
+                                    (Ellipse(R0=0.1, delta=0.5, l=0.2), "auto", "dry", P.BODY_ICR)]:
+        p, _ = kernel_params(Scene(body=body, drive=drive, friction=Friction(law, 0.05), friction_method=method))
+        assert int(p[P.BODY]) == want, (body, method, law)
+
+
 def test_flip_time_table_equals_icr() -> None:
     # an eccentric ellipse (delta 0.5, l 0.2, k 0.033; t_f ~ 8.13 s): the wrench differs by < 1e-10
     # relative (test above), and t_f by about that times its sensitivity to the friction; measured

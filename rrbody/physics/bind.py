@@ -43,6 +43,8 @@ def area_model(scene: Scene) -> int:
                          f"{scene.friction.law!r}; use 'sampled' or 'auto'")
     if method == "table":
         return P.BODY_TABLE
+    if method == "icr":
+        return P.BODY_ICR
     if not icr_supported(scene.body, scene.friction.law):
         return P.BODY_SAMPLED
     # "auto": a dry disk uses the table (1-D, built in ~0.1 s, within 3e-14 of the quadrature and
