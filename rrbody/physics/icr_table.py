@@ -12,7 +12,8 @@ r = |Q|; lengths in units of L = max(a, b), so force is scale-free and torque sc
   and x = 1 - t in (0, 1]. The wrench is non-analytic only at the boundary x -> 0, through terms
   like x log x; the panels are the octaves [2^-(o+1), 2^-o) of x (found from the float's exponent,
   ``math.frexp``), each split into k_o equal sub-panels, k_o chosen so the log-type term stays below
-  ~1e-12 on a degree-(NT-1) polynomial; x below 2^-E is clamped (the term there is < 1e-12).
+  ~1e-12 on a degree-(NT-1) polynomial and doubled at build time while the fit's radial tail exceeds
+  ``TAIL_TOL`` (the far field of a thin ellipse); x below 2^-E is clamped (the term there is < 2e-12).
 - angle (ellipse only): the reflections x -> -x, y -> -y map Q into the first quadrant
   (F_x changes sign with y, F_y with x, the torque keeps its sign), and the quadrant is split into
   the octants |Q_y| <= |Q_x| and |Q_y| > |Q_x| with coordinate m = min/max in [0, 1] (no atan2).
@@ -29,9 +30,10 @@ translation and the zero-speed dead band are handled exactly as :func:`icr_wrenc
 viscous law is linear and exact, so it never uses the table.
 
 Layout of the table array ``S`` (rows of 3, what the kernels receive as the area-sample array):
-row 0 (kind 1 disk / 2 ellipse, NT, NM); row 1 (b/a, E octaves, NR radial panels per side);
-rows 2 .. 2+E-1 (k_o, first radial panel of octave o, 0); then NR rows per side (inside first)
-(base row of octant 0, m-panels of octant 0, m-panels of octant 1); then the coefficient rows.
+row 0 (kind 1 disk / 2 ellipse, NT, NM); row 1 (b/a, E octaves, radial panels inside);
+rows 2 .. 2+2E-1 per side (inside first) and octave o (k_o, index of its first radial panel, 0);
+then one row per radial panel (base row of octant 0, m-panels of octant 0, m-panels of octant 1;
+a disk: base row only); then the coefficient rows (octant 1's panels follow octant 0's).
 """
 
 from __future__ import annotations
