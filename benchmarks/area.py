@@ -108,11 +108,15 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     # ---- extended-body RHS vs point-mass RHS ----
     drive = CircularDrive(omega=0.6, d=1.0)
     point = rod_mass_scene(0.2, 0.05, 0.6)
-    disk = Scene(body=Disk(R=0.1, l=0.2), drive=drive, friction=Friction("dry", 0.05), friction_method="icr")
+    # the default method ("auto": a dry disk's wrench table) is what the target judges; the quadrature
+    # ("icr") is timed beside it
+    disk = Scene(body=Disk(R=0.1, l=0.2), drive=drive, friction=Friction("dry", 0.05))
     p0, S0 = kernel_params(point)
     p1, S1 = kernel_params(disk)
+    p2, S2 = kernel_params(Scene(body=disk.body, drive=drive, friction=Friction("dry", 0.05), friction_method="icr"))
     t_point = _per_call(lambda mm: _loop_rhs(p0, S0, mm), 1_000_000)
     t_disk = _per_call(lambda mm: _loop_rhs(p1, S1, mm), 100_000)
+    t_icr = _per_call(lambda mm: _loop_rhs(p2, S2, mm), 100_000)
     # does the RHS really see the ICR friction? compare with friction switched off
     from rrbody.physics.dynamics import driven_rhs
 
@@ -130,15 +134,18 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     t_kernel = _per_call(lambda mm: _loop_icr(a1, b1, n_default, mm, 0.01, 0.02, 1.0, disk.body.inertia_per_mass),
                          100_000)
     ratio = t_disk / t_point if icr_active else (t_point + t_kernel) / t_point
-    targets = [Target("extended-body RHS (ICR) vs point-mass RHS", "<= 5x",
+    targets = [Target("extended-body RHS (default method) vs point-mass RHS", "<= 5x",
                       f"{ratio:.1f}x ({t_disk * 1e9 if icr_active else (t_point + t_kernel) * 1e9:.0f} ns vs "
-                      f"{t_point * 1e9:.0f} ns per evaluation; disk, {n_default} nodes/panel)",
+                      f"{t_point * 1e9:.0f} ns per evaluation; disk, its wrench table; "
+                      f"friction_method 'icr' ({n_default} nodes/panel): {t_icr / t_point:.1f}x)",
                       ratio <= 5.0, "" if icr_active else
                       "driven_rhs does not dispatch to the ICR kernel yet: RHS + kernel cost estimated")]
     rhs_rows = [{"what": "point-mass driven_rhs", "ns_per_eval": t_point * 1e9},
-                {"what": f"disk (ICR, {n_default} nodes) driven_rhs", "ns_per_eval": t_disk * 1e9,
+                {"what": "disk (default: table) driven_rhs", "ns_per_eval": t_disk * 1e9,
                  "icr_dispatched": icr_active},
-                {"what": f"ICR kernel alone ({n_default} nodes)", "ns_per_eval": t_kernel * 1e9}]
+                {"what": f"ICR kernel alone ({n_default} nodes)", "ns_per_eval": t_kernel * 1e9},
+                {"what": f"disk (icr, {n_default} nodes) driven_rhs", "ns_per_eval": t_icr * 1e9,
+                 "icr_dispatched": icr_active}]
     files.append(str(write_csv(out / "area_rhs_cost.csv", rhs_rows, ["what", "ns_per_eval", "icr_dispatched"])))
 
     # ---- summary: cheapest resolution reaching 1e-6 and 1e-10 per motion ----

@@ -10,6 +10,7 @@ import numpy as np
 from rrbody.model.scene import Scene
 from rrbody.physics import params as P
 from rrbody.physics.area import area_samples, icr_nodes, icr_supported
+from rrbody.physics.icr_table import build_table
 
 __all__ = ["area_model", "kernel_params", "DRIVEN_DEAD_BAND", "FREE_DEAD_BAND"]
 
@@ -27,22 +28,36 @@ FREE_DEAD_BAND: float = 1e-12
 
 
 def area_model(scene: Scene) -> int:
-    """Which friction integration the kernels use for ``scene``: P.BODY_POINT, P.BODY_SAMPLED or P.BODY_ICR."""
-    if scene.body.is_point and scene.friction_method == "icr":
-        raise ValueError(f"friction_method 'icr' needs an extended body (disk or ellipse), got body "
+    """Which friction integration the kernels use for ``scene``: P.BODY_POINT, P.BODY_SAMPLED,
+    P.BODY_ICR or P.BODY_TABLE."""
+    method = scene.friction_method
+    if scene.body.is_point and method in ("icr", "table"):
+        raise ValueError(f"friction_method {method!r} needs an extended body (disk or ellipse), got body "
                          f"{scene.body.kind!r}; a point mass feels friction at its CM ('auto')")
     if scene.body.is_point or not scene.friction.active:
         return P.BODY_POINT
-    if scene.friction_method == "sampled":
+    if method == "sampled":
         return P.BODY_SAMPLED
-    if scene.friction_method == "icr" and not icr_supported(scene.body, scene.friction.law):
-        raise ValueError(f"friction_method 'icr' does not apply to body {scene.body.kind!r} with friction "
+    if method in ("icr", "table") and not icr_supported(scene.body, scene.friction.law):
+        raise ValueError(f"friction_method {method!r} does not apply to body {scene.body.kind!r} with friction "
                          f"{scene.friction.law!r}; use 'sampled' or 'auto'")
-    return P.BODY_ICR if icr_supported(scene.body, scene.friction.law) else P.BODY_SAMPLED
+    if method == "table":
+        return P.BODY_TABLE
+    if method == "icr":
+        return P.BODY_ICR
+    if not icr_supported(scene.body, scene.friction.law):
+        return P.BODY_SAMPLED
+    # "auto": a dry disk uses the table (1-D, built in ~0.1 s, within 3e-14 of the quadrature and
+    # about half its RHS cost); an ellipse keeps the quadrature, since its table costs 3-14 s to
+    # build per aspect ratio (delta 0.5-0.9), more than a typical run saves (docs/extended.md)
+    ra, rb = scene.body.semi_axes
+    return P.BODY_TABLE if (ra == rb and scene.friction.law == "dry") else P.BODY_ICR
 
 
 def kernel_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
-    """The parameter vector ``p`` and area-sample array ``S`` (rows x_b, y_b, w) for the compiled kernels."""
+    """The parameter vector ``p`` and area-sample array ``S`` for the compiled kernels: ``S`` holds the
+    area samples (rows x_b, y_b, w) for the sampled method, the wrench table
+    (:mod:`rrbody.physics.icr_table`, cached per aspect ratio) for the table method, else nothing."""
     p = np.zeros(P.SIZE)
     p[P.OMEGA] = scene.omega
     p[P.D] = scene.d
@@ -63,4 +78,8 @@ def kernel_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
         S = area_samples(scene.body, scene.samples)
     elif model == P.BODY_ICR:
         p[P.NQ] = float(icr_nodes(scene.body))
+    elif model == P.BODY_TABLE:
+        p[P.NQ] = float(icr_nodes(scene.body))
+        if scene.friction.law == "dry":
+            S = build_table(ra, rb)
     return p, S

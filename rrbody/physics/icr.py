@@ -47,7 +47,7 @@ from numba import njit
 
 from rrbody.physics.quadrature import quadrature_tables
 
-__all__ = ["icr_wrench", "NODE_COUNTS", "KAPPA_SWITCH", "X_END", "TRANSLATION_EPS", "ECC_ETA", "ECC_FAR"]
+__all__ = ["icr_wrench", "translation_wrench", "scaled_icr", "NODE_COUNTS", "KAPPA_SWITCH", "X_END", "TRANSLATION_EPS", "ECC_ETA", "ECC_FAR"]
 
 #: allowed nodes per panel; the kernel rounds a request up to the next one
 NODE_COUNTS: tuple[int, ...] = (8, 12, 16, 20, 24, 32, 40, 48, 64, 80, 96, 128, 160, 192, 256, 320, 384, 512)
@@ -266,6 +266,28 @@ def _eccentric(eta, a, b, nn, o, inside, r, S, kap, kp, kp2, cpsi0, spsi0, g0): 
     return ax, ay, at
 
 
+@njit(cache=True, inline="always")
+def translation_wrench(a, b, ca, sa, vx, vy, spin, speed, coeff):  # noqa: ANN001
+    """Dry wrench in near-pure translation (|Omega| R <= TRANSLATION_EPS |v|): v_hat is uniform to
+    O(eps^2) and the torque is the linear response -mu g (Omega/|v|) <(rho . v_hat)^2>. Body angle
+    via (ca, sa) = (cos, sin) alpha; force (m/s^2, world frame), torque about the CM (m^2/s^2)."""
+    ex = vx / speed
+    ey = vy / speed
+    ebx = ca * ex + sa * ey
+    eby = -sa * ex + ca * ey
+    m2 = 0.25 * (a * a * ebx * ebx + b * b * eby * eby)
+    return -coeff * ex, -coeff * ey, -coeff * spin / speed * m2
+
+
+@njit(cache=True, inline="always")
+def scaled_icr(a, b, ca, sa, vx, vy, spin):  # noqa: ANN001
+    """The ICR in the scaled body frame (x/a, y/b): its offset from the CM in the body frame is
+    q = z x v_b / Omega (m), v_b the CM velocity (m/s) turned into the body frame by -alpha."""
+    vbx = ca * vx + sa * vy
+    vby = -sa * vx + ca * vy
+    return -vby / spin / a, vbx / spin / b
+
+
 @njit(cache=True)
 def icr_wrench(a: float, b: float, n: int, alpha: float, vx: float, vy: float, spin: float, law: int,
                coeff: float, v_eps: float, icm: float) -> tuple[float, float, float]:
@@ -289,18 +311,8 @@ def icr_wrench(a: float, b: float, n: int, alpha: float, vx: float, vy: float, s
     ca = math.cos(alpha)
     sa = math.sin(alpha)
     if wr <= TRANSLATION_EPS * speed:
-        # near-pure translation: v_hat uniform to O(eps^2); torque is the linear response
-        ex = vx / speed
-        ey = vy / speed
-        ebx = ca * ex + sa * ey
-        eby = -sa * ex + ca * ey
-        m2 = 0.25 * (a * a * ebx * ebx + b * b * eby * eby)
-        return -coeff * ex, -coeff * ey, -coeff * spin / speed * m2
-    # ICR offset from the CM in the body frame: q = z x v_b / Omega, then the scaled frame Q
-    vbx = ca * vx + sa * vy
-    vby = -sa * vx + ca * vy
-    qx = -vby / spin / a
-    qy = vbx / spin / b
+        return translation_wrench(a, b, ca, sa, vx, vy, spin, speed, coeff)
+    qx, qy = scaled_icr(a, b, ca, sa, vx, vy, spin)
     r = math.hypot(qx, qy)
     if r > 0.0:
         cpsi0 = -qx / r

@@ -15,7 +15,7 @@ IP = 3         # I_P / m = I_cm/m + l^2 (m^2)
 BETA = 4       # phi - alpha: angle of CM->P in the body frame (rad)
 LAW = 5        # friction law code (0 none, 1 dry, 2 viscous)
 COEFF = 6      # mu*g (m/s^2, dry) or gamma (1/s, viscous)
-BODY = 7       # area model: 0 point, 1 sampled elements, 2 instantaneous-centre quadrature
+BODY = 7       # area model: 0 point, 1 sampled elements, 2 instantaneous-centre quadrature, 3 its table
 VEPS = 8       # speed below which a dry element's direction counts as undefined (m/s)
 RA = 9         # semi-axis along body x (m)
 RB = 10        # semi-axis along body y (m)
@@ -26,3 +26,4 @@ SIZE = 16
 BODY_POINT = 0
 BODY_SAMPLED = 1
 BODY_ICR = 2
+BODY_TABLE = 3

@@ -7,7 +7,7 @@ A scene lists its effects; each contributes one term through one signature:
   one axis with derivatives, ``perp``, for the point-mass Jacobian): ``law_dry``, ``law_viscous``;
 - area integration (the wrench of the law over the body,
   ``wrench(law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps) -> (Fx, Fy, tau_cm)``, also
-  what the engine applies): ``area_point``, ``area_sampled``, ``area_icr``.
+  what the engine applies): ``area_point``, ``area_sampled``, ``area_icr``, ``area_table``.
 
 Composition: the combination a scene lists is one small integer, its *system code*
 (:func:`system_code`: kind + 10 law + 100 area). The stepping loop is compiled for the code as a
@@ -32,7 +32,7 @@ KINDS: dict[str, int] = {"driven": DRIVEN, "free": FREE}
 #: friction laws -> code (modules law_<name>; "none" lists no friction effect)
 LAWS: dict[str, int] = LAW_CODES  # the model's table: one code per law everywhere
 #: area-integration methods -> code (modules area_<name>)
-AREAS: dict[str, int] = {"point": 0, "sampled": 1, "icr": 2}
+AREAS: dict[str, int] = {"point": 0, "sampled": 1, "icr": 2, "table": 3}
 
 
 def system_code(kind: str, law: str, area: str) -> int:

@@ -9,17 +9,19 @@ from __future__ import annotations
 
 from numba import njit
 
-from rrbody.physics.effects import area_icr, area_point, area_sampled
+from rrbody.physics.effects import area_icr, area_point, area_sampled, area_table
 
-__all__ = ["body_wrench", "POINT", "SAMPLED", "ICR"]
+__all__ = ["body_wrench", "POINT", "SAMPLED", "ICR", "TABLE"]
 
-POINT, SAMPLED, ICR = 0, 1, 2
+POINT, SAMPLED, ICR, TABLE = 0, 1, 2, 3
 
 
 @njit(cache=True, inline="always")
 def body_wrench(area, law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps):  # noqa: ANN001 (numba)
     """(Fx, Fy, tau_cm): friction force (m/s^2, world frame) and torque about the CM (m^2/s^2) per
     unit mass by area method ``area`` and law ``law`` (body angle alpha rad, CM velocity m/s, spin rad/s)."""
+    if area == TABLE:
+        return area_table.wrench(law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps)
     if area == ICR:
         return area_icr.wrench(law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps)
     if area == SAMPLED:

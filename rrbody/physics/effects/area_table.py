@@ -1,0 +1,28 @@
+"""Effect ``table``: friction on a homogeneous disk or ellipse from a precomputed wrench table.
+
+The dry wrench as a piecewise polynomial of the instantaneous centre (kernel, layout and accuracy:
+:mod:`rrbody.physics.icr_table`); ``S`` is the table of the body's aspect ratio
+(:func:`rrbody.physics.icr_table.build_table`). The viscous law is linear, so it stays exact (the
+closed form of :func:`rrbody.physics.icr.icr_wrench`, which returns before any quadrature).
+Parameters: semi-axes ra, rb (m), icm = I_cm / m (m^2, for the viscous law).
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+from rrbody.physics.effects.laws import DRY
+from rrbody.physics.icr import icr_wrench
+from rrbody.physics.icr_table import table_wrench
+
+__all__ = ["wrench"]
+
+NAME = "table"
+
+
+@njit(cache=True, inline="always")
+def wrench(law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps):  # noqa: ANN001 (numba)
+    """(Fx, Fy, tau_cm) per unit mass (m/s^2 world frame, m^2/s^2)."""
+    if law == DRY:
+        return table_wrench(S, ra, rb, alpha, vx, vy, spin, coeff, v_eps)
+    return icr_wrench(ra, rb, nq, alpha, vx, vy, spin, law, coeff, v_eps, icm)

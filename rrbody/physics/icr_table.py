@@ -1,0 +1,331 @@
+"""Precomputed dry-friction wrench of a homogeneous disk or ellipse: a piecewise polynomial table.
+
+The dry wrench depends on the motion only through the instantaneous centre of rotation (ICR) and
+the sign of the spin, so per unit ``mu g`` it is a function of the ICR alone, one function per
+aspect ratio. This module tabulates it once per ratio (from :func:`rrbody.physics.icr.icr_wrench`
+at high node count) and evaluates it with a few hundred multiply-adds and no transcendental call.
+
+Coordinates (scaled body frame x/a, y/b, where the ellipse is the unit disk; Q the scaled ICR,
+r = |Q|; lengths in units of L = max(a, b), so force is scale-free and torque scales with L):
+
+- radial: t = r inside (r < 1), t = 1/r outside (translation, r -> inf, is the finite end t = 0),
+  and x = 1 - t in (0, 1]. The wrench is non-analytic only at the boundary x -> 0, through terms
+  like x log x; the panels are the octaves [2^-(o+1), 2^-o) of x (found from the float's exponent,
+  ``math.frexp``), each split into k_o equal sub-panels, k_o chosen so the log-type term stays below
+  ~1e-12 on a degree-(NT-1) polynomial and doubled at build time while the fit's radial tail exceeds
+  ``TAIL_TOL`` (the far field of a thin ellipse); x below 2^-E is clamped (the term there is < 2e-12).
+- angle (ellipse only): the reflections x -> -x, y -> -y map Q into the first quadrant
+  (F_x changes sign with y, F_y with x, the torque keeps its sign), and the quadrant is split into
+  the octants |Q_y| <= |Q_x| and |Q_y| > |Q_x| with coordinate m = min/max in [0, 1] (no atan2).
+  Each octant of each radial panel has its own number of equal m-panels, doubled at build time until
+  the Chebyshev tail of the fit is below ``TAIL_TOL`` (thin ellipses have near-singularities in the
+  angle at distance ~atanh(b/a)).
+- a disk is rotationally symmetric: its table is 1-D in t (force magnitude and torque), the force
+  opposing v_cm.
+
+Each panel holds NT x NM coefficient triples (F_x, F_y, tau per unit mu g and mu g L, body frame,
+spin > 0) of a monomial in the local coordinates z_t, z_m in [-1, 1], evaluated by nested Horner.
+A negative spin flips the wrench (W(-v, -Omega) = -W(v, Omega), the ICR is unchanged). Pure
+translation and the zero-speed dead band are handled exactly as :func:`icr_wrench` does; the
+viscous law is linear and exact, so it never uses the table.
+
+Layout of the table array ``S`` (rows of 3, what the kernels receive as the area-sample array):
+row 0 (kind 1 disk / 2 ellipse, NT, NM); row 1 (b/a, E octaves, radial panels inside);
+rows 2 .. 2+2E-1 per side (inside first) and octave o (k_o, index of its first radial panel, 0);
+then one row per radial panel (base row of octant 0, m-panels of octant 0, m-panels of octant 1;
+a disk: base row only); then the coefficient rows (octant 1's panels follow octant 0's).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import time
+
+import numpy as np
+from numba import njit, prange
+
+from rrbody.physics.icr import TRANSLATION_EPS, icr_wrench, scaled_icr, translation_wrench
+
+__all__ = ["build_table", "table_wrench", "table_stats", "NT", "NM", "OCTAVES", "TAIL_TOL", "BUILD_NODES"]
+
+#: coefficients per panel along t (degree NT - 1) and along m (degree NM - 1)
+NT: int = 10
+NM: int = 10
+#: octaves of x = 1 - t that get panels; below 2^-OCTAVES (x log x < 2e-12) x is clamped
+OCTAVES: int = 44
+#: acceptance threshold on the last two Chebyshev coefficients of an angle fit (units mu g, mu g L)
+TAIL_TOL: float = 1e-11
+#: Gauss nodes per panel of the ICR quadrature that builds the table (self-converged to ~1e-14)
+BUILD_NODES: int = 64
+#: most m-panels per octant before the build gives up refining (the test reports the error)
+MAX_M_PANELS: int = 128
+_HEADER = 2
+
+
+def _sub_panels(o: int) -> int:
+    """Sub-panels of octave o: the log term's size there, 2^-o (1 + o ln 2), times the Chebyshev
+    decay rho^-NT of the sub-panel nearest x = 0 (rho = d + sqrt(d^2 - 1), d = 2 k + 1), kept < 1e-12."""
+    amp = 2.0 ** -o * (1.0 + o * math.log(2.0))
+    for k in (1, 2, 4, 8):
+        d = 2.0 * k + 1.0
+        if amp * (d + math.sqrt(d * d - 1.0)) ** -NT < 1e-12:
+            return k
+    return 16
+
+
+@njit(cache=True, parallel=True)
+def _values(a, b, rs, ms, octant):  # noqa: ANN001
+    """Wrench (body frame, mu g = 1, spin = 1) at every scaled ICR (r, m) of the grid rs x ms."""
+    out = np.empty((rs.shape[0], ms.shape[0], 3))
+    for i in prange(rs.shape[0]):
+        for j in range(ms.shape[0]):
+            c = 1.0 / math.sqrt(1.0 + ms[j] * ms[j])
+            qx = rs[i] * c
+            qy = rs[i] * ms[j] * c
+            if octant == 1:
+                qx, qy = qy, qx
+            # spin 1: v_b = (qy b, -qx a) puts the ICR at q = z x v_b / spin, i.e. Q = (qx, qy) scaled
+            fx, fy, tq = icr_wrench(a, b, BUILD_NODES, 0.0, qy * b, -qx * a, 1.0, 1, 1.0, 0.0, 0.0)
+            out[i, j, 0] = fx
+            out[i, j, 1] = fy
+            out[i, j, 2] = tq
+    return out
+
+
+def _cheb(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Chebyshev points of the first kind on [-1, 1], the values -> coefficients matrix, and the
+    Chebyshev -> monomial matrix (degree n - 1 is small: the monomial form loses < 1e-15)."""
+    k = np.arange(n)
+    th = np.pi * (k + 0.5) / n
+    z = np.cos(th)
+    V = np.cos(np.outer(k, th)) * (2.0 / n)
+    V[0] *= 0.5
+    M = np.zeros((n, n))
+    for j in range(n):
+        e = np.zeros(n)
+        e[j] = 1.0
+        c = np.polynomial.chebyshev.cheb2poly(e)
+        M[: c.size, j] = c
+    return z, V, M
+
+
+def _octave_edges(o: int, k: int) -> list[tuple[float, float]]:
+    lo = 2.0 ** -(o + 1)
+    return [(lo * (1.0 + s / k), lo * (1.0 + (s + 1) / k)) for s in range(k)]
+
+
+def _fit_octant(a: float, b: float, rs: np.ndarray, octant: int, n: int, cheb: tuple) -> tuple[np.ndarray, int]:
+    """Chebyshev coefficients (panel, NT, NM, 3) of one octant of one radial panel, the number of
+    m-panels doubled from ``n`` (half the neighbour's, so it can also fall) until the angular tail
+    is below TAIL_TOL."""
+    zm, Vt, Vm = cheb
+    while True:
+        ms = ((np.arange(n)[:, None] + 0.5 + 0.5 * zm[None, :]) / n).ravel()
+        w = _values(a, b, rs, ms, octant).reshape(NT, n, NM, 3)
+        c = np.einsum("it,tpmk,jm->pijk", Vt, w, Vm)
+        if np.abs(c[:, :, -2:, :]).max() < TAIL_TOL or n >= MAX_M_PANELS:
+            return c, n
+        n *= 2
+
+
+@functools.lru_cache(maxsize=16)
+def _build(ratio: float) -> np.ndarray:
+    a, b = (1.0, ratio) if ratio <= 1.0 else (1.0 / ratio, 1.0)
+    disk = ratio == 1.0
+    zt, Vt, Mt = _cheb(NT)
+    zm, Vm, Mm = _cheb(NM)
+    # per side and octave: the radial panels' Chebyshev coefficients (list over sub-panels of
+    # [octant 0, octant 1] blocks), sub-panels doubled until the radial tail is below TAIL_TOL
+    sides: list[list[list[list[np.ndarray]]]] = []
+    for side in range(2):
+        octs = []
+        warm = [1, 1]
+        for o in range(OCTAVES):
+            k = _sub_panels(o)
+            while True:
+                panels = []
+                rtail = 0.0
+                for lo, hi in _octave_edges(o, k):
+                    t = 1.0 - (0.5 * (lo + hi) + 0.5 * (hi - lo) * zt)
+                    rs = t if side == 0 else 1.0 / t
+                    if disk:
+                        w = _values(a, b, rs, np.zeros(1), 0)[:, 0, :]
+                        c = (Vt @ w)[None, :, None, :]
+                        panels.append([c])
+                    else:
+                        blocks = []
+                        for octant in range(2):
+                            c, warm[octant] = _fit_octant(a, b, rs, octant, max(1, warm[octant] // 2), (zm, Vt, Vm))
+                            blocks.append(c)
+                        panels.append(blocks)
+                    rtail = max(rtail, max(float(np.abs(c[:, -2:]).max()) for c in panels[-1]))
+                if rtail < TAIL_TOL or k >= 64:
+                    break
+                k *= 2
+            octs.append(panels)
+        sides.append(octs)
+    nr = [sum(len(p) for p in octs) for octs in sides]
+    head = np.zeros((_HEADER + 2 * OCTAVES + nr[0] + nr[1], 3))
+    head[0] = (1.0 if disk else 2.0, NT, 1 if disk else NM)
+    head[1] = (ratio, OCTAVES, nr[0])
+    rows = []
+    row = head.shape[0]
+    ip = 0
+    for side in range(2):
+        for o, panels in enumerate(sides[side]):
+            head[_HEADER + side * OCTAVES + o] = (len(panels), ip, 0.0)
+            for blocks in panels:
+                hrow = _HEADER + 2 * OCTAVES + ip
+                head[hrow, 0] = row
+                ip += 1
+                if disk:
+                    c = Mt @ blocks[0][0, :, 0, :]  # (NT, 3): force along z x e_Q (col 1), torque (col 2)
+                    rows.append(np.column_stack([c[:, 1], c[:, 2], np.zeros(NT)]))
+                    row += NT
+                    continue
+                for octant, c in enumerate(blocks):
+                    mono = np.einsum("ai,pijk,bj->pabk", Mt, c, Mm)
+                    rows.append(mono.reshape(-1, 3))
+                    head[hrow, 1 + octant] = c.shape[0]
+                    row += c.shape[0] * NT * NM
+    return np.ascontiguousarray(np.vstack([head, *rows]))
+
+
+def build_table(ra: float, rb: float) -> np.ndarray:
+    """The wrench table of an ellipse with semi-axes ``ra`` (body x) and ``rb`` (body y), both in m
+    and > 0 (a disk if equal). Cached in memory per aspect ratio rb/ra: the table is dimensionless."""
+    for name, v in (("ra", ra), ("rb", rb)):
+        if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0.0):
+            raise ValueError(f"{name} must be a finite semi-axis > 0 m, got {v!r} (valid range: (0, inf))")
+    return _build(float(rb) / float(ra))
+
+
+def table_stats(ra: float, rb: float) -> dict[str, float]:
+    """Size and build time of the table for (ra, rb): rows, megabytes, seconds (0 when cached)."""
+    t0 = time.perf_counter()
+    S = build_table(ra, rb)
+    return {"rows": float(S.shape[0]), "megabytes": S.nbytes / 1e6, "build_s": time.perf_counter() - t0}
+
+
+@njit(cache=True, inline="always")
+def _locate(S, x, side):  # noqa: ANN001
+    """(radial panel index, local coordinate z_t) of x = 1 - t in [0, 1] on ``side`` (0 inside, 1 outside)."""
+    mant, e = math.frexp(x)
+    o = -e
+    E = int(S[1, 1])
+    if x >= 1.0 or o < 0:
+        o = 0
+        u = 1.0
+    elif x <= 0.0 or o >= E:
+        o = E - 1
+        u = 0.0
+    else:
+        u = 2.0 * mant - 1.0
+    h = _HEADER + side * E + o
+    k = S[h, 0]
+    uk = u * k
+    s = int(uk)
+    if s >= k:
+        s = int(k) - 1
+    return int(S[h, 1]) + s, 2.0 * (uk - s) - 1.0
+
+
+@njit(cache=True, inline="always")
+def _horner2(S, base, nt, nm, zt, zm):  # noqa: ANN001
+    """Sum_ij zt^i zm^j C_ij for the three components of the panel at row ``base``. Two rows of
+    the inner (zm) Horner run side by side: six independent chains instead of three, which the
+    CPU overlaps (the nested Horner is latency-bound otherwise); nt is even."""
+    f0 = 0.0
+    f1 = 0.0
+    f2 = 0.0
+    for i in range(nt - 1, 0, -2):
+        g0 = 0.0
+        g1 = 0.0
+        g2 = 0.0
+        h0 = 0.0
+        h1 = 0.0
+        h2 = 0.0
+        row = base + i * nm
+        low = row - nm
+        for j in range(nm - 1, -1, -1):
+            g0 = g0 * zm + S[row + j, 0]
+            g1 = g1 * zm + S[row + j, 1]
+            g2 = g2 * zm + S[row + j, 2]
+            h0 = h0 * zm + S[low + j, 0]
+            h1 = h1 * zm + S[low + j, 1]
+            h2 = h2 * zm + S[low + j, 2]
+        f0 = (f0 * zt + g0) * zt + h0
+        f1 = (f1 * zt + g1) * zt + h1
+        f2 = (f2 * zt + g2) * zt + h2
+    return f0, f1, f2
+
+
+@njit(cache=True)
+def table_wrench(S, ra, rb, alpha, vx, vy, spin, coeff, v_eps):  # noqa: ANN001
+    """Dry-friction force (m/s^2, world frame) and torque about the CM (m^2/s^2) per unit mass on the
+    ellipse (ra, rb) (m) whose table is ``S`` (:func:`build_table`): body angle ``alpha`` (rad), CM
+    velocity (vx, vy) (m/s, world), spin (rad/s), ``coeff`` = mu g (m/s^2); zero below ``v_eps`` (m/s)."""
+    speed = math.sqrt(vx * vx + vy * vy)
+    rmax = max(ra, rb)
+    wr = abs(spin) * rmax
+    if speed <= v_eps and wr <= v_eps:
+        return 0.0, 0.0, 0.0
+    pre = coeff if spin > 0.0 else -coeff
+    if S[0, 0] == 1.0:
+        # disk: no body angle needed; r = |v| / (|Omega| R), force opposite v_cm
+        if wr <= TRANSLATION_EPS * speed:
+            return translation_wrench(ra, rb, 1.0, 0.0, vx, vy, spin, speed, coeff)
+        r = speed / wr
+        if r < 1.0:
+            ip, zt = _locate(S, 1.0 - r, 0)
+        else:
+            ip, zt = _locate(S, (r - 1.0) / r, 1)
+        base = int(S[_HEADER + 2 * int(S[1, 1]) + ip, 0])
+        g = 0.0
+        h = 0.0
+        for i in range(int(S[0, 1]) - 1, -1, -1):
+            g = g * zt + S[base + i, 0]
+            h = h * zt + S[base + i, 1]
+        if speed > 0.0:
+            f = -coeff * g / speed
+            return f * vx, f * vy, pre * rmax * h
+        return 0.0, 0.0, pre * rmax * h
+    ca = math.cos(alpha)
+    sa = math.sin(alpha)
+    if wr <= TRANSLATION_EPS * speed:
+        return translation_wrench(ra, rb, ca, sa, vx, vy, spin, speed, coeff)
+    qx, qy = scaled_icr(ra, rb, ca, sa, vx, vy, spin)
+    ax_ = abs(qx)
+    ay_ = abs(qy)
+    if ay_ <= ax_:
+        big = ax_
+        m = ay_ / ax_ if ax_ > 0.0 else 0.0
+        col = 1
+    else:
+        big = ay_
+        m = ax_ / ay_
+        col = 2
+    r = big * math.sqrt(1.0 + m * m)
+    if r < 1.0:
+        ip, zt = _locate(S, 1.0 - r, 0)
+    else:
+        ip, zt = _locate(S, (r - 1.0) / r, 1)
+    nt = int(S[0, 1])
+    nm = int(S[0, 2])
+    hrow = _HEADER + 2 * int(S[1, 1]) + ip
+    base = int(S[hrow, 0])
+    n0 = int(S[hrow, 1])
+    if col == 2:
+        base += n0 * nt * nm
+    n = int(S[hrow, col])
+    mn = m * n
+    j = int(mn)
+    if j >= n:
+        j = n - 1
+    zm = 2.0 * (mn - j) - 1.0
+    f0, f1, f2 = _horner2(S, base + j * nt * nm, nt, nm, zt, zm)
+    # reflections back from the first quadrant: F_x flips with Q_y, F_y with Q_x
+    fbx = pre * (f0 if qy >= 0.0 else -f0)
+    fby = pre * (f1 if qx >= 0.0 else -f1)
+    return ca * fbx - sa * fby, sa * fbx + ca * fby, pre * rmax * f2

@@ -1,0 +1,136 @@
+"""The precomputed wrench table (friction_method "table") against the instantaneous-centre quadrature.
+
+Tolerance: the method's stated accuracy, 1e-10 relative to mu g (force) and mu g max(a, b)
+(torque), against ``icr_wrench`` at 256 nodes per panel (self-converged to ~1e-14,
+docs/extended.md), at random instantaneous centres that include kappa' = sqrt(1 - kappa^2) in
+[1e-12, 1e-2] on both sides of the boundary, the far field and near-translation.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from numba import njit
+
+from rrbody.analysis.flip import flip_time
+from rrbody.model.bodies import Disk, Ellipse
+from rrbody.model.drive import CircularDrive
+from rrbody.model.friction import Friction
+from rrbody.model.scene import Scene, rod_mass_scene
+from rrbody.physics import params as P
+from rrbody.physics.bind import kernel_params
+from rrbody.physics.icr import icr_wrench
+from rrbody.physics.icr_table import build_table, table_wrench
+
+TOL = 1e-10
+
+
+@njit(cache=True)
+def _errors(S, ra, rb, V, coeff):  # noqa: ANN001
+    out = np.empty((V.shape[0], 3))
+    L = max(ra, rb)
+    for i in range(V.shape[0]):
+        al, vx, vy, w = V[i, 0], V[i, 1], V[i, 2], V[i, 3]
+        f = table_wrench(S, ra, rb, al, vx, vy, w, coeff, 0.0)
+        g = icr_wrench(ra, rb, 256, al, vx, vy, w, 1, coeff, 0.0, 0.0)
+        out[i, 0] = abs(f[0] - g[0]) / coeff
+        out[i, 1] = abs(f[1] - g[1]) / coeff
+        out[i, 2] = abs(f[2] - g[2]) / (coeff * L)
+    return out
+
+
+def _motions(ra: float, rb: float, n: int, seed: int) -> np.ndarray:
+    """Rows (alpha, vx, vy, spin) whose scaled ICR radius r covers the body, its boundary from
+    both sides (kappa' in [1e-12, 1e-2]), the far field and near-translation."""
+    rng = np.random.default_rng(seed)
+    kp = 10.0 ** rng.uniform(-12.0, -2.0, n)
+    r = np.where(rng.random(n) < 0.5, np.sqrt(1.0 - kp * kp), 1.0 / np.sqrt(1.0 - kp * kp))
+    q = n // 3
+    r[:q] = 10.0 ** rng.uniform(-3.0, 3.0, q)
+    r[q:q + n // 20] = 10.0 ** rng.uniform(5.0, 9.0, n // 20)
+    th = rng.uniform(0.0, 2.0 * math.pi, n)
+    al = rng.uniform(-4.0, 4.0, n)
+    w = rng.choice([-1.0, 1.0], n) * 10.0 ** rng.uniform(-1.0, 1.0, n)
+    qx = r * np.cos(th) * ra
+    qy = r * np.sin(th) * rb
+    vbx, vby = w * qy, -w * qx  # v_b = spin (q_y, -q_x) puts the ICR at q (body frame)
+    return np.column_stack([al, np.cos(al) * vbx - np.sin(al) * vby, np.sin(al) * vbx + np.cos(al) * vby, w])
+
+
+@pytest.mark.parametrize("delta", [0.0, 0.3, 0.5, -0.5, 0.8])
+def test_table_matches_icr_to_1e_10(delta: float) -> None:
+    ra, rb = 0.1 * (1.0 + delta), 0.1 * (1.0 - delta)
+    S = build_table(ra, rb)
+    err = _errors(S, ra, rb, _motions(ra, rb, 2400, 7), 0.37)
+    assert err[:, :2].max() <= TOL
+    assert err[:, 2].max() <= TOL
+
+
+def test_table_is_cached_per_aspect_ratio() -> None:
+    assert build_table(0.2, 0.1) is build_table(0.4, 0.2)
+    assert build_table(0.3, 0.3) is build_table(0.01, 0.01)
+
+
+def test_spin_sign_and_reflection_symmetry() -> None:
+    ra, rb = 0.15, 0.05
+    S = build_table(ra, rb)
+    for vx, vy, w in [(0.3, 0.1, 2.0), (-0.02, 0.07, 0.5), (0.0, 0.4, -3.0)]:
+        f = np.array(table_wrench(S, ra, rb, 0.0, vx, vy, w, 1.0, 0.0))
+        g = np.array(table_wrench(S, ra, rb, 0.0, -vx, -vy, -w, 1.0, 0.0))
+        assert np.allclose(f, -g, rtol=0.0, atol=1e-15)
+        # mirror y -> -y of the motion: v -> (vx, -vy), spin -> -spin; F mirrors, tau flips
+        m = np.array(table_wrench(S, ra, rb, 0.0, vx, -vy, -w, 1.0, 0.0))
+        assert np.allclose(m, [f[0], -f[1], -f[2]], rtol=0.0, atol=2e-11)
+
+
+def test_translation_and_dead_band_are_those_of_icr() -> None:
+    for ra, rb in [(0.1, 0.1), (0.15, 0.05)]:
+        S = build_table(ra, rb)
+        for args in [(0.3, 0.2, 0.0), (0.3, 0.2, 1e-11), (0.0, 0.0, 0.0), (1e-13, 0.0, 1e-13)]:
+            f = table_wrench(S, ra, rb, 0.4, *args, 2.0, 1e-12)
+            g = icr_wrench(ra, rb, 64, 0.4, *args, 1, 2.0, 1e-12, 0.0)
+            assert f == pytest.approx(g, abs=1e-15)
+
+
+def test_bad_semi_axes_name_the_parameter() -> None:
+    with pytest.raises(ValueError, match="rb must be"):
+        build_table(0.1, -1.0)
+    with pytest.raises(ValueError, match="ra must be"):
+        build_table(float("nan"), 0.1)
+
+
+def test_friction_method_table_binds_and_rejects_a_point_mass() -> None:
+    sc = Scene(body=Ellipse(R0=0.1, delta=0.5, l=0.2), drive=CircularDrive(omega=0.6, d=1.0),
+               friction=Friction("dry", 0.05), friction_method="table")
+    p, S = kernel_params(sc)
+    assert int(p[P.BODY]) == P.BODY_TABLE and S.shape[0] > 100
+    with pytest.raises(ValueError, match="friction_method 'table' needs an extended body"):
+        kernel_params(rod_mass_scene(0.2, 0.05, 0.6).__class__(**{**rod_mass_scene(0.2, 0.05, 0.6).__dict__,
+                                                                  "friction_method": "table"}))
+
+
+def test_auto_picks_the_table_for_a_dry_disk_only() -> None:
+    drive = CircularDrive(omega=0.6, d=1.0)
+    for body, method, law, want in [(Disk(R=0.1, l=0.2), "auto", "dry", P.BODY_TABLE),
+                                    (Disk(R=0.1, l=0.2), "icr", "dry", P.BODY_ICR),
+                                    (Disk(R=0.1, l=0.2), "auto", "viscous", P.BODY_ICR),
+                                    (Ellipse(R0=0.1, delta=0.5, l=0.2), "auto", "dry", P.BODY_ICR)]:
+        p, _ = kernel_params(Scene(body=body, drive=drive, friction=Friction(law, 0.05), friction_method=method))
+        assert int(p[P.BODY]) == want, (body, method, law)
+
+
+def test_flip_time_table_equals_icr() -> None:
+    # an eccentric ellipse (delta 0.5, l 0.2, k 0.033; t_f ~ 8.13 s): the wrench differs by < 1e-10
+    # relative (test above), and t_f by about that times its sensitivity to the friction; measured
+    # 2.4e-14 relative at rtol 1e-12. (A slow flip such as k 0.0033, t_f ~ 73 s, amplifies any
+    # wrench difference: there the default-node "icr" itself moves t_f by ~5e-8.)
+    def tf(method: str) -> float:
+        sc = Scene(body=Ellipse(R0=0.3, delta=0.5, l=0.2), drive=CircularDrive(omega=0.6, d=1.0),
+                   friction=Friction.from_k("dry", 0.033, 1.0), friction_method=method)
+        r = flip_time(sc, rtol=1e-12)
+        assert r.t_f is not None
+        return r.t_f
+
+    assert tf("table") == pytest.approx(tf("icr"), rel=1e-9)
