@@ -40,6 +40,15 @@ def test_mu_g_d_equivalent_to_k(cli) -> None:  # noqa: ANN001
     assert b["t_f"] == pytest.approx(a["t_f"], rel=1e-9)  # same equation; differences are round-off only
 
 
+def test_friction_method_table_on_the_command_line(cli) -> None:  # noqa: ANN001
+    base = ("flip-time", "--body", "disk", "--R0", "0.1", "--l", "0.2", "--k", "0.05", "--omega", "0.6", "--json")
+    icr = json.loads(cli(*base, "--friction-method", "icr").out)
+    table = json.loads(cli(*base, "--friction-method", "table").out)
+    # the table is within 1e-10 of the quadrature's wrench (tests/test_icr_table.py); on this flip
+    # (t_f ~ 10 s) that moves t_f by far less than 1e-8 relative
+    assert table["t_f"] == pytest.approx(icr["t_f"], rel=1e-8)
+
+
 def test_zero_friction_says_no_flip(cli) -> None:  # noqa: ANN001
     r = cli("flip-time", "--H", "0.2", "--k", "0", "--omega", "0.6", "--json")
     d = json.loads(r.out)

@@ -8,6 +8,7 @@ import math
 from typing import Any
 
 from rrbody.cli.args import CliError, angle, check_options, float_list, integer, number, option_help, option_message
+from rrbody.model.scene import FRICTION_METHODS
 
 __all__ = ["add_scene_options", "add_integrator_options", "add_accuracy_options", "scene_from_args", "scene_params", "SCENE_OPTIONS",
            "INTEGRATOR_OPTIONS", "STEPPERS", "stepper_option"]
@@ -49,8 +50,10 @@ def add_scene_options(p: argparse.ArgumentParser, *, free_bodies: bool = True) -
                                             "'-0.5*pi', '180deg'", "pi"))
     g.add_argument("--phi-dot0", type=number("--phi-dot0"), default=None,
                    help=option_help("phi_dot0", "initial phi' (default: the impulsive start (omega/H) cos phi0)"))
-    g.add_argument("--friction-method", choices=("auto", "sampled", "icr"), default="auto",
-                   help="area integration for extended bodies (auto: instantaneous centre where it applies)")
+    g.add_argument("--friction-method", choices=FRICTION_METHODS, default="auto",
+                   help="area integration for extended bodies (auto: the wrench table for dry disks, the "
+                        "instantaneous-centre quadrature for ellipses; table: the precomputed wrench, built "
+                        "once per aspect ratio, seconds for an ellipse)")
     g.add_argument("--samples", type=integer("--samples"), default=4096,
                    help=option_help("samples", "area elements for --friction-method sampled", 4096))
     if free_bodies:
