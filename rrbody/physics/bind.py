@@ -38,14 +38,15 @@ def area_model(scene: Scene) -> int:
         return P.BODY_POINT
     if method == "sampled":
         return P.BODY_SAMPLED
-    if method in ("icr", "table") and not icr_supported(scene.body, scene.friction.law):
+    supported = icr_supported(scene.body, scene.friction.law)
+    if method in ("icr", "table") and not supported:
         raise ValueError(f"friction_method {method!r} does not apply to body {scene.body.kind!r} with friction "
                          f"{scene.friction.law!r}; use 'sampled' or 'auto'")
     if method == "table":
         return P.BODY_TABLE
     if method == "icr":
         return P.BODY_ICR
-    if not icr_supported(scene.body, scene.friction.law):
+    if not supported:
         return P.BODY_SAMPLED
     # "auto": a dry disk uses the table (1-D, built in ~0.1 s, within 3e-14 of the quadrature and
     # about half its RHS cost); an ellipse keeps the quadrature, since its table costs 3-14 s to

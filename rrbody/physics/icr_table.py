@@ -40,14 +40,14 @@ from __future__ import annotations
 
 import functools
 import math
-import time
 
 import numpy as np
 from numba import njit, prange
 
+from rrbody.model.checks import check_positive
 from rrbody.physics.icr import TRANSLATION_EPS, icr_wrench, scaled_icr, translation_wrench
 
-__all__ = ["build_table", "table_wrench", "table_stats", "NT", "NM", "OCTAVES", "TAIL_TOL", "BUILD_NODES"]
+__all__ = ["build_table", "table_wrench", "NT", "NM", "OCTAVES", "TAIL_TOL", "BUILD_NODES"]
 
 #: coefficients per panel along t (degree NT - 1) and along m (degree NM - 1)
 NT: int = 10
@@ -195,17 +195,7 @@ def _build(ratio: float) -> np.ndarray:
 def build_table(ra: float, rb: float) -> np.ndarray:
     """The wrench table of an ellipse with semi-axes ``ra`` (body x) and ``rb`` (body y), both in m
     and > 0 (a disk if equal). Cached in memory per aspect ratio rb/ra: the table is dimensionless."""
-    for name, v in (("ra", ra), ("rb", rb)):
-        if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0.0):
-            raise ValueError(f"{name} must be a finite semi-axis > 0 m, got {v!r} (valid range: (0, inf))")
-    return _build(float(rb) / float(ra))
-
-
-def table_stats(ra: float, rb: float) -> dict[str, float]:
-    """Size and build time of the table for (ra, rb): rows, megabytes, seconds (0 when cached)."""
-    t0 = time.perf_counter()
-    S = build_table(ra, rb)
-    return {"rows": float(S.shape[0]), "megabytes": S.nbytes / 1e6, "build_s": time.perf_counter() - t0}
+    return _build(check_positive("rb", rb, unit="m") / check_positive("ra", ra, unit="m"))
 
 
 @njit(cache=True, inline="always")

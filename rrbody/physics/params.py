@@ -8,6 +8,8 @@ loop reads only the effects' numeric parameters from ``p``. (The engine's per-st
 :func:`rrbody.physics.wrench.body_wrench`, still decodes them at run time.)
 """
 
+from rrbody.physics.effects import AREAS
+
 OMEGA = 0      # drive rate (rad/s); 0 for a free body
 D = 1          # drive radius (m)
 L = 2          # pivot offset |CM -> P| (m)
@@ -23,7 +25,8 @@ NQ = 11        # quadrature nodes of the instantaneous-centre method
 ICM = 12       # I_cm / m (m^2)
 SIZE = 16
 
-BODY_POINT = 0
-BODY_SAMPLED = 1
-BODY_ICR = 2
-BODY_TABLE = 3
+# area models: the effects registry's codes (one table; the system code carries the same number)
+BODY_POINT = AREAS["point"]
+BODY_SAMPLED = AREAS["sampled"]
+BODY_ICR = AREAS["icr"]
+BODY_TABLE = AREAS["table"]

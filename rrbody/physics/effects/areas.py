@@ -9,11 +9,11 @@ from __future__ import annotations
 
 from numba import njit
 
-from rrbody.physics.effects import area_icr, area_point, area_sampled, area_table
+from rrbody.physics.effects import AREAS, area_icr, area_point, area_sampled, area_table
 
 __all__ = ["body_wrench", "POINT", "SAMPLED", "ICR", "TABLE"]
 
-POINT, SAMPLED, ICR, TABLE = 0, 1, 2, 3
+POINT, SAMPLED, ICR, TABLE = AREAS["point"], AREAS["sampled"], AREAS["icr"], AREAS["table"]
 
 
 @njit(cache=True, inline="always")
