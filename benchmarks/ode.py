@@ -20,6 +20,7 @@ the run only gives a lower bound on the speed ratio.
 
 from __future__ import annotations
 
+import inspect
 import math
 import time
 from dataclasses import dataclass
@@ -101,16 +102,63 @@ def _min_event(t: float, y: np.ndarray) -> float:
 _min_event.direction = 1  # type: ignore[attr-defined]
 
 
+def _settle_rule() -> tuple[float, float]:
+    """rrbody's flip-settled rule: flip_time's defaults (turns risen, driving periods passed)."""
+    from rrbody.analysis.flip import flip_time
+
+    par = inspect.signature(flip_time).parameters
+    return float(par["settle_turns"].default), float(par["settle_periods"].default)
+
+
+def _settled(ts: np.ndarray, phis: np.ndarray, te: np.ndarray, ye: np.ndarray, omega: float) -> bool:
+    """rrbody's flip-settled rule on a scipy trajectory: after its lowest minimum (below phi0 = pi),
+    phi has risen by 2 pi settle_turns and settle_periods driving periods have passed (checked at the
+    accepted steps, as rrbody's stop rule is)."""
+    if not len(te) or ye[:, 0].min() >= math.pi:
+        return False
+    turns, periods = _settle_rule()
+    i = int(np.argmin(ye[:, 0]))
+    after = ts > te[i]
+    return bool(np.any(after & (phis >= ye[i, 0] + 2.0 * math.pi * turns)
+                       & (ts - te[i] >= periods * 2.0 * math.pi / omega)))
+
+
 def scipy_run(case: Case, method: str, rtol: float, t_end: float, *, events: bool, cap: float) -> dict[str, Any]:
-    """One solve_ivp run; returns wall time, t_f (events) or phi(t_end), and capping information."""
+    """One solve_ivp run; returns wall time, t_f (events) or phi(t_end), and capping information.
+
+    With ``events`` the run must establish its flip the way rrbody's must: its lowest minimum has to
+    be settled (:func:`_settled`). A run not settled at ``t_end`` (the reference's stop time) goes
+    on in chunks, its time counted, up to twice ``t_end`` (rrbody's runs get the same limit); unsettled
+    there, it has no t_f. (Taking the lowest minimum inside the horizon instead credits a run whose
+    body is still turning backwards at the horizon's end with the last minimum before it.)
+    """
     from scipy.integrate import solve_ivp
 
     y0 = [math.pi, case.omega / case.H * math.cos(math.pi)]
     t0 = time.perf_counter()
     f = _python_rhs(case.H, case.k, case.omega, deadline=t0 + cap)
+    chunk = max(_settle_rule()[1] * 2.0 * math.pi / case.omega, 0.05 * t_end)
+    ts: list[np.ndarray] = []
+    phis: list[np.ndarray] = []
+    tes: list[np.ndarray] = []
+    yes: list[np.ndarray] = []
+    nfev = 0
+    ta, tb, y = 0.0, t_end, y0
     try:
-        sol = solve_ivp(f, (0.0, t_end), y0, method=method, rtol=rtol, atol=rtol,
-                        events=_min_event if events else None)
+        while True:
+            sol = solve_ivp(f, (ta, tb), y, method=method, rtol=rtol, atol=rtol,
+                            events=_min_event if events else None)
+            nfev += sol.nfev
+            if not sol.success or not events:
+                break
+            ts.append(sol.t)
+            phis.append(sol.y[0])
+            tes.append(sol.t_events[0])
+            yes.append(sol.y_events[0].reshape(-1, 2))
+            if _settled(np.concatenate(ts), np.concatenate(phis), np.concatenate(tes), np.concatenate(yes),
+                        case.omega) or tb >= 2.0 * t_end:
+                break
+            ta, tb, y = tb, min(tb + chunk, 2.0 * t_end), sol.y[:, -1]
     except _Capped as c:
         wall = time.perf_counter() - t0
         frac = max(c.t, 1e-300) / t_end
@@ -118,13 +166,17 @@ def scipy_run(case: Case, method: str, rtol: float, t_end: float, *, events: boo
                 "t_f": math.nan, "phi": math.nan, "nfev": math.nan, "status": "capped"}
     wall = time.perf_counter() - t0
     out: dict[str, Any] = {"wall_s": wall, "capped": False, "t_reached": float(sol.t[-1]),
-                           "wall_extrapolated_s": wall, "nfev": sol.nfev, "status": sol.message}
+                           "wall_extrapolated_s": wall, "nfev": nfev, "status": sol.message}
     if not sol.success:
         out.update(t_f=math.nan, phi=math.nan)
         return out
     if events:
-        te, ye = sol.t_events[0], sol.y_events[0]
-        out["t_f"] = float(te[int(np.argmin(ye[:, 0]))]) if len(te) and ye[:, 0].min() < math.pi else math.nan
+        te, ye = np.concatenate(tes), np.concatenate(yes)
+        if _settled(np.concatenate(ts), np.concatenate(phis), te, ye, case.omega):
+            out["t_f"] = float(te[int(np.argmin(ye[:, 0]))])
+        else:
+            out["t_f"] = math.nan
+            out["status"] = "no settled flip within twice the reference's stop time"
         out["phi"] = math.nan
     else:
         out["t_f"] = math.nan

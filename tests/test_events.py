@@ -48,3 +48,30 @@ def test_on_step_reports_the_loops_events() -> None:
     assert math.isfinite(ref.T1) and ev[E_T1] == pytest.approx(ref.T1, abs=1e-8)
     assert ev[E_TMIN] == pytest.approx(ref.t_min, abs=1e-8)
     assert set(codes) <= {GO_ON, FLIP_SETTLED}
+
+
+@pytest.mark.parametrize("rtol", [1e-4, 1e-6, 1e-8])
+def test_loop_minima_are_located_to_the_steps_accuracy(rtol: float) -> None:
+    # The loop returns each minimum at the Newton-updated time t + h + d without stepping there,
+    # with phi carried by its Taylor polynomial. Check it against the run's own trajectory: the
+    # same run stopped at t_end = t_min takes the same steps and ends with one fresh step from the
+    # bracketing step's start to t_min, i.e. the state the Newton iterate would have had. There
+    # phi' must vanish to within |phi''| times the iteration's stop tolerance rtol * h_max (h_max =
+    # period / 8 bounds every step) plus the step's own phi' error scale rtol * max(omega, |phi'|);
+    # phi must agree to within the local error of the two steps compared, each below the error
+    # scale of phi, rtol * pi. Returning the last iterate's time instead of the updated one (with
+    # the curvature stop) fails at rtol 1e-4; phi at a minimum is stationary, so its Taylor value
+    # differs from the iterate's phi only at O(d^2) and is checked rather than discriminated here.
+    sc = rod_mass_scene(0.6, 0.003, 0.6)   # paper's SSs scene: reverse rotation with many minima
+    p, S = kernel_params(sc)
+    y0 = (sc.phi0, sc.initial_phi_dot)
+    run = integrate_driven(p, S, y0, t_end=40.0, rtol=rtol, stop="t_end")
+    assert run.n_minima >= 3
+    hmax = 0.125 * 2.0 * math.pi / sc.omega
+    yscale = max(sc.omega, abs(sc.initial_phi_dot))
+    for t_min, phi_min in run.minima:
+        at = integrate_driven(p, S, y0, t_end=float(t_min), rtol=rtol, stop="t_end")
+        phid = at.y_end[1]
+        phidd = sc.omega ** 2 * sc.body.l * sc.d * abs(math.sin(at.y_end[0] - sc.omega * t_min)) / sc.inertia_about_pivot
+        assert abs(phid) <= (phidd + sc.friction.coeff * sc.body.l / sc.inertia_about_pivot) * rtol * hmax + rtol * yscale
+        assert abs(at.y_end[0] - phi_min) <= 2.0 * rtol * math.pi

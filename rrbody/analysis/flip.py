@@ -22,6 +22,7 @@ import numpy as np
 
 from rrbody.physics.bind import kernel_params
 from rrbody.integrate.events import FlipResult, classify_flip, rr_from_T1
+from rrbody.integrate.ode import STEP_METHODS, integrate_driven
 from rrbody.model.checks import check, check_positive
 from rrbody.model.scene import Scene, rod_mass_scene
 from rrbody.analysis.simulate import resolve_rtol
@@ -44,8 +45,6 @@ def flip_time(scene: Scene, *, rtol: float | None = None, accuracy: str = "defau
     """
     if not scene.driven:
         raise ValueError("flip_time needs a driven scene (drive is None: a free body has no flip)")
-    from rrbody.integrate.ode import STEP_METHODS, integrate_driven
-
     if stepper not in STEP_METHODS:
         raise ValueError(f"stepper must be one of {', '.join(repr(m) for m in STEP_METHODS)}, got {stepper!r}")
     rtol_v = resolve_rtol(rtol, accuracy)
@@ -81,8 +80,6 @@ def flip_time(scene: Scene, *, rtol: float | None = None, accuracy: str = "defau
 
 def reverse_rotation_exists(scene: Scene, *, rtol: float | None = None, accuracy: str = "default") -> bool:
     """T_1 exists and omega T_1 < 2 pi. Integrates at most one driving period."""
-    from rrbody.integrate.ode import integrate_driven
-
     p, S = kernel_params(scene)
     res = integrate_driven(p, S, (scene.phi0, scene.initial_phi_dot), t_end=1.01 * scene.drive.period,  # type: ignore[union-attr]
                            rtol=resolve_rtol(rtol, accuracy), stop="rr")

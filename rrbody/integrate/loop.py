@@ -68,12 +68,15 @@ STIFF_COUNT: int = 15
 NONSTIFF_HRHO: float = 2.0
 
 
+_FIRST_METHOD = (0.0, 0.0, 1.0, 2.0)  # method code of the first step per mode (auto, dop853, radau, rodas)
+
+
 def new_loop_state(h0: float, mode: int, yscale: float = 0.0) -> np.ndarray:
     """Loop state at t = 0 with first trial step h0 (s); ``yscale``: running maximum of the
     tracked component's |y| so far."""
     st = np.zeros(_LOOP_SIZE)
     st[L_H] = h0
-    st[L_METH] = {0: 0.0, 1: 0.0, 2: 1.0, 3: 2.0}[mode]
+    st[L_METH] = _FIRST_METHOD[mode]
     st[L_YSCALE] = yscale
     return st
 
@@ -119,11 +122,17 @@ def _hlamb(K, h, ynew, ystage):  # noqa: ANN001
 def _refine(meth, system, t, y, f, h0, hmax, which, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
             omega, target, rtol):  # noqa: ANN001
     """Newton on h in (0, hmax] for the event `which` (1: phi' = 0; 2: theta = target); every
-    iterate is a fresh step of the current method from the step start. Leaves the event's state in y2.
+    iterate is a fresh step of the current method from the step start. Returns the event's step
+    size and phi there (rad).
 
-    The iteration stops once the Newton update is below rtol * hmax (or a few ulps of t): the event
-    time is then known to the accuracy the step itself has, and since Newton converges
-    quadratically the iterate whose step is in y2 is returned without a further step."""
+    Each step at h gives the event function g and its slope g', hence the Newton update
+    d = -g / g' and, from the curvature g'', the error of the updated iterate h + d, about
+    |g'' / (2 g')| d^2. The iteration stops once that error, or d itself, is below rtol * hmax (or
+    a few ulps of t): the event time is then known to the accuracy the step itself has. It returns
+    the updated iterate h + d without a further step, with phi carried there by its Taylor
+    polynomial, phi(h) + phi'(h) d + phi''(h) d^2 / 2 (for a minimum, phi(h) - g^2 / (2 g'); exact
+    to O(d^3)). The g'' of a minimum is the third derivative of phi, estimated from phi'' at the
+    two ends of the step (f and K2[12]); that of T_1 is phi'' itself."""
     literally(system)
     h = min(max(h0, 0.0), hmax)
     htol = max(rtol * hmax, 4e-16 * (abs(t) + abs(hmax)) + 1e-300)
@@ -132,17 +141,21 @@ def _refine(meth, system, t, y, f, h0, hmax, which, p, S, J, fx, K2, y2, ytmp, s
         if which == 1:
             g = y2[1]
             dg = K2[12, 1]
+            ddg = (dg - f[1]) / h if h > 0.0 else 0.0
         else:
             g = y2[0] - omega * (t + h) + math.pi - target
             dg = y2[1] - omega
+            ddg = K2[12, 1]
         if dg == 0.0:
-            return h
+            return h, y2[0]
         hn = min(max(h - g / dg, 0.0), hmax)
-        if abs(hn - h) <= htol:
-            return h
+        d = hn - h
+        # the curvature is estimated roughly (to first order across the step): a safety factor of 10
+        if abs(d) <= htol or 10.0 * abs(ddg / (2.0 * dg)) * d * d <= htol:
+            return hn, y2[0] + d * (y2[1] + 0.5 * K2[12, 1] * d)
         h = hn
     _step(meth, system, t, y, f, h, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5)
-    return h
+    return h, y2[0]
 
 
 @njit(cache=True)
@@ -295,14 +308,14 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
         if driven:
             which, gmin, gt1 = crossings(t1_open, target, t, y[0], y[1], t + hh, ynew[0], ynew[1], omega)
             if which & 1:
-                hm = _refine(meth, system, t, y, f, gmin, hh, 1, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
+                hm, phim = _refine(meth, system, t, y, f, gmin, hh, 1, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
                              omega, 0.0, rtol)
-                record_minimum(ev, minima, t + hm, y2[0])
+                record_minimum(ev, minima, t + hm, phim)
                 havemin = True
                 phimin = ev[E_PHIMIN]
                 tmin = ev[E_TMIN]
             if which & 2:
-                hm = _refine(meth, system, t, y, f, gt1, hh, 2, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
+                hm, _ = _refine(meth, system, t, y, f, gt1, hh, 2, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
                              omega, target, rtol)
                 ev[E_T1] = t + hm
                 t1_open = False
