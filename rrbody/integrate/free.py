@@ -32,7 +32,6 @@ import time
 import numpy as np
 
 from rrbody._version import __version__
-from rrbody.integrate.dop853 import TABLEAU
 from rrbody.integrate.events import E_TSTOP, STEP_FRACTION, STOP_REST, STOP_SPEED_FRACTION, STOP_T_END, new_event_state
 from rrbody.integrate.loop import L_NREJ, L_NOUT, L_NSTEP, L_T, STEP_METHODS, advance_for, new_loop_state, run_in_chunks
 from rrbody.model.scene import Scene
@@ -65,7 +64,6 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     if stepper not in FREE_STEPPERS:
         raise ValueError(f"stepper must be one of {', '.join(repr(m) for m in FREE_STEPPERS)} for a free body "
                          f"(Radau IIA is the driven body's stiff method), got {stepper!r}")
-    A, B, C, E3, E5 = TABLEAU
     p, S = kernel_params(scene)
     body = scene.body
     icm = body.inertia_per_mass
@@ -104,7 +102,7 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
         run = advance_for(system_from_params(p, SYSTEM_FREE))
         status = run_in_chunks(
             lambda n: run(y, f, st, ev, p, S, t_max, STOP_REST if dry else STOP_T_END, 0.0, 0.0, rtol, scale, -1,
-                          math.inf, n, minima, out, dt_out, STEP_METHODS[stepper], u_stop, A, B, C, E3, E5),
+                          math.inf, n, minima, out, dt_out, STEP_METHODS[stepper], u_stop),
             st, max_steps, progress=progress, total=t_max, desc="free body")
     wall = time.perf_counter() - t0
     n_done = int(st[L_NOUT])

@@ -37,7 +37,7 @@ from typing import Any
 import numpy as np
 from numba import literally, njit
 
-from rrbody.integrate.dop853 import step_factor, trial_step
+from rrbody.integrate.dop853 import TABLEAU, step_factor, trial_step
 from rrbody.integrate.events import (E_HAVEMIN, E_PHIMIN, E_T1, E_THETA0, E_TMIN, E_TSTOP, STOP_REST, crossings, record_minimum, rest_admissible,
                                      rest_reached, rest_step_limit, stop_reached)
 from rrbody.integrate.radau import radau_step
@@ -398,7 +398,7 @@ def run_in_chunks(run: Any, st: np.ndarray, max_steps: int, *, progress: bool, t
 
 def advance_for(system: int) -> Any:
     """The loop specialised for the system code ``system``: a compiled function with the arguments of
-    :func:`advance` after ``system``. Built on first use per combination of effects; numba caches
+    :func:`advance` from ``y`` to ``u_stop`` (the DOP853 tableau is built in). Built on first use per combination of effects; numba caches
     each on disk (its closure constant is part of the cache key), and calling it costs no dispatch
     on the code (a direct call of :func:`advance` with a literal argument would retype per call)."""
     if system not in _SPECIALISED:
@@ -407,9 +407,13 @@ def advance_for(system: int) -> Any:
 
 
 def _make_advance(code: int) -> Any:
+    # the DOP853 tableau enters as globals, which numba freezes into the compiled loop as constants:
+    # five fewer arrays for the dispatcher to type-check on every call
+    A, B, C, E3, E5 = TABLEAU
+
     @njit(cache=True)
     def run(y, f, st, ev, p, S, t_end, stop, settle_turns, settle_periods, rtol, scale, track,  # noqa: ANN001
-            hmax, max_steps, minima, out, dt_out, mode, u_stop, A, B, C, E3, E5):
+            hmax, max_steps, minima, out, dt_out, mode, u_stop):
         return advance(code, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_periods, rtol, scale, track,
                        hmax, max_steps, minima, out, dt_out, mode, u_stop, A, B, C, E3, E5)
 

@@ -33,7 +33,6 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from rrbody.integrate.dop853 import TABLEAU
 from rrbody.integrate.events import E_HAVEMIN, E_NMIN, E_PHIMIN, E_T1, E_TMIN, new_event_state
 from rrbody.integrate.loop import STIFF_HLAMB, STIFF_METHOD, L_METH, L_NREJ, L_NROS, L_NSTEP, L_NSWITCH, L_NOUT, L_T, \
     STEP_METHODS, advance_for, new_loop_state, run_in_chunks
@@ -124,7 +123,6 @@ def integrate_driven(p: np.ndarray, S: np.ndarray, y0: tuple[float, float], *, t
     if method not in STEP_METHODS:
         raise ValueError(f"method must be one of {', '.join(repr(m) for m in STEP_METHODS)}, got {method!r}")
     mode = STEP_METHODS[method]
-    A, B, C, E3, E5 = TABLEAU
     # Python floats throughout the set-up (numpy scalars cost ~10x per operation): it is part of
     # every short run's cost
     omega = float(p[P.OMEGA])
@@ -158,7 +156,7 @@ def integrate_driven(p: np.ndarray, S: np.ndarray, y0: tuple[float, float], *, t
     t0 = time.perf_counter()
     status = run_in_chunks(
         lambda n: run(y, f, st, ev, p, S, t_end, stop_code, settle_turns, settle_periods, rtol, scale, 1, hmax, n,
-                      minima, out, dt_out, mode, 0.0, A, B, C, E3, E5),
+                      minima, out, dt_out, mode, 0.0),
         st, max_steps, progress=progress, total=t_end if math.isfinite(t_end) else None, desc=desc)
     wall = time.perf_counter() - t0
     n_min = int(ev[E_NMIN])
