@@ -454,7 +454,9 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
           "Reference: rrbody's flip_time / integrate_driven at rtol = 1e-14; its uncertainty is the largest "
           "difference to the runs at 1e-13 and 1e-15 (round-off limits long runs: |phi| reaches 2e4 rad in "
           "the fast case). scipy integrates the paper's Eq. 2 in pure Python (rtol = atol), horizon = the reference "
-          "run's stop time; t_f = time of the lowest phi' = 0 (+) event. Times are best of up to 3 runs "
+          "run's stop time; t_f = time of the lowest phi' = 0 (+) event, counted only once settled by rrbody's "
+          f"own rule (phi risen {_settle_rule()[0]:g} turns above it and {_settle_rule()[1]:g} driving periods passed); a run not settled at the horizon "
+          "goes on in chunks, its time counted, up to twice the horizon, as rrbody's runs may. Times are best of up to 3 runs "
           f"(after compilation for rrbody; runs over 1 s are timed once). phi is compared at t_fix = {', '.join(f'{c.t_fix:g} s ({c.name})' for c in cases)}.",
           "", md_table(["case", "t_f ref (s)", "rel. unc.", "phi(t_fix) ref (rad)", "abs. unc.", "stop time (s)"],
                        [(c, fmt(v["t_f"], 14), v["unc_tf"], fmt(v["phi_fix"], 12), v["unc_phi"], v["t_stop"])
