@@ -112,6 +112,11 @@ def test_bad_options(tmp_path: Path, s1_short: Trajectory) -> None:
         render_movie(s1_short, tmp_path / "m.avi")
     with pytest.raises(ValueError, match="fps"):
         render_movie(s1_short, tmp_path / "m.mp4", fps=-1)
+    # the API applies the limits table's ranges, as the CLI does: fps in [1, 240], speed > 0
+    with pytest.raises(ValueError, match=r"fps must be in \[1, 240\] frames/s, got 0\.5"):
+        render_movie(s1_short, tmp_path / "m.mp4", fps=0.5)
+    with pytest.raises(ValueError, match="speed"):
+        render_movie(s1_short, tmp_path / "m.mp4", speed=0.0)
     assert _leftovers(tmp_path) == []
 
 

@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.model.checks import check_positive, check_range, check_real
+from rrbody.model.checks import check, check_positive, check_range, check_real
 from rrbody.model.io import atomic_path, check_writable
 from rrbody.model.trajectory import Trajectory
 from rrbody.render.flip import BLUE, RED, FlipMark, flip_mark
@@ -43,8 +43,8 @@ def frame_times(t_start: float, t_end: float, *, fps: float, speed: float) -> np
 
     The movie lasts ``len(result) / fps`` s of playback (ffmpeg shows each frame for 1/fps s).
     """
-    fps = check_positive("fps", fps, unit="frames/s")
-    speed = check_positive("speed", speed)
+    fps = check("fps", fps)
+    speed = check("movie_speed", speed, label="speed")
     if not t_end > t_start:
         raise ValueError(f"t_end must be > t_start={t_start:g} s, got {t_end!r}")
     # the small slack keeps the last frame when (t_end - t_start) * fps / speed is an integer up to rounding
@@ -123,10 +123,9 @@ def render_movie(traj: Trajectory, path: str | Path, *, force: bool = False, pro
     final = check_writable(path, force=force, name="movie")
     if final.suffix.lower() != ".mp4":
         raise ValueError(f"movie path must end in .mp4, got {str(path)!r}")
-    fps = check_positive("fps", fps, unit="frames/s")
-    if fps > 240:
-        raise ValueError(f"fps must lie in (0, 240], got {fps!r}")
-    speed = check_positive("speed", speed)
+    # the limits table's ranges, the same the CLI applies
+    fps = check("fps", fps)
+    speed = check("movie_speed", speed, label="speed")
     hold = check_range("hold", hold, 0.0, 60.0)
     size = check_size(size)
     a = float(traj.t[0]) if t_start is None else check_real("t_start", t_start)
