@@ -5,6 +5,8 @@ The layout of ``p`` is :mod:`rrbody.physics.params`; this module is the only wri
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from rrbody.model.scene import Scene
@@ -65,7 +67,10 @@ def kernel_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
     p[P.L] = scene.body.l
     p[P.IP] = scene.inertia_about_pivot
     p[P.ICM] = scene.body.inertia_per_mass
-    p[P.BETA] = scene.phi0 - scene.body.alpha0
+    beta = scene.phi0 - scene.body.alpha0
+    p[P.BETA] = beta
+    p[P.CBETA] = math.cos(beta)
+    p[P.SBETA] = math.sin(beta)
     p[P.LAW] = float(scene.friction.code if scene.friction.active else 0)
     p[P.COEFF] = scene.friction.coeff
     p[P.VEPS] = (DRIVEN_DEAD_BAND if scene.driven else FREE_DEAD_BAND) * scene.velocity_scale()

@@ -24,7 +24,7 @@ from numba import literally, njit
 
 from rrbody.physics import params as P
 from rrbody.physics.effects import DRIVEN, drive_circular
-from rrbody.physics.effects.areas import POINT, body_wrench
+from rrbody.physics.effects.areas import POINT, body_frame_wrench, body_wrench
 from rrbody.physics.effects.laws import NONE, element_perp
 
 __all__ = ["rhs", "rhs_for", "driven_rhs", "driven_kinematics", "jacobian", "system_from_params", "SYSTEM_DRIVEN",
@@ -41,32 +41,35 @@ def _driven_point(law, t, y, p):  # noqa: ANN001 (numba)
     """(phi', phi'') of a point mass: friction at the CM only. Work in the frame (e, e_perp) of
     CM -> P, where the CM velocity is (d w sin psi, d w cos psi - l phi') with psi = phi - w t: two
     trig calls, and the speed is a sum of squares (no cancelling square root at the phi0 = pi start)."""
-    w = p[P.OMEGA]
-    d = p[P.D]
     l = p[P.L]
-    psi = y[0] - w * t
+    psi = y[0] - p[P.OMEGA] * t
     s = math.sin(psi)
     torque = drive_circular.torque(s, p)
     if law != NONE:
-        c = math.cos(psi)
-        f_perp, _, _ = element_perp(law, d * w * s, d * w * c - l * y[1], p[P.COEFF], p[P.VEPS])
+        ve, vp = drive_circular.rod_velocity(s, math.cos(psi), y[1], p)
+        f_perp, _, _ = element_perp(law, ve, vp, p[P.COEFF], p[P.VEPS])
         torque -= l * f_perp  # (r - P) x F with r - P = -l e
     return y[1], torque / p[P.IP]
 
 
 @njit(cache=True, inline="always")
 def _driven_extended(law, area, t, y, p, S):  # noqa: ANN001 (numba)
-    """(phi', phi'') of an extended body: four trig calls per evaluation; sin(phi - wt) from the
-    angle-difference identity (its absolute error, ~ulp(phi), is that of sin at the rounded difference)."""
-    phi = y[0]
+    """(phi', phi'') of an extended body: two trig calls per evaluation, as for a point mass. The CM
+    velocity in the rod frame (e, e_perp) of CM -> P is (d w sin psi, d w cos psi - l phi'),
+    psi = phi - w t; the body frame is the rod frame turned by the constant beta = phi - alpha, so
+    v_b = R(beta) v_rod and F_rod = R(-beta) F_b (cos, sin beta precomputed in p)."""
     phid = y[1]
-    cw, sw, cp, sp, vx, vy = drive_circular.frame(t, phi, phid, p)
-    torque = drive_circular.torque(sp * cw - cp * sw, p)
+    psi = y[0] - p[P.OMEGA] * t
+    s = math.sin(psi)
+    torque = drive_circular.torque(s, p)
     if law != NONE:
-        fx, fy, tau_cm = body_wrench(area, law, S, p[P.RA], p[P.RB], int(p[P.NQ]), p[P.ICM], phi - p[P.BETA],
-                                     vx, vy, phid, p[P.COEFF], p[P.VEPS])
-        # torque about P: tau_cm + (r - P) x F with r - P = -l e(phi)
-        torque += tau_cm - p[P.L] * (cp * fy - sp * fx)
+        ve, vp = drive_circular.rod_velocity(s, math.cos(psi), phid, p)
+        cb = p[P.CBETA]
+        sb = p[P.SBETA]
+        fbx, fby, tau_cm = body_frame_wrench(area, law, S, p[P.RA], p[P.RB], int(p[P.NQ]), p[P.ICM],
+                                             cb * ve - sb * vp, sb * ve + cb * vp, phid, p[P.COEFF], p[P.VEPS])
+        # torque about P: tau_cm + (r - P) x F with r - P = -l e, i.e. -l times F's e_perp component
+        torque += tau_cm - p[P.L] * (cb * fby - sb * fbx)
     return phid, torque / p[P.IP]
 
 

@@ -2,7 +2,9 @@
 
 Pure numba kernel (no imports from the rest of rrbody, so :mod:`rrbody.friction` can call it
 without an import cycle). Units per unit mass: force m/s^2, torque about the CM m^2/s^2; inputs
-in SI, velocities and the returned force in the world frame.
+in SI. The core, :func:`icr_wrench_body`, works in the body frame (CM velocity in, force out, no
+trigonometric call); :func:`icr_wrench` is its world-frame wrapper (one cos/sin of the body angle
+and two rotations) for callers that hold world-frame velocities.
 
 Method (derivation in ``docs/extended.md``)
 ----------------------------------------------------------
@@ -47,7 +49,7 @@ from numba import njit
 
 from rrbody.physics.quadrature import quadrature_tables
 
-__all__ = ["icr_wrench", "translation_wrench", "scaled_icr", "NODE_COUNTS", "KAPPA_SWITCH", "X_END", "TRANSLATION_EPS", "ECC_ETA", "ECC_FAR"]
+__all__ = ["icr_wrench", "icr_wrench_body", "translation_wrench", "scaled_icr", "NODE_COUNTS", "KAPPA_SWITCH", "X_END", "TRANSLATION_EPS", "ECC_ETA", "ECC_FAR"]
 
 #: allowed nodes per panel; the kernel rounds a request up to the next one
 NODE_COUNTS: tuple[int, ...] = (8, 12, 16, 20, 24, 32, 40, 48, 64, 80, 96, 128, 160, 192, 256, 320, 384, 512)
@@ -267,52 +269,46 @@ def _eccentric(eta, a, b, nn, o, inside, r, S, kap, kp, kp2, cpsi0, spsi0, g0): 
 
 
 @njit(cache=True, inline="always")
-def translation_wrench(a, b, ca, sa, vx, vy, spin, speed, coeff):  # noqa: ANN001
+def translation_wrench(a, b, vbx, vby, spin, speed, coeff):  # noqa: ANN001
     """Dry wrench in near-pure translation (|Omega| R <= TRANSLATION_EPS |v|): v_hat is uniform to
-    O(eps^2) and the torque is the linear response -mu g (Omega/|v|) <(rho . v_hat)^2>. Body angle
-    via (ca, sa) = (cos, sin) alpha; force (m/s^2, world frame), torque about the CM (m^2/s^2)."""
-    ex = vx / speed
-    ey = vy / speed
-    ebx = ca * ex + sa * ey
-    eby = -sa * ex + ca * ey
+    O(eps^2) and the torque is the linear response -mu g (Omega/|v|) <(rho . v_hat)^2>. CM velocity
+    (vbx, vby) (m/s) and the returned force (m/s^2) in the body frame, torque about the CM (m^2/s^2)."""
+    ebx = vbx / speed
+    eby = vby / speed
     m2 = 0.25 * (a * a * ebx * ebx + b * b * eby * eby)
-    return -coeff * ex, -coeff * ey, -coeff * spin / speed * m2
+    return -coeff * ebx, -coeff * eby, -coeff * spin / speed * m2
 
 
 @njit(cache=True, inline="always")
-def scaled_icr(a, b, ca, sa, vx, vy, spin):  # noqa: ANN001
+def scaled_icr(a, b, vbx, vby, spin):  # noqa: ANN001
     """The ICR in the scaled body frame (x/a, y/b): its offset from the CM in the body frame is
-    q = z x v_b / Omega (m), v_b the CM velocity (m/s) turned into the body frame by -alpha."""
-    vbx = ca * vx + sa * vy
-    vby = -sa * vx + ca * vy
+    q = z x v_b / Omega (m), v_b = (vbx, vby) the CM velocity (m/s) in the body frame."""
     return -vby / spin / a, vbx / spin / b
 
 
 @njit(cache=True)
-def icr_wrench(a: float, b: float, n: int, alpha: float, vx: float, vy: float, spin: float, law: int,
-               coeff: float, v_eps: float, icm: float) -> tuple[float, float, float]:
-    """Friction force (m/s^2, world frame) and torque about the CM (m^2/s^2) per unit mass on a
-    homogeneous ellipse with semi-axes a (body x) and b (body y), body angle ``alpha`` (rad), CM
-    velocity (vx, vy) (m/s, world) and spin (rad/s).
+def icr_wrench_body(a: float, b: float, n: int, vbx: float, vby: float, spin: float, law: int,
+                    coeff: float, v_eps: float, icm: float) -> tuple[float, float, float]:
+    """Friction force (m/s^2) and torque about the CM (m^2/s^2) per unit mass on a homogeneous
+    ellipse with semi-axes a (body x) and b (body y), all in the BODY frame: CM velocity
+    (vbx, vby) (m/s, body frame), spin (rad/s), force returned in the body frame.
 
     ``law``: 1 dry (``coeff`` = mu g, m/s^2), 2 viscous (``coeff`` = gamma, 1/s; ``icm`` = I_cm/m
     in m^2), else no friction. ``n``: Gauss nodes per panel (rounded up to an allowed count).
     Dry friction with every element slower than ``v_eps`` (m/s) gives zero (the impulsive start, docs/physics.md).
     """
     if law == 2:
-        return -coeff * vx, -coeff * vy, -coeff * icm * spin
+        return -coeff * vbx, -coeff * vby, -coeff * icm * spin
     if law != 1:
         return 0.0, 0.0, 0.0
-    speed = math.hypot(vx, vy)
+    speed = math.hypot(vbx, vby)
     rmax = max(a, b)
     wr = abs(spin) * rmax
     if speed <= v_eps and wr <= v_eps:
         return 0.0, 0.0, 0.0
-    ca = math.cos(alpha)
-    sa = math.sin(alpha)
     if wr <= TRANSLATION_EPS * speed:
-        return translation_wrench(a, b, ca, sa, vx, vy, spin, speed, coeff)
-    qx, qy = scaled_icr(a, b, ca, sa, vx, vy, spin)
+        return translation_wrench(a, b, vbx, vby, spin, speed, coeff)
+    qx, qy = scaled_icr(a, b, vbx, vby, spin)
     r = math.hypot(qx, qy)
     if r > 0.0:
         cpsi0 = -qx / r
@@ -392,6 +388,19 @@ def icr_wrench(a: float, b: float, n: int, alpha: float, vx: float, vy: float, s
     pre = -coeff / math.pi
     if spin < 0.0:
         pre = -pre
-    fbx = pre * ax
-    fby = pre * ay
-    return ca * fbx - sa * fby, sa * fbx + ca * fby, pre * at
+    return pre * ax, pre * ay, pre * at
+
+
+@njit(cache=True)
+def icr_wrench(a: float, b: float, n: int, alpha: float, vx: float, vy: float, spin: float, law: int,
+               coeff: float, v_eps: float, icm: float) -> tuple[float, float, float]:
+    """:func:`icr_wrench_body` in the world frame: body angle ``alpha`` (rad), CM velocity (vx, vy)
+    (m/s, world) and spin (rad/s); force (m/s^2, world frame) and torque about the CM (m^2/s^2)
+    per unit mass. Other arguments as there."""
+    if law != 1:
+        # viscous (or none) is isotropic: the body-frame formula holds in any frame, no rotation needed
+        return icr_wrench_body(a, b, n, vx, vy, spin, law, coeff, v_eps, icm)
+    ca = math.cos(alpha)
+    sa = math.sin(alpha)
+    fbx, fby, tau = icr_wrench_body(a, b, n, ca * vx + sa * vy, -sa * vx + ca * vy, spin, law, coeff, v_eps, icm)
+    return ca * fbx - sa * fby, sa * fbx + ca * fby, tau

@@ -25,9 +25,10 @@ r = |Q|; lengths in units of L = max(a, b), so force is scale-free and torque sc
 
 Each panel holds NT x NM coefficient triples (F_x, F_y, tau per unit mu g and mu g L, body frame,
 spin > 0) of a monomial in the local coordinates z_t, z_m in [-1, 1], evaluated by nested Horner.
-A negative spin flips the wrench (W(-v, -Omega) = -W(v, Omega), the ICR is unchanged). Pure
-translation and the zero-speed dead band are handled exactly as :func:`icr_wrench` does; the
-viscous law is linear and exact, so it never uses the table.
+A negative spin flips the wrench (W(-v, -Omega) = -W(v, Omega), the ICR is unchanged).
+:func:`table_wrench_body` works in the body frame (no trigonometric call); :func:`table_wrench` is
+its world-frame wrapper. Pure translation and the zero-speed dead band are handled exactly as
+:func:`icr_wrench_body` does; the viscous law is linear and exact, so it never uses the table.
 
 Layout of the table array ``S`` (rows of 3, what the kernels receive as the area-sample array):
 row 0 (kind 1 disk / 2 ellipse, NT, NM); row 1 (b/a, E octaves, radial panels inside);
@@ -45,9 +46,9 @@ import numpy as np
 from numba import njit, prange
 
 from rrbody.model.checks import check_positive
-from rrbody.physics.icr import TRANSLATION_EPS, icr_wrench, scaled_icr, translation_wrench
+from rrbody.physics.icr import TRANSLATION_EPS, icr_wrench_body, translation_wrench
 
-__all__ = ["build_table", "table_wrench", "NT", "NM", "OCTAVES", "TAIL_TOL", "BUILD_NODES"]
+__all__ = ["build_table", "table_wrench", "table_wrench_body", "NT", "NM", "OCTAVES", "TAIL_TOL", "BUILD_NODES"]
 
 #: coefficients per panel along t (degree NT - 1) and along m (degree NM - 1)
 NT: int = 10
@@ -86,7 +87,7 @@ def _values(a, b, rs, ms, octant):  # noqa: ANN001
             if octant == 1:
                 qx, qy = qy, qx
             # spin 1: v_b = (qy b, -qx a) puts the ICR at q = z x v_b / spin, i.e. Q = (qx, qy) scaled
-            fx, fy, tq = icr_wrench(a, b, BUILD_NODES, 0.0, qy * b, -qx * a, 1.0, 1, 1.0, 0.0, 0.0)
+            fx, fy, tq = icr_wrench_body(a, b, BUILD_NODES, qy * b, -qx * a, 1.0, 1, 1.0, 0.0, 0.0)
             out[i, j, 0] = fx
             out[i, j, 1] = fy
             out[i, j, 2] = tq
@@ -203,7 +204,7 @@ def _locate(S, x, side):  # noqa: ANN001
     """(radial panel index, local coordinate z_t) of x = 1 - t in [0, 1] on ``side`` (0 inside, 1 outside)."""
     mant, e = math.frexp(x)
     o = -e
-    E = int(S[1, 1])
+    E = OCTAVES  # compile-time constant (the table's header records it)
     if x >= 1.0 or o < 0:
         o = 0
         u = 1.0
@@ -251,43 +252,46 @@ def _horner2(S, base, nt, nm, zt, zm):  # noqa: ANN001
     return f0, f1, f2
 
 
-@njit(cache=True)
-def table_wrench(S, ra, rb, alpha, vx, vy, spin, coeff, v_eps):  # noqa: ANN001
-    """Dry-friction force (m/s^2, world frame) and torque about the CM (m^2/s^2) per unit mass on the
-    ellipse (ra, rb) (m) whose table is ``S`` (:func:`build_table`): body angle ``alpha`` (rad), CM
-    velocity (vx, vy) (m/s, world), spin (rad/s), ``coeff`` = mu g (m/s^2); zero below ``v_eps`` (m/s)."""
-    speed = math.sqrt(vx * vx + vy * vy)
+@njit(cache=True, fastmath={"contract"})
+def table_wrench_body(S, ra, rb, vbx, vby, spin, coeff, v_eps):  # noqa: ANN001
+    """Dry-friction force (m/s^2) and torque about the CM (m^2/s^2) per unit mass on the ellipse
+    (ra, rb) (m) whose table is ``S`` (:func:`build_table`), in the BODY frame: CM velocity
+    (vbx, vby) (m/s, body frame) in, force (body frame) out; spin (rad/s), ``coeff`` = mu g
+    (m/s^2); zero below ``v_eps`` (m/s). No trigonometric call, two divisions (ellipse).
+
+    Compiled with fused multiply-adds (``contract``): the Horner sum is 300 of them, and fusing
+    halves its floating-point work (and rounds once per step instead of twice)."""
+    sp2 = vbx * vbx + vby * vby
     rmax = max(ra, rb)
     wr = abs(spin) * rmax
-    if speed <= v_eps and wr <= v_eps:
+    if sp2 <= v_eps * v_eps and wr <= v_eps:
         return 0.0, 0.0, 0.0
+    if wr * wr <= (TRANSLATION_EPS * TRANSLATION_EPS) * sp2:
+        return translation_wrench(ra, rb, vbx, vby, spin, math.sqrt(sp2), coeff)
     pre = coeff if spin > 0.0 else -coeff
     if S[0, 0] == 1.0:
-        # disk: no body angle needed; r = |v| / (|Omega| R), force opposite v_cm
-        if wr <= TRANSLATION_EPS * speed:
-            return translation_wrench(ra, rb, 1.0, 0.0, vx, vy, spin, speed, coeff)
+        # disk: rotationally symmetric; r = |v| / (|Omega| R), force opposite v_cm (any frame)
+        speed = math.sqrt(sp2)
         r = speed / wr
         if r < 1.0:
             ip, zt = _locate(S, 1.0 - r, 0)
         else:
             ip, zt = _locate(S, (r - 1.0) / r, 1)
-        base = int(S[_HEADER + 2 * int(S[1, 1]) + ip, 0])
+        base = int(S[_HEADER + 2 * OCTAVES + ip, 0])
         g = 0.0
         h = 0.0
-        for i in range(int(S[0, 1]) - 1, -1, -1):
+        for i in range(NT - 1, -1, -1):
             g = g * zt + S[base + i, 0]
             h = h * zt + S[base + i, 1]
         if speed > 0.0:
             f = -coeff * g / speed
-            return f * vx, f * vy, pre * rmax * h
+            return f * vbx, f * vby, pre * rmax * h
         return 0.0, 0.0, pre * rmax * h
-    ca = math.cos(alpha)
-    sa = math.sin(alpha)
-    if wr <= TRANSLATION_EPS * speed:
-        return translation_wrench(ra, rb, ca, sa, vx, vy, spin, speed, coeff)
-    qx, qy = scaled_icr(ra, rb, ca, sa, vx, vy, spin)
-    ax_ = abs(qx)
-    ay_ = abs(qy)
+    # the scaled ICR (scaled_icr) times spin ra rb, which keeps the divisions out: Q = (ux, uy) / (spin ra rb)
+    ux = -vby * rb
+    uy = vbx * ra
+    ax_ = abs(ux)
+    ay_ = abs(uy)
     if ay_ <= ax_:
         big = ax_
         m = ay_ / ax_ if ax_ > 0.0 else 0.0
@@ -296,26 +300,43 @@ def table_wrench(S, ra, rb, alpha, vx, vy, spin, coeff, v_eps):  # noqa: ANN001
         big = ay_
         m = ax_ / ay_
         col = 2
-    r = big * math.sqrt(1.0 + m * m)
-    if r < 1.0:
-        ip, zt = _locate(S, 1.0 - r, 0)
+    # r = |Q| = B / D; x = 1 - r inside, 1 - 1/r outside, one division either way
+    B = big * math.sqrt(1.0 + m * m)
+    D = abs(spin) * ra * rb
+    if B < D:
+        ip, zt = _locate(S, (D - B) / D, 0)
     else:
-        ip, zt = _locate(S, (r - 1.0) / r, 1)
-    nt = int(S[0, 1])
-    nm = int(S[0, 2])
-    hrow = _HEADER + 2 * int(S[1, 1]) + ip
+        ip, zt = _locate(S, (B - D) / B, 1)
+    # NT, NM, OCTAVES are compile-time constants (the header records them): the Horner loops
+    # below get constant trip counts, which the compiler unrolls and schedules
+    hrow = _HEADER + 2 * OCTAVES + ip
     base = int(S[hrow, 0])
-    n0 = int(S[hrow, 1])
     if col == 2:
-        base += n0 * nt * nm
+        base += int(S[hrow, 1]) * (NT * NM)
     n = int(S[hrow, col])
     mn = m * n
     j = int(mn)
     if j >= n:
         j = n - 1
     zm = 2.0 * (mn - j) - 1.0
-    f0, f1, f2 = _horner2(S, base + j * nt * nm, nt, nm, zt, zm)
-    # reflections back from the first quadrant: F_x flips with Q_y, F_y with Q_x
-    fbx = pre * (f0 if qy >= 0.0 else -f0)
-    fby = pre * (f1 if qx >= 0.0 else -f1)
-    return ca * fbx - sa * fby, sa * fbx + ca * fby, pre * rmax * f2
+    f0, f1, f2 = _horner2(S, base + j * (NT * NM), NT, NM, zt, zm)
+    # reflections back from the first quadrant: F_x flips with Q_y, F_y with Q_x (Q = u / spin)
+    if spin < 0.0:
+        ux = -ux
+        uy = -uy
+    fbx = pre * (f0 if uy >= 0.0 else -f0)
+    fby = pre * (f1 if ux >= 0.0 else -f1)
+    return fbx, fby, pre * rmax * f2
+
+
+@njit(cache=True)
+def table_wrench(S, ra, rb, alpha, vx, vy, spin, coeff, v_eps):  # noqa: ANN001
+    """:func:`table_wrench_body` in the world frame: body angle ``alpha`` (rad), CM velocity
+    (vx, vy) (m/s, world); force (m/s^2, world frame), torque about the CM (m^2/s^2)."""
+    if S[0, 0] == 1.0:
+        # a disk's wrench is isotropic: the world velocity gives the world force directly
+        return table_wrench_body(S, ra, rb, vx, vy, spin, coeff, v_eps)
+    ca = math.cos(alpha)
+    sa = math.sin(alpha)
+    fbx, fby, tau = table_wrench_body(S, ra, rb, ca * vx + sa * vy, -sa * vx + ca * vy, spin, coeff, v_eps)
+    return ca * fbx - sa * fby, sa * fbx + ca * fby, tau

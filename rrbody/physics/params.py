@@ -23,6 +23,8 @@ RA = 9         # semi-axis along body x (m)
 RB = 10        # semi-axis along body y (m)
 NQ = 11        # quadrature nodes of the instantaneous-centre method
 ICM = 12       # I_cm / m (m^2)
+CBETA = 13     # cos(BETA): the driven extended body turns its rod frame into the body frame by beta
+SBETA = 14     # sin(BETA)
 SIZE = 16
 
 # area models: the effects registry's codes (one table; the system code carries the same number)

@@ -5,7 +5,8 @@ method); these wrappers decode the law and area codes of ``p`` at run time, whic
 per-step engine hook and for set-up code. The ODE loop instead calls the effects with the codes as
 compile-time constants (:mod:`rrbody.physics.dynamics`).
 
-Units (per unit mass, world frame): forces in m/s^2, torques about the CM in m^2/s^2. Law codes:
+Units (per unit mass, world frame: these wrap the body-frame area methods with one rotation,
+:func:`rrbody.physics.effects.areas.body_wrench`): forces in m/s^2, torques about the CM in m^2/s^2. Law codes:
 0 none, 1 dry, 2 viscous (:data:`rrbody.physics.effects.LAWS`).
 """
 
@@ -15,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from rrbody.physics import params as P
-from rrbody.physics.effects import area_sampled
+from rrbody.physics.effects.areas import SAMPLED
 from rrbody.physics.effects.areas import body_wrench as _area_wrench
 from rrbody.physics.effects.laws import element_force
 
@@ -34,7 +35,7 @@ def sampled_wrench(samples: np.ndarray, alpha: float, vx: float, vy: float, spin
                    law: int, coeff: float, v_eps: float) -> tuple[float, float, float]:
     """Force (m/s^2) and torque about the CM (m^2/s^2) per unit mass from area samples (rows x_b,
     y_b, w): body angle ``alpha`` (rad), CM velocity (vx, vy) (m/s), ``spin`` (rad/s)."""
-    return area_sampled.wrench(law, samples, 0.0, 0.0, 0, 0.0, alpha, vx, vy, spin, coeff, v_eps)
+    return _area_wrench(SAMPLED, law, samples, 0.0, 0.0, 0, 0.0, alpha, vx, vy, spin, coeff, v_eps)
 
 
 @njit(cache=True)

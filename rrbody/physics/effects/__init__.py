@@ -5,9 +5,10 @@ A scene lists its effects; each contributes one term through one signature:
 - drive: ``drive_circular`` (the pivot on a circle; its torque about P and the kinematics);
 - friction laws (force on a mass element, ``force(vx, vy, coeff, v_eps)``; and its component along
   one axis with derivatives, ``perp``, for the point-mass Jacobian): ``law_dry``, ``law_viscous``;
-- area integration (the wrench of the law over the body,
-  ``wrench(law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps) -> (Fx, Fy, tau_cm)``, also
-  what the engine applies): ``area_point``, ``area_sampled``, ``area_icr``, ``area_table``.
+- area integration (the wrench of the law over the body, in the BODY frame:
+  ``wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps) -> (Fbx, Fby, tau_cm)`` with the
+  CM velocity and the force in body-frame components; :func:`.areas.body_wrench` is the world-frame
+  wrapper): ``area_point``, ``area_sampled``, ``area_icr``, ``area_table``.
 
 Composition: the combination a scene lists is one small integer, its *system code*
 (:func:`system_code`: kind + 10 law + 100 area). The stepping loop is compiled for the code as a

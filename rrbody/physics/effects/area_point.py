@@ -15,7 +15,9 @@ NAME = "point"
 
 
 @njit(cache=True, inline="always")
-def wrench(law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps):  # noqa: ANN001 (numba)
-    """(Fx, Fy, tau_cm): force (m/s^2, world frame) and torque about the CM (m^2/s^2) per unit mass."""
-    fx, fy = element_force(law, vx, vy, coeff, v_eps)
+def wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps):  # noqa: ANN001 (numba)
+    """(Fbx, Fby, tau_cm): force (m/s^2) and torque about the CM (m^2/s^2) per unit mass at CM
+    velocity (vbx, vby) (m/s). Body frame like every area method; the laws are isotropic, so
+    any frame works (the world-frame wrapper skips the rotation for this method)."""
+    fx, fy = element_force(law, vbx, vby, coeff, v_eps)
     return fx, fy, 0.0

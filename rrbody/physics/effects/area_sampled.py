@@ -1,12 +1,11 @@
 """Effect ``sampled``: friction summed over equal-weight area elements (any body; the general method).
 
 ``S`` has rows (x_b, y_b, w): body-frame offsets from the CM (m) and mass fractions summing to 1
-(:func:`rrbody.physics.area.area_samples`). Element velocity: v_cm + spin z x rho.
+(:func:`rrbody.physics.area.area_samples`). Element velocity: v_cm + spin z x rho, all in the body
+frame, where the samples are fixed: no rotation of the samples.
 """
 
 from __future__ import annotations
-
-import math
 
 from numba import njit
 
@@ -18,18 +17,17 @@ NAME = "sampled"
 
 
 @njit(cache=True)
-def wrench(law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps):  # noqa: ANN001 (numba)
-    """(Fx, Fy, tau_cm) per unit mass (m/s^2 world frame, m^2/s^2) from the area samples ``S``."""
-    ca = math.cos(alpha)
-    sa = math.sin(alpha)
+def wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps):  # noqa: ANN001 (numba)
+    """(Fbx, Fby, tau_cm) per unit mass (m/s^2 body frame, m^2/s^2) from the area samples ``S`` at
+    CM velocity (vbx, vby) (m/s, body frame)."""
     fx_t = 0.0
     fy_t = 0.0
     tau = 0.0
     for i in range(S.shape[0]):
-        rx = ca * S[i, 0] - sa * S[i, 1]
-        ry = sa * S[i, 0] + ca * S[i, 1]
+        rx = S[i, 0]
+        ry = S[i, 1]
         w = S[i, 2]
-        fx, fy = element_force(law, vx - spin * ry, vy + spin * rx, coeff, v_eps)
+        fx, fy = element_force(law, vbx - spin * ry, vby + spin * rx, coeff, v_eps)
         fx_t += w * fx
         fy_t += w * fy
         tau += w * (rx * fy - ry * fx)

@@ -3,7 +3,7 @@
 The dry wrench as a piecewise polynomial of the instantaneous centre (kernel, layout and accuracy:
 :mod:`rrbody.physics.icr_table`); ``S`` is the table of the body's aspect ratio
 (:func:`rrbody.physics.icr_table.build_table`). The viscous law is linear, so it stays exact (the
-closed form of :func:`rrbody.physics.icr.icr_wrench`, which returns before any quadrature).
+closed form of :func:`rrbody.physics.icr.icr_wrench_body`, which returns before any quadrature).
 Parameters: semi-axes ra, rb (m), icm = I_cm / m (m^2, for the viscous law).
 """
 
@@ -12,8 +12,8 @@ from __future__ import annotations
 from numba import njit
 
 from rrbody.physics.effects.laws import DRY
-from rrbody.physics.icr import icr_wrench
-from rrbody.physics.icr_table import table_wrench
+from rrbody.physics.icr import icr_wrench_body
+from rrbody.physics.icr_table import table_wrench_body
 
 __all__ = ["wrench"]
 
@@ -21,8 +21,8 @@ NAME = "table"
 
 
 @njit(cache=True, inline="always")
-def wrench(law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps):  # noqa: ANN001 (numba)
-    """(Fx, Fy, tau_cm) per unit mass (m/s^2 world frame, m^2/s^2)."""
+def wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps):  # noqa: ANN001 (numba)
+    """(Fbx, Fby, tau_cm) per unit mass (m/s^2 body frame, m^2/s^2) at CM velocity (vbx, vby) (m/s, body frame)."""
     if law == DRY:
-        return table_wrench(S, ra, rb, alpha, vx, vy, spin, coeff, v_eps)
-    return icr_wrench(ra, rb, nq, alpha, vx, vy, spin, law, coeff, v_eps, icm)
+        return table_wrench_body(S, ra, rb, vbx, vby, spin, coeff, v_eps)
+    return icr_wrench_body(ra, rb, nq, vbx, vby, spin, law, coeff, v_eps, icm)

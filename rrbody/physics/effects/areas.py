@@ -1,29 +1,57 @@
 """Registration of the area-integration methods: the one place that maps a code to its module.
 
 The code is a compile-time constant in every composed right-hand side, so the branches are resolved
-when the kernel is compiled. Adding a method: a module with ``wrench`` (see :mod:`.area_point`), a
-code in :data:`rrbody.physics.effects.AREAS` and one branch here.
+when the kernel is compiled.
+
+Frames: every method works in the BODY frame (CM velocity in, force out, both body-frame
+components), where the body's geometry is fixed, so a method needs no trigonometric call and the
+caller rotates at most once: the driven right-hand side goes from its rod frame to the body frame
+by a constant angle (:mod:`rrbody.physics.dynamics`). :func:`body_wrench` is the world-frame
+wrapper (one cos/sin of the body angle and two rotations) for callers holding world-frame
+velocities: the free body, :mod:`rrbody.physics.wrench`, the render path.
+
+Adding a method: a module with ``wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps)
+-> (Fbx, Fby, tau_cm)`` in the body frame (see :mod:`.area_point`), a code in
+:data:`rrbody.physics.effects.AREAS` and one branch in :func:`body_frame_wrench`.
 """
 
 from __future__ import annotations
+
+import math
 
 from numba import njit
 
 from rrbody.physics.effects import AREAS, area_icr, area_point, area_sampled, area_table
 
-__all__ = ["body_wrench", "POINT", "SAMPLED", "ICR", "TABLE"]
+__all__ = ["body_frame_wrench", "body_wrench", "POINT", "SAMPLED", "ICR", "TABLE"]
 
 POINT, SAMPLED, ICR, TABLE = AREAS["point"], AREAS["sampled"], AREAS["icr"], AREAS["table"]
 
 
 @njit(cache=True, inline="always")
-def body_wrench(area, law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps):  # noqa: ANN001 (numba)
-    """(Fx, Fy, tau_cm): friction force (m/s^2, world frame) and torque about the CM (m^2/s^2) per
-    unit mass by area method ``area`` and law ``law`` (body angle alpha rad, CM velocity m/s, spin rad/s)."""
+def body_frame_wrench(area, law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps):  # noqa: ANN001 (numba)
+    """(Fbx, Fby, tau_cm): friction force (m/s^2, body frame) and torque about the CM (m^2/s^2) per
+    unit mass by area method ``area`` and law ``law`` (CM velocity (vbx, vby) m/s in the body frame,
+    spin rad/s)."""
     if area == TABLE:
-        return area_table.wrench(law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps)
+        return area_table.wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps)
     if area == ICR:
-        return area_icr.wrench(law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps)
+        return area_icr.wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps)
     if area == SAMPLED:
-        return area_sampled.wrench(law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps)
-    return area_point.wrench(law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps)
+        return area_sampled.wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps)
+    return area_point.wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps)
+
+
+@njit(cache=True, inline="always")
+def body_wrench(area, law, S, ra, rb, nq, icm, alpha, vx, vy, spin, coeff, v_eps):  # noqa: ANN001 (numba)
+    """(Fx, Fy, tau_cm): :func:`body_frame_wrench` in the world frame: body angle ``alpha`` (rad),
+    CM velocity (vx, vy) (m/s, world), spin (rad/s); force (m/s^2, world frame), torque about the
+    CM (m^2/s^2) per unit mass."""
+    if area == POINT:
+        # the laws are isotropic: a point mass needs no rotation (and its results stay bit-identical)
+        return area_point.wrench(law, S, ra, rb, nq, icm, vx, vy, spin, coeff, v_eps)
+    ca = math.cos(alpha)
+    sa = math.sin(alpha)
+    fbx, fby, tau = body_frame_wrench(area, law, S, ra, rb, nq, icm, ca * vx + sa * vy, -sa * vx + ca * vy, spin,
+                                      coeff, v_eps)
+    return ca * fbx - sa * fby, sa * fbx + ca * fby, tau

@@ -14,7 +14,7 @@ from numba import njit
 
 from rrbody.physics import params as P
 
-__all__ = ["torque", "frame", "kinematics"]
+__all__ = ["torque", "rod_velocity", "frame", "kinematics"]
 
 NAME = "circular"
 
@@ -24,6 +24,15 @@ def torque(sin_psi: float, p: np.ndarray) -> float:
     """Drive torque about P per unit mass (m^2/s^2) given sin(phi - omega t)."""
     w = p[P.OMEGA]
     return w * w * p[P.L] * p[P.D] * sin_psi
+
+
+@njit(cache=True, inline="always")
+def rod_velocity(sin_psi: float, cos_psi: float, phid: float, p: np.ndarray) -> tuple[float, float]:
+    """CM velocity (m/s) in the rod frame (e, e_perp) of CM -> P, e = (cos phi, sin phi):
+    (d w sin psi, d w cos psi - l phi') with psi = phi - omega t (what the driven right-hand sides
+    use: no world-frame angle, and the speed is a sum of squares that does not cancel)."""
+    dw = p[P.D] * p[P.OMEGA]
+    return dw * sin_psi, dw * cos_psi - p[P.L] * phid
 
 
 @njit(cache=True, inline="always")
