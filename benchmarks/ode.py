@@ -13,9 +13,10 @@ compilation). scipy integrates the paper's Eq. 2 written in plain Python (the dr
 taken as 0, as rrbody does), with rtol = atol, a non-terminal event on phi' = 0 (direction +1) for
 the minima of phi, over the reference run's horizon. t_f is the time of the lowest minimum.
 
-A scipy run that exceeds its time cap is stopped (the right-hand side raises) and its full cost is
-extrapolated linearly from the fraction of the horizon it covered; its error is then unknown and
-the run only gives a lower bound on the speed ratio.
+A scipy run that exceeds its time cap is stopped (the right-hand side raises); its error is then
+unknown, and the time it spent before the cap is a lower bound on its cost, hence on the speed
+ratio. (The CSV also lists a linear extrapolation from the fraction of the horizon covered, for
+information only: the stiff impulsive start makes the first instants much dearer than the rest.)
 """
 
 from __future__ import annotations
@@ -241,7 +242,7 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
         caps = {("DOP853", "tf"): (1.0, 2.0)}
         other_cap = (1.0, 2.0)
     else:
-        caps = {("DOP853", "tf"): (25.0, 45.0), ("DOP853", "phi"): (10.0, 20.0)}
+        caps = {("DOP853", "tf"): (40.0, 80.0), ("DOP853", "phi"): (10.0, 20.0)}
         other_cap = (4.0, 8.0)
     ref_rtols = [REF_RTOL] if quick else [1e-13, REF_RTOL, 1e-15]
     default_rtol = ACCURACY["default"]
@@ -361,13 +362,14 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
             # compared with rrbody's most accurate run: a capped scipy run (rtol >= 1e-12, atol = rtol) is
             # assumed no more accurate than that (on phixtpm and weak scipy's t_f error is always larger)
             most_accurate = min(mine, key=lambda r: r["err_tf"])
-            lower = min(s["wall_extrapolated_s"] for s in capped) / most_accurate["wall_tf_s"]
+            lower = min(s["wall_s"] for s in capped) / most_accurate["wall_tf_s"]
         for rt, e, ws, rr_rt, rr_w, ratio in ratios:
             ratio_lines.append((case.name, fmt(rt), fmt(e), fmt(ws), fmt(rr_rt), fmt(rr_w), f"{ratio:.0f}x"))
         if lower is not None:
-            cheapest_capped = min(capped, key=lambda s: s["wall_extrapolated_s"])
+            cheapest_capped = min(capped, key=lambda s: s["wall_s"])
             ratio_lines.append((case.name, f"{fmt(cheapest_capped['rtol'])} (capped)", "unknown",
-                                f"≥ {fmt(cheapest_capped['wall_extrapolated_s'])} (extrapolated)",
+                                f"≥ {fmt(cheapest_capped['wall_s'])} (capped at t = "
+                                f"{fmt(cheapest_capped['t_reached'])} s)",
                                 fmt(most_accurate["rtol"]) + " (most accurate)", fmt(most_accurate["wall_tf_s"]),
                                 f"≥ {lower:.0f}x"))
         if case.name in TARGET_RATIO:
@@ -381,7 +383,7 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
                                       lo >= want, "worst matched point counts"))
             elif lower is not None:
                 targets.append(Target(f"ODE vs scipy DOP853, {case.name}", f">= {want:.0f}x at matched t_f error",
-                                      f">= {lower:.0f}x (every scipy run capped; extrapolated)", lower >= want))
+                                      f">= {lower:.0f}x (every scipy run capped; time spent before the cap)", lower >= want))
             else:
                 targets.append(Target(f"ODE vs scipy DOP853, {case.name}", f">= {want:.0f}x", "no matched point",
                                       None))
@@ -537,7 +539,7 @@ def _plot(path: Path, cases: list[Case], rr_rows: list[dict[str, Any]], sp_rows:
                 c, mk = styles[m]
                 if pts:
                     ax.loglog(*zip(*pts), color=c, marker=mk, label=f"scipy {m}")
-                cap = [r["wall_extrapolated_s"] for r in rows if r["capped"]]
+                cap = [r["wall_s"] for r in rows if r["capped"]]
                 if cap:
                     ax.axvline(min(cap), color=c, ls=":", lw=1)
             ax.set_xlabel("wall time (s)")
@@ -546,7 +548,7 @@ def _plot(path: Path, cases: list[Case], rr_rows: list[dict[str, Any]], sp_rows:
             ax.grid(True, which="both", alpha=0.3)
             if i == 0 and j == 0:
                 ax.legend(fontsize=7)
-    fig.suptitle("Work-precision: error vs wall time (dotted: extrapolated cost of capped scipy runs)", fontsize=10)
+    fig.suptitle("Work-precision: error vs wall time (dotted: time a capped scipy run spent, a lower bound on its cost)", fontsize=10)
     fig.tight_layout()
     save_figure(fig, path)
     plt.close(fig)
