@@ -11,7 +11,8 @@ Measured: the relative error of the flip time t_f and the absolute error of phi 
 ``t_fix`` against a tight reference, and the wall time of each run (best of a few repeats after
 compilation). scipy integrates the paper's Eq. 2 written in plain Python (the dry term's 0/0 at rest is
 taken as 0, as rrbody does), with rtol = atol, a non-terminal event on phi' = 0 (direction +1) for
-the minima of phi, over the reference run's horizon. t_f is the time of the lowest minimum.
+the minima of phi and a terminal one for rrbody's settle rule, up to twice the reference run's stop
+time. t_f is the time of the lowest minimum.
 
 A scipy run that exceeds its time cap is stopped (the right-hand side raises); its error is then
 unknown, and the time it spent before the cap is a lower bound on its cost, hence on the speed
@@ -111,55 +112,43 @@ def _settle_rule() -> tuple[float, float]:
     return float(par["settle_turns"].default), float(par["settle_periods"].default)
 
 
-def _settled(ts: np.ndarray, phis: np.ndarray, te: np.ndarray, ye: np.ndarray, omega: float) -> bool:
-    """rrbody's flip-settled rule on a scipy trajectory: after its lowest minimum (below phi0 = pi),
-    phi has risen by 2 pi settle_turns and settle_periods driving periods have passed (checked at the
-    accepted steps, as rrbody's stop rule is)."""
-    if not len(te) or ye[:, 0].min() >= math.pi:
-        return False
+def _settle_event(omega: float) -> Any:
+    """rrbody's flip-settled rule as a terminal solve_ivp event: it crosses zero upwards once phi has
+    risen by 2 pi settle_turns above its running minimum and settle_periods driving periods have
+    passed since that minimum. The running minimum is kept from the points scipy evaluates the
+    event at (every accepted step, and the dense output inside a step while locating a root)."""
     turns, periods = _settle_rule()
-    i = int(np.argmin(ye[:, 0]))
-    after = ts > te[i]
-    return bool(np.any(after & (phis >= ye[i, 0] + 2.0 * math.pi * turns)
-                       & (ts - te[i] >= periods * 2.0 * math.pi / omega)))
+    low = [math.inf, 0.0]
+
+    def settle(t: float, y: np.ndarray) -> float:
+        if y[0] < low[0]:
+            low[0], low[1] = float(y[0]), t
+        return min(y[0] - low[0] - 2.0 * math.pi * turns, t - low[1] - periods * 2.0 * math.pi / omega)
+
+    settle.terminal = True  # type: ignore[attr-defined]
+    settle.direction = 1  # type: ignore[attr-defined]
+    return settle
 
 
 def scipy_run(case: Case, method: str, rtol: float, t_end: float, *, events: bool, cap: float) -> dict[str, Any]:
     """One solve_ivp run; returns wall time, t_f (events) or phi(t_end), and capping information.
 
-    With ``events`` the run must establish its flip the way rrbody's must: its lowest minimum has to
-    be settled (:func:`_settled`). A run not settled at ``t_end`` (the reference's stop time) goes
-    on in chunks, its time counted, up to twice ``t_end`` (rrbody's runs get the same limit); unsettled
-    there, it has no t_f. (Taking the lowest minimum inside the horizon instead credits a run whose
-    body is still turning backwards at the horizon's end with the last minimum before it.)
+    With ``events`` the run establishes its flip the way rrbody's does: it stops once its lowest
+    minimum is settled (:func:`_settle_event`, a terminal event), at most at twice ``t_end`` (the
+    reference's stop time; rrbody's runs get the same limit), and without a settled flip by then it
+    has no t_f. Its cost is thus that of reaching its own settle point, as rrbody's is. (Taking the
+    lowest minimum inside a fixed horizon instead credits a run whose body is still turning
+    backwards at the horizon's end with the last minimum before it.)
     """
     from scipy.integrate import solve_ivp
 
     y0 = [math.pi, case.omega / case.H * math.cos(math.pi)]
     t0 = time.perf_counter()
     f = _python_rhs(case.H, case.k, case.omega, deadline=t0 + cap)
-    chunk = max(_settle_rule()[1] * 2.0 * math.pi / case.omega, 0.05 * t_end)
-    ts: list[np.ndarray] = []
-    phis: list[np.ndarray] = []
-    tes: list[np.ndarray] = []
-    yes: list[np.ndarray] = []
-    nfev = 0
-    ta, tb, y = 0.0, t_end, y0
+    horizon = 2.0 * t_end if events else t_end
     try:
-        while True:
-            sol = solve_ivp(f, (ta, tb), y, method=method, rtol=rtol, atol=rtol,
-                            events=_min_event if events else None)
-            nfev += sol.nfev
-            if not sol.success or not events:
-                break
-            ts.append(sol.t)
-            phis.append(sol.y[0])
-            tes.append(sol.t_events[0])
-            yes.append(sol.y_events[0].reshape(-1, 2))
-            if _settled(np.concatenate(ts), np.concatenate(phis), np.concatenate(tes), np.concatenate(yes),
-                        case.omega) or tb >= 2.0 * t_end:
-                break
-            ta, tb, y = tb, min(tb + chunk, 2.0 * t_end), sol.y[:, -1]
+        sol = solve_ivp(f, (0.0, horizon), y0, method=method, rtol=rtol, atol=rtol,
+                        events=[_min_event, _settle_event(case.omega)] if events else None)
     except _Capped as c:
         wall = time.perf_counter() - t0
         frac = max(c.t, 1e-300) / t_end
@@ -167,13 +156,13 @@ def scipy_run(case: Case, method: str, rtol: float, t_end: float, *, events: boo
                 "t_f": math.nan, "phi": math.nan, "nfev": math.nan, "status": "capped"}
     wall = time.perf_counter() - t0
     out: dict[str, Any] = {"wall_s": wall, "capped": False, "t_reached": float(sol.t[-1]),
-                           "wall_extrapolated_s": wall, "nfev": nfev, "status": sol.message}
+                           "wall_extrapolated_s": wall, "nfev": sol.nfev, "status": sol.message}
     if not sol.success:
         out.update(t_f=math.nan, phi=math.nan)
         return out
     if events:
-        te, ye = np.concatenate(tes), np.concatenate(yes)
-        if _settled(np.concatenate(ts), np.concatenate(phis), te, ye, case.omega):
+        te, ye = sol.t_events[0], sol.y_events[0].reshape(-1, 2)
+        if sol.status == 1 and len(te) and ye[:, 0].min() < math.pi:  # the settle event ended the run
             out["t_f"] = float(te[int(np.argmin(ye[:, 0]))])
         else:
             out["t_f"] = math.nan
@@ -455,10 +444,10 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     md = [f"## {TITLE}", "", machine, "",
           "Reference: rrbody's flip_time / integrate_driven at rtol = 1e-14; its uncertainty is the largest "
           "difference to the runs at 1e-13 and 1e-15 (round-off limits long runs: |phi| reaches 2e4 rad in "
-          "the fast case). scipy integrates the paper's Eq. 2 in pure Python (rtol = atol), horizon = the reference "
-          "run's stop time; t_f = time of the lowest phi' = 0 (+) event, counted only once settled by rrbody's "
-          f"own rule (phi risen {_settle_rule()[0]:g} turns above it and {_settle_rule()[1]:g} driving periods passed); a run not settled at the horizon "
-          "goes on in chunks, its time counted, up to twice the horizon, as rrbody's runs may. Times are best of up to 3 runs "
+          "the fast case). scipy integrates the paper's Eq. 2 in pure Python (rtol = atol); its t_f is the time of "
+          "the lowest phi' = 0 (+) event, and its run stops, as rrbody's does, once that minimum is settled by "
+          f"rrbody's rule (phi risen {_settle_rule()[0]:g} turns above it and {_settle_rule()[1]:g} driving periods "
+          "passed; a terminal event), or has no t_f by twice the reference run's stop time. Times are best of up to 3 runs "
           f"(after compilation for rrbody; runs over 1 s are timed once). phi is compared at t_fix = {', '.join(f'{c.t_fix:g} s ({c.name})' for c in cases)}.",
           "", md_table(["case", "t_f ref (s)", "rel. unc.", "phi(t_fix) ref (rad)", "abs. unc.", "stop time (s)"],
                        [(c, fmt(v["t_f"], 14), v["unc_tf"], fmt(v["phi_fix"], 12), v["unc_phi"], v["t_stop"])
