@@ -68,7 +68,6 @@ def kernel_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
     p[P.IP] = scene.inertia_about_pivot
     p[P.ICM] = scene.body.inertia_per_mass
     beta = scene.phi0 - scene.body.alpha0
-    p[P.BETA] = beta
     p[P.CBETA] = math.cos(beta)
     p[P.SBETA] = math.sin(beta)
     p[P.LAW] = float(scene.friction.code if scene.friction.active else 0)

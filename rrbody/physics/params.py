@@ -14,7 +14,8 @@ OMEGA = 0      # drive rate (rad/s); 0 for a free body
 D = 1          # drive radius (m)
 L = 2          # pivot offset |CM -> P| (m)
 IP = 3         # I_P / m = I_cm/m + l^2 (m^2)
-BETA = 4       # phi - alpha: angle of CM->P in the body frame (rad)
+CBETA = 4      # cos beta, beta = phi - alpha the angle of CM->P in the body frame: the driven extended
+               # body turns its rod frame into the body frame by beta
 LAW = 5        # friction law code (0 none, 1 dry, 2 viscous)
 COEFF = 6      # mu*g (m/s^2, dry) or gamma (1/s, viscous)
 BODY = 7       # area model: 0 point, 1 sampled elements, 2 instantaneous-centre quadrature, 3 its table
@@ -23,8 +24,7 @@ RA = 9         # semi-axis along body x (m)
 RB = 10        # semi-axis along body y (m)
 NQ = 11        # quadrature nodes of the instantaneous-centre method
 ICM = 12       # I_cm / m (m^2)
-CBETA = 13     # cos(BETA): the driven extended body turns its rod frame into the body frame by beta
-SBETA = 14     # sin(BETA)
+SBETA = 13     # sin beta
 SIZE = 16
 
 # area models: the effects registry's codes (one table; the system code carries the same number)
