@@ -26,8 +26,8 @@ r = |Q|; lengths in units of L = max(a, b), so force is scale-free and torque sc
 Each panel holds NT x NM coefficient triples (F_x, F_y, tau per unit mu g and mu g L, body frame,
 spin > 0) of a monomial in the local coordinates z_t, z_m in [-1, 1], evaluated by nested Horner.
 A negative spin flips the wrench (W(-v, -Omega) = -W(v, Omega), the ICR is unchanged).
-:func:`table_wrench_body` works in the body frame (no trigonometric call); :func:`table_wrench` is
-its world-frame wrapper. Pure translation and the zero-speed dead band are handled exactly as
+:func:`table_wrench_body` works in the body frame (no trigonometric call); the area methods' one
+world-frame wrapper is :func:`rrbody.physics.effects.areas.body_wrench`. Pure translation and the zero-speed dead band are handled exactly as
 :func:`icr_wrench_body` does; the viscous law is linear and exact, so it never uses the table.
 
 Layout of the table array ``S`` (rows of 3, what the kernels receive as the area-sample array):
@@ -48,7 +48,7 @@ from numba import njit, prange
 from rrbody.model.checks import check_positive
 from rrbody.physics.icr import TRANSLATION_EPS, icr_wrench_body, translation_wrench
 
-__all__ = ["build_table", "table_wrench", "table_wrench_body", "NT", "NM", "OCTAVES", "TAIL_TOL", "BUILD_NODES"]
+__all__ = ["build_table", "table_wrench_body", "NT", "NM", "OCTAVES", "TAIL_TOL", "BUILD_NODES"]
 
 #: coefficients per panel along t (degree NT - 1) and along m (degree NM - 1)
 NT: int = 10
@@ -328,15 +328,3 @@ def table_wrench_body(S, ra, rb, vbx, vby, spin, coeff, v_eps):  # noqa: ANN001
     fby = pre * (f1 if ux >= 0.0 else -f1)
     return fbx, fby, pre * rmax * f2
 
-
-@njit(cache=True)
-def table_wrench(S, ra, rb, alpha, vx, vy, spin, coeff, v_eps):  # noqa: ANN001
-    """:func:`table_wrench_body` in the world frame: body angle ``alpha`` (rad), CM velocity
-    (vx, vy) (m/s, world); force (m/s^2, world frame), torque about the CM (m^2/s^2)."""
-    if S[0, 0] == 1.0:
-        # a disk's wrench is isotropic: the world velocity gives the world force directly
-        return table_wrench_body(S, ra, rb, vx, vy, spin, coeff, v_eps)
-    ca = math.cos(alpha)
-    sa = math.sin(alpha)
-    fbx, fby, tau = table_wrench_body(S, ra, rb, ca * vx + sa * vy, -sa * vx + ca * vy, spin, coeff, v_eps)
-    return ca * fbx - sa * fby, sa * fbx + ca * fby, tau
