@@ -84,13 +84,16 @@ def _free(law, area, t, y, p, S):  # noqa: ANN001 (numba)
     return fx, fy, (tau / p[P.ICM] if p[P.ICM] > 0.0 else 0.0)
 
 
-@njit(cache=True)
+@njit(cache=True, _nrt=False)
 def rhs(system, t, y, p, S, out, row):  # noqa: ANN001
     """out[row, :] = y' for the equations of the system code ``system`` (module docstring).
 
     Compiled once per code (``literally``), so the branches below are resolved at compile time. The
     result goes to a row of a 2-D array (a stage of the integrator's K) rather than to a row view,
-    which would cost a reference-count update per evaluation."""
+    which would cost a reference-count update per evaluation. Compiled without reference counting
+    (``_nrt=False``; nothing here allocates): passing ``S`` on to a method's own compiled kernel
+    (the wrench table, the quadrature) would otherwise cost two atomic reference-count updates per
+    evaluation, and keep the compiler from inlining this function into the integrator's step."""
     literally(system)
     kind = system % 10
     law = (system // 10) % 10

@@ -44,7 +44,6 @@ from __future__ import annotations
 import cmath
 import math
 
-import numpy as np
 from numba import njit
 
 from rrbody.physics.quadrature import quadrature_tables
@@ -157,6 +156,24 @@ def _panel(A, B, toward, y, nn, o, inside, r, S, kap, kp2, cpsi0, spsi0, g0, a, 
     return ax, ay, at
 
 
+@njit(cache=True, inline="always")
+def _add_point(pts, ys, n, ph, y):  # noqa: ANN001
+    """(pts, ys, n) with the point ph (rad, distance y) added to the n sorted points of the
+    4-tuples pts, ys: a point already there keeps the smaller distance, a new one goes in order."""
+    k = 0
+    for q in range(n):
+        if pts[q] == ph:
+            return pts, (min(ys[0], y) if q == 0 else ys[0], min(ys[1], y) if q == 1 else ys[1],
+                         min(ys[2], y) if q == 2 else ys[2], min(ys[3], y) if q == 3 else ys[3]), n
+        if pts[q] < ph:
+            k = q + 1
+    p2 = (pts[0] if k > 0 else ph, pts[1] if k > 1 else (ph if k == 1 else pts[0]),
+          pts[2] if k > 2 else (ph if k == 2 else pts[1]), pts[3] if k > 3 else (ph if k == 3 else pts[2]))
+    y2 = (ys[0] if k > 0 else y, ys[1] if k > 1 else (y if k == 1 else ys[0]),
+          ys[2] if k > 2 else (y if k == 2 else ys[1]), ys[3] if k > 3 else (y if k == 3 else ys[2]))
+    return p2, y2, n + 1
+
+
 @njit(cache=True)
 def _eccentric(eta, a, b, nn, o, inside, r, S, kap, kp, kp2, cpsi0, spsi0, g0):  # noqa: ANN001
     """Integrate phi in [-pi/2, pi/2] for a thin ellipse. Near-singular points: the branch points
@@ -168,15 +185,16 @@ def _eccentric(eta, a, b, nn, o, inside, r, S, kap, kp, kp2, cpsi0, spsi0, g0): 
     ay = 0.0
     at = 0.0
     half = 0.5 * math.pi
-    pts = np.empty(4)
-    ys = np.empty(4)
+    # at most four near-singular points, kept sorted in tuples: no heap array, so the quadrature
+    # also compiles inside callers built without reference counting (the composed right-hand side)
+    inf = math.inf
+    pts = (inf, inf, inf, inf)
+    ys = (inf, inf, inf, inf)
     npts = 0
     if KAPPA_SWITCH > kp >= 1e-9:
         ye = math.asinh(kp / kap)
-        pts[0] = -half
-        ys[0] = ye
-        pts[1] = half
-        ys[1] = ye
+        pts = (-half, half, inf, inf)
+        ys = (ye, ye, inf, inf)
         npts = 2
     psi_s = half if a > b else 0.0
     psi0 = math.atan2(spsi0, cpsi0)
@@ -197,24 +215,8 @@ def _eccentric(eta, a, b, nn, o, inside, r, S, kap, kp, kp2, cpsi0, spsi0, g0): 
         elif ph > half:
             y = math.hypot(y, ph - half)
             ph = half
-        if y >= ECC_FAR:
-            continue
-        merged = False
-        for q in range(npts):
-            if pts[q] == ph:
-                ys[q] = min(ys[q], y)
-                merged = True
-        if not merged:
-            pts[npts] = ph
-            ys[npts] = y
-            npts += 1
-    # insertion sort of the points
-    for i in range(1, npts):
-        j = i
-        while j > 0 and pts[j - 1] > pts[j]:
-            pts[j - 1], pts[j] = pts[j], pts[j - 1]
-            ys[j - 1], ys[j] = ys[j], ys[j - 1]
-            j -= 1
+        if y < ECC_FAR:
+            pts, ys, npts = _add_point(pts, ys, npts, ph, y)
     if npts == 0:
         # nothing near: one panel with the tabulated nodes (the common far-ICR case)
         for i in range(nn):
