@@ -93,7 +93,8 @@ def rhs(system, t, y, p, S, out, row):  # noqa: ANN001
     which would cost a reference-count update per evaluation. Compiled without reference counting
     (``_nrt=False``; nothing here allocates): passing ``S`` on to a method's own compiled kernel
     (the wrench table, the quadrature) would otherwise cost two atomic reference-count updates per
-    evaluation, and keep the compiler from inlining this function into the integrator's step."""
+    evaluation (measured: an ellipse's table right-hand side 132 -> 108 ns in the benchmark's
+    compiled loop, which can then inline it; its flip-time steps ~5 % cheaper)."""
     literally(system)
     kind = system % 10
     law = (system // 10) % 10
