@@ -251,7 +251,7 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
             break
         if track >= 0:
             scale[track] = rtol * max(yscale, abs(y[track]))
-        if meth == 0:  # a direct call: the inlined _step would update the reference counts of its arrays
+        if meth == 0:  # direct: trial_step is inlined by LLVM without the reference counts _step's arrays would add
             err = trial_step(system, t, y, f, hh, p, S, A, B, C, E3, E5, K, ynew, ytmp, scale)
         else:
             err = _step(meth, system, t, y, f, hh, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost, rtol)
