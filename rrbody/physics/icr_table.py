@@ -252,29 +252,34 @@ def _locate(S, x, side):  # noqa: ANN001
 
 
 @njit(cache=True, inline="always")
+def _pair(S, row, low, n, zm, h0, h1, h2):  # noqa: ANN001
+    """The inner (zm) Horner sums of the coefficient rows ``row`` and ``low`` over their n lowest
+    terms, side by side: six independent chains, which the CPU overlaps (the nested Horner is
+    latency-bound with three). The lower row's chains start from (h0, h1, h2): its extra top term
+    in a triangular block, else zero."""
+    g0 = 0.0
+    g1 = 0.0
+    g2 = 0.0
+    for j in range(n - 1, -1, -1):
+        g0 = g0 * zm + S[row + j, 0]
+        g1 = g1 * zm + S[row + j, 1]
+        g2 = g2 * zm + S[row + j, 2]
+        h0 = h0 * zm + S[low + j, 0]
+        h1 = h1 * zm + S[low + j, 1]
+        h2 = h2 * zm + S[low + j, 2]
+    return g0, g1, g2, h0, h1, h2
+
+
+@njit(cache=True, inline="always")
 def _horner2(S, base, nt, nm, zt, zm):  # noqa: ANN001
-    """Sum_ij zt^i zm^j C_ij for the three components of the panel at row ``base``. Two rows of
-    the inner (zm) Horner run side by side: six independent chains instead of three, which the
-    CPU overlaps (the nested Horner is latency-bound otherwise); nt is even."""
+    """Sum_ij zt^i zm^j C_ij for the three components of the panel at row ``base``, two rows at a
+    time (:func:`_pair`); nt is even."""
     f0 = 0.0
     f1 = 0.0
     f2 = 0.0
     for i in range(nt - 1, 0, -2):
-        g0 = 0.0
-        g1 = 0.0
-        g2 = 0.0
-        h0 = 0.0
-        h1 = 0.0
-        h2 = 0.0
         row = base + i * nm
-        low = row - nm
-        for j in range(nm - 1, -1, -1):
-            g0 = g0 * zm + S[row + j, 0]
-            g1 = g1 * zm + S[row + j, 1]
-            g2 = g2 * zm + S[row + j, 2]
-            h0 = h0 * zm + S[low + j, 0]
-            h1 = h1 * zm + S[low + j, 1]
-            h2 = h2 * zm + S[low + j, 2]
+        g0, g1, g2, h0, h1, h2 = _pair(S, row, row - nm, nm, zm, 0.0, 0.0, 0.0)
         f0 = (f0 * zt + g0) * zt + h0
         f1 = (f1 * zt + g1) * zt + h1
         f2 = (f2 * zt + g2) * zt + h2
@@ -294,19 +299,7 @@ def _horner_tri(S, base, zt, zm):  # noqa: ANN001
         row = base + i * NM
         low = row - NM
         li = NTRI - i + 1
-        g0 = 0.0
-        g1 = 0.0
-        g2 = 0.0
-        h0 = S[low + li, 0]
-        h1 = S[low + li, 1]
-        h2 = S[low + li, 2]
-        for j in range(li - 1, -1, -1):
-            g0 = g0 * zm + S[row + j, 0]
-            g1 = g1 * zm + S[row + j, 1]
-            g2 = g2 * zm + S[row + j, 2]
-            h0 = h0 * zm + S[low + j, 0]
-            h1 = h1 * zm + S[low + j, 1]
-            h2 = h2 * zm + S[low + j, 2]
+        g0, g1, g2, h0, h1, h2 = _pair(S, row, low, li, zm, S[low + li, 0], S[low + li, 1], S[low + li, 2])
         f0 = (f0 * zt + g0) * zt + h0
         f1 = (f1 * zt + g1) * zt + h1
         f2 = (f2 * zt + g2) * zt + h2
