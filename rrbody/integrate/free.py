@@ -33,7 +33,8 @@ import numpy as np
 
 from rrbody._version import __version__
 from rrbody.integrate.events import E_TSTOP, STEP_FRACTION, STOP_REST, STOP_SPEED_FRACTION, STOP_T_END, new_event_state
-from rrbody.integrate.loop import L_NREJ, L_NOUT, L_NSTEP, L_T, STEP_METHODS, advance_for, new_loop_state, run_in_chunks
+from rrbody.integrate.chunks import run_in_chunks
+from rrbody.integrate.loop import L_NREJ, L_NOUT, L_NSTEP, L_T, STEP_METHODS, advance_for, new_loop_state
 from rrbody.model.scene import Scene
 from rrbody.model.trajectory import Trajectory
 from rrbody.physics import params as P

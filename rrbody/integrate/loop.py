@@ -25,7 +25,8 @@ component's size; absolute for angles, which grow without bound); component ``tr
 has its scale raised to rtol times its running maximum of |y|.
 
 The loop state ``st`` (float vector, :func:`new_loop_state`) carries time, step, counters and the
-current method between calls, so a long run goes in compiled chunks (progress bar, Ctrl-C).
+current method between calls, so a long run goes in compiled chunks (progress bar, Ctrl-C;
+:mod:`rrbody.integrate.chunks`).
 Return codes: :data:`STATUS`.
 """
 
@@ -369,32 +370,6 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
 
 _SPECIALISED: dict[int, Any] = {}
 
-
-
-def run_in_chunks(run: Any, st: np.ndarray, max_steps: int, *, progress: bool, total: float | None,
-                  desc: str, chunk: int = 200_000) -> int:
-    """Call ``run(n)`` (the compiled loop, at most ``n`` accepted steps) until it returns another code
-    than 5 ("chunk done"), or return 3 once ``max_steps`` accepted steps are spent. Compiled chunks
-    let a progress bar (simulated time, ``total`` s) update and Ctrl-C be honoured between them."""
-    bar = None
-    if progress:
-        from tqdm import tqdm
-
-        bar = tqdm(total=total, desc=desc, unit="s(sim)", leave=False, dynamic_ncols=True)
-    try:
-        while True:
-            left = max_steps - int(st[L_NSTEP])
-            if left <= 0:
-                return 3
-            before = st[L_T]
-            status = run(min(chunk, left))
-            if bar is not None:
-                bar.update(st[L_T] - before)
-            if status != 5:
-                return status
-    finally:
-        if bar is not None:
-            bar.close()
 
 def advance_for(system: int) -> Any:
     """The loop specialised for the system code ``system``: a compiled function with the arguments of
