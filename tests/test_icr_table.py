@@ -82,10 +82,11 @@ def test_table_matches_icr_to_1e_10(delta: float) -> None:
     assert err[:, 2].max() <= TOL
 
 
-def _octant_counts(S: np.ndarray) -> np.ndarray:
-    """The m-panel count of every (radial panel, octant) of an ellipse's table (negative: triangles)."""
+def _panel_rows(S: np.ndarray) -> tuple[int, np.ndarray]:
+    """Index of an ellipse table's first radial-panel row, and those rows (base row, then the m-panel
+    count of each octant, negative for triangles)."""
     first = _HEADER + 2 * OCTAVES
-    return S[first:int(S[first, 0]), 1:3].ravel()
+    return first, S[first:int(S[first, 0])]
 
 
 @pytest.mark.parametrize("delta", [0.5, 0.8])
@@ -97,13 +98,13 @@ def test_triangular_blocks_cover_most_panels_and_evaluate_as_the_full_block(delt
     # kernel must equal the full tensor Horner on the same (zero-padded) block to round-off:
     # ~45 terms of size <= ~1, so 1e-13.
     S = build_table(0.1 * (1.0 + delta), 0.1 * (1.0 - delta))
-    counts = _octant_counts(S)
+    first, heads = _panel_rows(S)
+    counts = heads[:, 1:3].ravel()
     tri = -counts[counts < 0].sum()
     assert tri >= (0.9 if delta == 0.5 else 0.7) * np.abs(counts).sum()
     if delta == 0.8:
         assert (counts > 0).any()  # a thin ellipse keeps some full blocks: both kernels are in use
-    first = _HEADER + 2 * OCTAVES
-    rows = np.flatnonzero(S[first:int(S[first, 0]), 1] < 0)[:20] + first
+    rows = np.flatnonzero(heads[:, 1] < 0)[:20] + first
     rng = np.random.default_rng(3)
     for r in rows:
         base = int(S[r, 0])
@@ -169,8 +170,9 @@ def test_auto_picks_the_table_for_a_dry_disk_only() -> None:
 def test_flip_time_table_equals_icr() -> None:
     # an eccentric ellipse (delta 0.5, l 0.2, k 0.033; t_f ~ 8.13 s): the wrench differs by < 1e-10
     # relative (test above), and t_f by about that times its sensitivity to the friction; measured
-    # 2.1e-12 relative at rtol 1e-12 (the table's triangular blocks are within ~7e-12 of the quadrature). (A slow flip such as k 0.0033, t_f ~ 73 s, amplifies any
-    # wrench difference: there the default-node "icr" itself moves t_f by ~5e-8.)
+    # 2.1e-12 relative at rtol 1e-12 (the table's triangular blocks are within ~7e-12 of the
+    # quadrature). (A slow flip such as k 0.0033, t_f ~ 73 s, amplifies any wrench difference:
+    # there the default-node "icr" itself moves t_f by ~5e-8.)
     def tf(method: str) -> float:
         sc = Scene(body=Ellipse(R0=0.3, delta=0.5, l=0.2), drive=CircularDrive(omega=0.6, d=1.0),
                    friction=Friction.from_k("dry", 0.033, 1.0), friction_method=method)

@@ -358,11 +358,9 @@ def table_wrench_body(S, ra, rb, vbx, vby, spin, coeff, v_eps):  # noqa: ANN001
     ax_ = abs(ux)
     ay_ = abs(uy)
     if ay_ <= ax_:
-        big = ax_
         m = ay_ / ax_ if ax_ > 0.0 else 0.0
         col = 1
     else:
-        big = ay_
         m = ax_ / ay_
         col = 2
     # r = |Q| = B / D; x = 1 - r inside, 1 - 1/r outside, one division either way. B from the
