@@ -33,7 +33,8 @@ def _load_scipy_tableau():  # noqa: ANN202
 
 _co = _load_scipy_tableau()
 
-from rrbody.physics.dynamics import rhs
+from rrbody.physics import params as P
+from rrbody.physics.dynamics import rhs_near
 
 __all__ = ["TABLEAU", "rk_step", "error_norm", "trial_step", "ORDER"]
 
@@ -66,22 +67,38 @@ def rk_step(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp):  # noqa: ANN001 
     """
     # the state size as a compile-time constant (2 for a driven body, 6 for a free one), so the stage
     # loops below have constant trip counts and are unrolled
-    n = 2 if system % 10 == 0 else 6
+    driven = system % 10 == 0
+    n = 2 if driven else 6
+    # a driven body's stages see the drive phase as psi0 + d (sin psi0, cos psi0 once per step;
+    # physics.effects.drive_circular.sincos_psi): d is h times phi's stage weight sum minus w c h
+    w = p[P.OMEGA]
+    s0 = 0.0
+    c0 = 0.0
+    if driven:
+        psi0 = y[0] - w * t
+        s0 = math.sin(psi0)
+        c0 = math.cos(psi0)
     for j in range(n):
         K[0, j] = f0[j]
     for s in range(1, N_STAGES):
+        d = math.nan
         for j in range(n):
             acc = 0.0
             for r in range(s):
                 acc += A[s, r] * K[r, j]
             ytmp[j] = y[j] + h * acc
-        rhs(system, t + C[s] * h, ytmp, p, S, K, s)
+            if j == 0 and driven:
+                d = h * acc - w * (C[s] * h)
+        rhs_near(system, t + C[s] * h, ytmp, p, S, K, s, d, s0, c0)
+    d = math.nan
     for j in range(n):
         acc = 0.0
         for r in range(N_STAGES):
             acc += B[r] * K[r, j]
         ynew[j] = y[j] + h * acc
-    rhs(system, t + h, ynew, p, S, K, N_STAGES)
+        if j == 0 and driven:
+            d = h * acc - w * h
+    rhs_near(system, t + h, ynew, p, S, K, N_STAGES, d, s0, c0)
 
 
 @njit(cache=True, inline="always")

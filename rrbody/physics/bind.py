@@ -66,6 +66,7 @@ def kernel_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
     p[P.D] = scene.d
     p[P.L] = scene.body.l
     p[P.IP] = scene.inertia_about_pivot
+    p[P.INV_IP] = 1.0 / p[P.IP] if p[P.IP] > 0.0 else 0.0
     p[P.ICM] = scene.body.inertia_per_mass
     beta = scene.phi0 - scene.body.alpha0
     p[P.CBETA] = math.cos(beta)

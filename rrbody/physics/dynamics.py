@@ -27,7 +27,7 @@ from rrbody.physics.effects import DRIVEN, drive_circular
 from rrbody.physics.effects.areas import POINT, body_frame_wrench, body_wrench
 from rrbody.physics.effects.laws import NONE, element_perp
 
-__all__ = ["rhs", "rhs_for", "driven_rhs", "driven_kinematics", "jacobian", "system_from_params", "SYSTEM_DRIVEN",
+__all__ = ["rhs", "rhs_near", "rhs_for", "driven_rhs", "driven_kinematics", "jacobian", "system_from_params", "SYSTEM_DRIVEN",
            "SYSTEM_FREE"]
 
 SYSTEM_DRIVEN = 0  # kind code: y = (phi, phi')
@@ -37,40 +37,39 @@ driven_kinematics = drive_circular.kinematics
 
 
 @njit(cache=True, inline="always")
-def _driven_point(law, t, y, p):  # noqa: ANN001 (numba)
+def _driven_point(law, t, y, p, d, s0, c0):  # noqa: ANN001 (numba)
     """(phi', phi'') of a point mass: friction at the CM only. Work in the frame (e, e_perp) of
-    CM -> P, where the CM velocity is (d w sin psi, d w cos psi - l phi') with psi = phi - w t: two
-    trig calls, and the speed is a sum of squares (no cancelling square root at the phi0 = pi start)."""
-    l = p[P.L]
-    psi = y[0] - p[P.OMEGA] * t
-    s = math.sin(psi)
+    CM -> P, where the CM velocity is (d w sin psi, d w cos psi - l phi') with psi = phi - w t
+    (its sine and cosine from :func:`drive_circular.sincos_psi`), and the speed is a sum of squares
+    (no cancelling square root at the phi0 = pi start)."""
+    s, c = drive_circular.sincos_psi(t, y[0], p, d, s0, c0)
     torque = drive_circular.torque(s, p)
     if law != NONE:
-        ve, vp = drive_circular.rod_velocity(s, math.cos(psi), y[1], p)
+        ve, vp = drive_circular.rod_velocity(s, c, y[1], p)
         f_perp, _, _ = element_perp(law, ve, vp, p[P.COEFF], p[P.VEPS])
-        torque -= l * f_perp  # (r - P) x F with r - P = -l e
-    return y[1], torque / p[P.IP]
+        torque -= p[P.L] * f_perp  # (r - P) x F with r - P = -l e
+    # times 1/I_P: a division would sit on the critical path of every Runge-Kutta stage
+    return y[1], torque * p[P.INV_IP]
 
 
 @njit(cache=True, inline="always")
-def _driven_extended(law, area, t, y, p, S):  # noqa: ANN001 (numba)
+def _driven_extended(law, area, t, y, p, S, d, s0, c0):  # noqa: ANN001 (numba)
     """(phi', phi'') of an extended body: two trig calls per evaluation, as for a point mass. The CM
     velocity in the rod frame (e, e_perp) of CM -> P is (d w sin psi, d w cos psi - l phi'),
     psi = phi - w t; the body frame is the rod frame turned by the constant beta = phi - alpha, so
     v_b = R(beta) v_rod and F_rod = R(-beta) F_b (cos, sin beta precomputed in p)."""
     phid = y[1]
-    psi = y[0] - p[P.OMEGA] * t
-    s = math.sin(psi)
+    s, c = drive_circular.sincos_psi(t, y[0], p, d, s0, c0)
     torque = drive_circular.torque(s, p)
     if law != NONE:
-        ve, vp = drive_circular.rod_velocity(s, math.cos(psi), phid, p)
+        ve, vp = drive_circular.rod_velocity(s, c, phid, p)
         cb = p[P.CBETA]
         sb = p[P.SBETA]
         fbx, fby, tau_cm = body_frame_wrench(area, law, S, p[P.RA], p[P.RB], int(p[P.NQ]), p[P.ICM],
                                              cb * ve - sb * vp, sb * ve + cb * vp, phid, p[P.COEFF], p[P.VEPS])
         # torque about P: tau_cm + (r - P) x F with r - P = -l e, i.e. -l times F's e_perp component
         torque += tau_cm - p[P.L] * (cb * fby - sb * fbx)
-    return phid, torque / p[P.IP]
+    return phid, torque * p[P.INV_IP]
 
 
 @njit(cache=True, inline="always")
@@ -85,8 +84,10 @@ def _free(law, area, t, y, p, S):  # noqa: ANN001 (numba)
 
 
 @njit(cache=True, _nrt=False)
-def rhs(system, t, y, p, S, out, row):  # noqa: ANN001
-    """out[row, :] = y' for the equations of the system code ``system`` (module docstring).
+def rhs_near(system, t, y, p, S, out, row, d, s0, c0):  # noqa: ANN001
+    """out[row, :] = y' for the equations of the system code ``system`` (module docstring), where a
+    driven body's drive phase psi = phi - omega t is psi0 + d with (sin, cos)(psi0) = (s0, c0): a
+    Runge-Kutta stage passes its step's start (:func:`drive_circular.sincos_psi`; d = NaN: no base).
 
     Compiled once per code (``literally``), so the branches below are resolved at compile time. The
     result goes to a row of a 2-D array (a stage of the integrator's K) rather than to a row view,
@@ -101,9 +102,9 @@ def rhs(system, t, y, p, S, out, row):  # noqa: ANN001
     area = system // 100
     if kind == DRIVEN:
         if area == POINT:
-            a, b = _driven_point(law, t, y, p)
+            a, b = _driven_point(law, t, y, p, d, s0, c0)
         else:
-            a, b = _driven_extended(law, area, t, y, p, S)
+            a, b = _driven_extended(law, area, t, y, p, S, d, s0, c0)
         out[row, 0] = a
         out[row, 1] = b
     else:
@@ -114,6 +115,13 @@ def rhs(system, t, y, p, S, out, row):  # noqa: ANN001
         out[row, 3] = ax
         out[row, 4] = ay
         out[row, 5] = aw
+
+
+@njit(cache=True, _nrt=False)
+def rhs(system, t, y, p, S, out, row):  # noqa: ANN001
+    """out[row, :] = y' at (t, y): :func:`rhs_near` without a base angle (the library's sin and cos)."""
+    literally(system)
+    rhs_near(system, t, y, p, S, out, row, math.nan, 0.0, 0.0)
 
 
 def system_from_params(p: np.ndarray, kind: int) -> int:

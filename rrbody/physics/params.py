@@ -25,6 +25,7 @@ RB = 10        # semi-axis along body y (m)
 NQ = 11        # quadrature nodes of the instantaneous-centre method
 ICM = 12       # I_cm / m (m^2)
 SBETA = 13     # sin beta
+INV_IP = 14    # 1 / IP (1/m^2; 0 where IP is 0: a free body): kernels multiply, as a division is slower
 SIZE = 16
 
 # area models: the effects registry's codes (one table; the system code carries the same number)
