@@ -11,7 +11,10 @@ load on the shared machine hits both) and reduced to the best of several repeats
    horizon (rrbody's default flip-time stop time): scipy's RHS and Jacobian in plain Python (the
    competitor's normal use), a non-terminal event on phi' = 0 for the minima. Reference t_f:
    rrbody at rtol 1e-13, cross-checked against scipy Radau at 1e-12. Speed ratio at matched error:
-   for each LSODA run, the cheapest rrbody run (rtol 1e-6 .. 1e-13) at least as accurate.
+   for each LSODA run, the cheapest rrbody run (rtol 1e-6 .. 1e-13) at least as accurate. The
+   work-precision diagram (``core_stiff.png``) adds the old method, rrbody's DOP853 alone (the only
+   method of version 0.1.0: ~290k explicit steps at any tolerance), and scipy's Radau with the
+   analytic Jacobian.
 3. **Right-hand side cost**: point mass vs disk and ellipse (delta 0.5) by the instantaneous-centre
    quadrature at their default node counts and by its precomputed table (friction_method "table";
    both <= 1e-10 relative wrench error, docs/extended.md), each called in a compiled loop with its
@@ -28,7 +31,7 @@ from pathlib import Path
 from typing import Any
 
 
-from .common import StudyResult, Target, fmt, machine_text, md_table, write_csv
+from .common import StudyResult, Target, fmt, machine_text, md_table, save_figure, write_csv
 
 def _load_note() -> str:
     """A warning for the targets table when the machine was busy: a 1-minute load average of at
@@ -43,6 +46,10 @@ NAME = "core"
 TITLE = "Core: DOP853 step vs a lean baseline, stiff case vs LSODA, RHS cost by body"
 
 STIFF = (0.25, 7.5, 0.01)
+AUTO = "rrbody (auto: DOP853, Radau IIA where stiff)"
+OLD = "rrbody, DOP853 only (the old method)"
+LSODA = "scipy LSODA + analytic Jacobian"
+RADAU = "scipy Radau + analytic Jacobian"
 
 
 def _interleaved(fns: dict[str, Any], repeats: int) -> dict[str, float]:
@@ -112,31 +119,35 @@ def _stiff_study(repeats: int, quick: bool) -> tuple[list[dict[str, Any]], Targe
     horizon = ref.t_stop
     radau_tf, radau_wall = _scipy_lsoda(H, k, w, horizon, 1e-12, method="Radau")
     rr_rtols = [1e-6, 1e-8, 1e-10, 1e-12] if quick else [10.0 ** -e for e in range(6, 14)]
+    old_rtols = [1e-6, 1e-10] if quick else [1e-6, 1e-8, 1e-10, 1e-12]
     ls_rtols = [1e-6, 1e-9] if quick else [1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12]
     rows: list[dict[str, Any]] = []
     mine = []
-    for r in rr_rtols:
-        res = flip_time(sc, rtol=r, t_max=horizon)
-        best = _interleaved({"x": lambda: flip_time(sc, rtol=r, t_max=horizon)}, repeats)["x"]
-        err = abs(res.t_f - ref.t_f) / ref.t_f if res.t_f is not None else math.inf
-        mine.append((r, err, best))
-        rows.append({"method": "rrbody (auto: DOP853 + RODAS4)", "rtol": r, "t_f": res.t_f, "err": err, "wall_s": best,
-                     "steps": res.n_steps})
+    # the new default (automatic switching) and the old method alone (DOP853 throughout, the only
+    # method of version 0.1.0), both by rrbody's flip_time over the same horizon
+    for label, stepper, rtols, reps in ((AUTO, "auto", rr_rtols, repeats), (OLD, "dop853", old_rtols, min(repeats, 3))):
+        for r in rtols:
+            res = flip_time(sc, rtol=r, t_max=horizon, stepper=stepper)
+            best = _interleaved({"x": lambda: flip_time(sc, rtol=r, t_max=horizon, stepper=stepper)}, reps)["x"]
+            err = abs(res.t_f - ref.t_f) / ref.t_f if res.t_f is not None else math.inf
+            if stepper == "auto":
+                mine.append((r, err, best))
+            rows.append({"method": label, "rtol": r, "t_f": res.t_f, "err": err, "wall_s": best, "steps": res.n_steps})
     ratios = []
-    for r in ls_rtols:
-        walls = []
-        tf = math.nan
-        for _ in range(max(1, repeats // 2)):
-            tf, wl = _scipy_lsoda(H, k, w, horizon, r)
-            walls.append(wl)
-        wall = min(walls)
-        err = abs(tf - ref.t_f) / ref.t_f if math.isfinite(tf) else math.inf
-        rows.append({"method": "scipy LSODA + analytic Jacobian", "rtol": r, "t_f": tf, "err": err, "wall_s": wall,
-                     "steps": None})
-        ok = [m for m in mine if m[1] <= err]
-        if ok and math.isfinite(err):
-            cheapest = min(ok, key=lambda m: m[2])
-            ratios.append((r, err, wall, cheapest[0], cheapest[2], wall / cheapest[2]))
+    for method, label in (("LSODA", LSODA), ("Radau", RADAU)):
+        for r in (ls_rtols if method == "LSODA" else ls_rtols[::2]):
+            walls = []
+            tf = math.nan
+            for _ in range(max(1, repeats // 2)):
+                tf, wl = _scipy_lsoda(H, k, w, horizon, r, method=method)
+                walls.append(wl)
+            wall = min(walls)
+            err = abs(tf - ref.t_f) / ref.t_f if math.isfinite(tf) else math.inf
+            rows.append({"method": label, "rtol": r, "t_f": tf, "err": err, "wall_s": wall, "steps": None})
+            ok = [m for m in mine if m[1] <= err]
+            if method == "LSODA" and ok and math.isfinite(err):
+                cheapest = min(ok, key=lambda m: m[2])
+                ratios.append((r, err, wall, cheapest[0], cheapest[2], wall / cheapest[2]))
     worst = min((x[5] for x in ratios), default=math.nan)
     tgt = Target("stiff case (w 0.01, H 0.25, k 7.5) vs scipy LSODA with analytic Jacobian, same horizon",
                  ">= 10x at matched t_f error", f"{worst:.0f}x (lowest over {len(ratios)} LSODA tolerances)",
@@ -144,6 +155,33 @@ def _stiff_study(repeats: int, quick: bool) -> tuple[list[dict[str, Any]], Targe
     extra = {"ref_tf": ref.t_f, "radau_tf": radau_tf, "radau_rel": abs(radau_tf - ref.t_f) / ref.t_f,
              "horizon": horizon, "ratios": ratios}
     return rows, tgt, extra
+
+
+def _plot_stiff(path: Path, rows: list[dict[str, Any]], ref_tf: float) -> Path:
+    """Work-precision diagram of the stiff case: t_f error against wall time, old and new methods."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    styles = {AUTO: ("k", "o", "-"), OLD: ("0.5", "o", "--"), LSODA: ("tab:green", "D", "-"),
+              RADAU: ("tab:purple", "v", "-")}
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    for label, (c, mk, ls) in styles.items():
+        # in tolerance order; rrbody's rtol 1e-13 run is the reference itself (error 0) and is left out
+        pts = [(r["wall_s"], r["err"]) for r in rows if r["method"] == label and math.isfinite(r["err"]) and r["err"] > 0]
+        if pts:
+            ax.loglog(*zip(*pts), color=c, marker=mk, ls=ls, label=label)
+    ax.set_xlabel("wall time (s)")
+    ax.set_ylabel("t_f relative error")
+    ax.set_title(f"Stiff case w 0.01, H 0.25, k 7.5 (t_f = {ref_tf:.6f} s, rrbody at rtol 1e-13);\n"
+                 "each curve in tolerance order (1e-6 first), same horizon", fontsize=8)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    save_figure(fig, path)
+    plt.close(fig)
+    return path
 
 
 def _rhs_study(repeats: int) -> tuple[list[dict[str, Any]], Target]:
@@ -199,7 +237,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     stiff_rows, stiff_t, extra = _stiff_study(repeats, quick)
     print(f"[core] stiff: {stiff_t.measured}", flush=True)
     files = [str(write_csv(out / "core_step.csv", step_rows)), str(write_csv(out / "core_rhs.csv", rhs_rows)),
-             str(write_csv(out / "core_stiff.csv", stiff_rows))]
+             str(write_csv(out / "core_stiff.csv", stiff_rows)),
+             str(_plot_stiff(out / "core_stiff.png", stiff_rows, extra["ref_tf"]))]
     md = [f"## {TITLE}", "", machine_text(), "", "### DOP853 step vs a lean compiled DOP853 (phixtpm to 60 s, rtol 1e-13)",
           "", md_table(["what", "steps", "wall (s)", "ns per step", "phi(60 s)"],
                        [(r["what"], r["steps"], r["wall_s"], r["ns_per_step"], f"{r['phi_end']:.15g}") for r in step_rows]),
@@ -213,7 +252,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
                    [(r["method"], r["rtol"], r["t_f"], r["err"], r["wall_s"], r["steps"]) for r in stiff_rows]), "",
           md_table(["LSODA rtol", "LSODA t_f err", "LSODA wall (s)", "rrbody rtol", "rrbody wall (s)", "ratio"],
                    [(a, b, c, d, e, f"{g:.0f}x") for a, b, c, d, e, g in extra["ratios"]]), "",
-          "Data: `core_step.csv`, `core_rhs.csv`, `core_stiff.csv`."]
+          "![stiff case work precision](core_stiff.png)", "",
+          "Data: `core_step.csv`, `core_rhs.csv`, `core_stiff.csv`; diagram `core_stiff.png`."]
     res = StudyResult(NAME, TITLE, [step_t, stiff_t, rhs_t], "\n".join(md), files)
     res.wall_s = time.perf_counter() - t0
     res.extra = {"highlights": [f"{t.name}: {t.measured} ({t.verdict})" for t in (step_t, stiff_t, rhs_t)]}

@@ -519,7 +519,7 @@ def _plot(path: Path, cases: list[Case], rr_rows: list[dict[str, Any]], sp_rows:
             w = [r["wall_tf_s" if measure == "tf" else "wall_phi_s"] for r in mine]
             pts = [(a, b) for a, b in zip(w, e) if math.isfinite(b) and b > 0]
             if pts:
-                ax.loglog(*zip(*pts), color="k", marker="o", label="rrbody (DOP853, numba)")
+                ax.loglog(*zip(*pts), color="k", marker="o", label="rrbody (default: DOP853, Radau IIA where stiff)")
             for m in SCIPY_METHODS:
                 rows = [r for r in sp_rows if r["case"] == case.name and r["method"] == m and r["measure"] == measure
                         and "wall_s" in r]

@@ -49,3 +49,24 @@ def test_every_study_imports() -> None:
 
     for name, module in STUDIES.items():
         assert hasattr(importlib.import_module(module), "run"), name
+
+
+def test_quick_core_benchmark_shows_old_and_new_methods_on_the_stiff_case(tmp_path: Path) -> None:
+    out = tmp_path / "results"
+    assert main(["--quick", "--only", "core", "--out", str(out)]) == 0
+    for name in ("core_step.csv", "core_rhs.csv", "core_stiff.csv", "core_stiff.png", "core_summary.md"):
+        assert (out / name).is_file(), name
+    rows = list(csv.DictReader(open(out / "core_stiff.csv")))
+    by = {}
+    for r in rows:
+        by.setdefault(r["method"], {})[float(r["rtol"])] = r
+    from benchmarks.core import AUTO, LSODA, OLD, RADAU
+
+    assert set(by) == {AUTO, OLD, LSODA, RADAU}
+    # the same rtol: DOP853 alone needs ~270k explicit steps at any tolerance (version 0.1.0's ~290k),
+    # the automatic switch a few thousand; 10x is far inside that gap and still fails without the switch
+    for rtol in (1e-6, 1e-10):
+        assert int(by[OLD][rtol]["steps"]) > 10 * int(by[AUTO][rtol]["steps"])
+        # both reach the tolerance's accuracy (measured 9e-7 and 3e-11 for the old method)
+        assert float(by[OLD][rtol]["err"]) < 100 * rtol
+        assert float(by[AUTO][rtol]["err"]) < 100 * rtol

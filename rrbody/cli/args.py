@@ -19,7 +19,7 @@ from typing import Any, NoReturn
 from rrbody.model.checks import LIMITS, check
 
 __all__ = ["CliError", "Parser", "OPTION_PARAMS", "number", "angle", "float_list", "option_help", "check_options",
-           "option_message", "preprocess_argv", "suggest", "_angle", "_finite", "_float_list"]
+           "option_message", "preprocess_argv", "suggest", "commands", "parse", "_angle", "_finite", "_float_list"]
 
 
 class CliError(ValueError):
@@ -202,3 +202,52 @@ def preprocess_argv(parser: argparse.ArgumentParser, argv: list[str]) -> list[st
         out.append(tok)
         i += 1
     return out
+
+
+def _subparser(parser: argparse.ArgumentParser, name: str | None) -> argparse.ArgumentParser | None:
+    for a in parser._actions:  # argparse has no public accessor for its subparsers
+        if isinstance(a, argparse._SubParsersAction):
+            return a.choices.get(name) if name else None
+    return None
+
+
+def commands(parser: argparse.ArgumentParser) -> list[str]:
+    for a in parser._actions:
+        if isinstance(a, argparse._SubParsersAction):
+            return list(a.choices)
+    return []
+
+
+def _check_repeats(sp: argparse.ArgumentParser, argv: list[str]) -> None:
+    """A single-valued option given twice is an error, not 'the last one wins' in silence."""
+    once = {o: a for a in sp._actions for o in a.option_strings
+            if not isinstance(a, (argparse._AppendAction, argparse._HelpAction))}
+    seen: set[int] = set()  # ids of the actions already set
+    for tok in argv:
+        a = once.get(tok.split("=", 1)[0])
+        if a is None:
+            continue
+        if id(a) in seen:
+            raise CliError(f"{a.option_strings[-1]} is given twice; give it once")
+        seen.add(id(a))
+
+
+def parse(parser: argparse.ArgumentParser, argv: list[str], *, repeats: bool = False) -> argparse.Namespace:
+    """Parse ``argv`` with rrbody's conventions (negative values, did-you-mean, no silent repeats;
+    ``repeats=True``: later values win, as batch lines override command-line defaults); raises CliError."""
+    if argv and not argv[0].startswith("-") and argv[0] not in commands(parser):
+        raise CliError(f"unknown command {argv[0]!r}{suggest(argv[0], commands(parser))}; "
+                       f"commands: {', '.join(commands(parser))}")
+    sp = _subparser(parser, argv[0]) if argv else None
+    if sp is not None:
+        argv = [argv[0], *preprocess_argv(sp, argv[1:])]
+        if not repeats:
+            _check_repeats(sp, argv[1:])
+    args, extra = parser.parse_known_args(argv)
+    unknown = [x for x in extra if x.startswith("-")] or extra
+    if unknown:
+        opts = [o for a in (sp or parser)._actions for o in a.option_strings]
+        word = unknown[0].split("=")[0]
+        raise CliError(f"unknown option {word}{suggest(word, opts)}" if word.startswith("-")
+                       else f"unexpected argument {word!r}")
+    return args

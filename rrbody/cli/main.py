@@ -19,8 +19,8 @@ from collections.abc import Sequence
 from typing import Any
 
 from rrbody._version import __version__
-from rrbody.cli.args import CliError, Parser, angle, check_options, number, option_help, option_message, \
-    preprocess_argv, suggest
+from rrbody.cli.args import CliError, Parser, angle, check_options, commands, number, option_help, option_message, \
+    parse
 from rrbody.cli.options import (add_accuracy_options, add_integrator_options, add_scene_options, scene_from_args,
                                 stepper_option)
 
@@ -277,55 +277,6 @@ def build_parser() -> Parser:
     return p
 
 
-def _subparser(parser: argparse.ArgumentParser, name: str | None) -> argparse.ArgumentParser | None:
-    for a in parser._actions:  # argparse has no public accessor for its subparsers
-        if isinstance(a, argparse._SubParsersAction):
-            return a.choices.get(name) if name else None
-    return None
-
-
-def _commands(parser: argparse.ArgumentParser) -> list[str]:
-    for a in parser._actions:
-        if isinstance(a, argparse._SubParsersAction):
-            return list(a.choices)
-    return []
-
-
-def _check_repeats(sp: argparse.ArgumentParser, argv: list[str]) -> None:
-    """A single-valued option given twice is an error, not 'the last one wins' in silence."""
-    once = {o: a for a in sp._actions for o in a.option_strings
-            if not isinstance(a, (argparse._AppendAction, argparse._HelpAction))}
-    seen: set[int] = set()  # ids of the actions already set
-    for tok in argv:
-        a = once.get(tok.split("=", 1)[0])
-        if a is None:
-            continue
-        if id(a) in seen:
-            raise CliError(f"{a.option_strings[-1]} is given twice; give it once")
-        seen.add(id(a))
-
-
-def parse(parser: argparse.ArgumentParser, argv: list[str], *, repeats: bool = False) -> argparse.Namespace:
-    """Parse ``argv`` with rrbody's conventions (negative values, did-you-mean, no silent repeats;
-    ``repeats=True``: later values win, as batch lines override command-line defaults); raises CliError."""
-    if argv and not argv[0].startswith("-") and argv[0] not in _commands(parser):
-        raise CliError(f"unknown command {argv[0]!r}{suggest(argv[0], _commands(parser))}; "
-                       f"commands: {', '.join(_commands(parser))}")
-    sp = _subparser(parser, argv[0]) if argv else None
-    if sp is not None:
-        argv = [argv[0], *preprocess_argv(sp, argv[1:])]
-        if not repeats:
-            _check_repeats(sp, argv[1:])
-    args, extra = parser.parse_known_args(argv)
-    unknown = [x for x in extra if x.startswith("-")] or extra
-    if unknown:
-        opts = [o for a in (sp or parser)._actions for o in a.option_strings]
-        word = unknown[0].split("=")[0]
-        raise CliError(f"unknown option {word}{suggest(word, opts)}" if word.startswith("-")
-                       else f"unexpected argument {word!r}")
-    return args
-
-
 def run_command(args: argparse.Namespace) -> int:
     """Run a parsed command; bad input becomes CliError naming the option."""
     try:
@@ -348,7 +299,7 @@ def _show_warning(message: Warning | str, category: type[Warning], filename: str
 def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
-    command = argv[0] if argv and argv[0] in _commands(parser) else None
+    command = argv[0] if argv and argv[0] in commands(parser) else None
     try:
         args = parse(parser, argv)
         command = getattr(args, "command", None)

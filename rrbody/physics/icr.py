@@ -8,31 +8,24 @@ and two rotations) for callers that hold world-frame velocities.
 
 Method (derivation in ``docs/extended.md``)
 ----------------------------------------------------------
-With spin Omega != 0 the velocity field is v(s) = Omega z x (s - c), c = CM + z x v_cm / Omega,
-so a dry element feels -mu g sgn(Omega) z x u, u the unit vector from c to the element. Work in
-the *scaled* frame (x/a, y/b) where the ellipse is the unit disk and c is Q, |Q| = r: lines
-through Q map to lines, the area element scales by a b, and a chord along the scaled direction
-psi = psi0 + sigma (psi0: direction from Q to the centre) has midpoint parameter m = r cos(sigma)
-and half-length s = sqrt(1 - r^2 sin^2 sigma). The radial integrals along each line are exact
-(polynomials in the line coordinate), leaving, for every line through c that meets the body,
+With spin Omega != 0 the velocity field is v(s) = Omega z x (s - c), c = CM + z x v_cm / Omega, so
+a dry element feels -mu g sgn(Omega) z x u, u the unit vector from c to the element. In the scaled
+frame (x/a, y/b) the ellipse is the unit disk and c is Q, |Q| = r; a chord along the scaled
+direction psi = psi0 + sigma (psi0: from Q to the centre) has midpoint parameter m = r cos(sigma)
+and half-length s = sqrt(1 - r^2 sin^2 sigma). The radial integrals along each line through c are
+exact, leaving
 
     F/m      = -(mu g / pi) sgn(Omega) Int z x u(psi) 2 m s dsigma
     tau_cm/m = -(mu g / pi) sgn(Omega) Int [ (2/3) L s^3 + 2 h m s ] dsigma
 
 with L(psi) = |(a cos psi, b sin psi)|, u = (a cos psi, b sin psi)/L (body frame) and
-h = r sin(sigma) (b^2 - a^2) sin(psi) cos(psi) / L the offset, along u, of the chord midpoint
-from the foot of the CM on the line (written without any difference of large numbers, so the
-far-ICR / near-translation limit has no cancellation). sigma runs over [-pi/2, pi/2] when c is
-inside (r < 1) and over [-asin(1/r), asin(1/r)] when it is outside. The substitution
-sin(sigma) = S sin(phi), S = min(1, 1/r), maps both cases to phi in [-pi/2, pi/2] with
-integrands analytic except through Delta = sqrt(1 - kappa^2 sin^2 phi), kappa = min(r, 1/r):
-the elliptic-integral kernel, whose branch points approach phi = +-pi/2 as c approaches the
-boundary (kappa -> 1). Quadrature:
-
-- kappa' = sqrt(1 - kappa^2) >= ``KAPPA_SWITCH``: one Gauss-Legendre panel of n nodes;
-- closer to the boundary: a middle Gauss panel plus, at each end, a panel in w with
-  sin(pi/2 - |phi|) = (kappa'/kappa) sinh(w), which makes Delta = kappa' cosh(w) exactly, so the
-  near-singularity is removed whatever kappa' is.
+h = r sin(sigma) (b^2 - a^2) sin(psi) cos(psi) / L (no difference of large numbers: the
+near-translation limit does not cancel). sin(sigma) = S sin(phi), S = min(1, 1/r), maps c inside
+and outside to phi in [-pi/2, pi/2], the integrands analytic except through the elliptic kernel
+Delta = sqrt(1 - kappa^2 sin^2 phi), kappa = min(r, 1/r), whose branch points approach +-pi/2 as
+c nears the boundary. Quadrature: one Gauss-Legendre panel of n nodes while
+kappa' = sqrt(1 - kappa^2) >= ``KAPPA_SWITCH``; closer, a middle panel plus end panels in w with
+sin(pi/2 - |phi|) = (kappa'/kappa) sinh(w), so that Delta = kappa' cosh(w) exactly.
 
 Pure translation (|Omega| R < 1e-8 |v|) uses the expansion F = -mu g v_hat,
 tau = -mu g (Omega/|v|) <(rho . v_hat)^2>, exact to O((Omega R/|v|)^2) < 1e-16. The viscous law is

@@ -179,7 +179,7 @@ def _z(xy: np.ndarray) -> np.ndarray:
 
 
 def _scene_text(traj: Trajectory, mark: FlipMark, scales: list[str]) -> str:
-    from rrbody.render.movie_figure import scene_info, title_text
+    from rrbody.render.scene_text import scene_info, title_text
 
     t0, t1 = float(traj.t[0]), float(traj.t[-1])
     plain = title_text(scene_info(traj)).replace("$", "").replace("\\", "").replace("^{-", "^-").replace("}", "")
