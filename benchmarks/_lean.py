@@ -16,19 +16,13 @@ import math
 import numpy as np
 from numba import njit
 
-from rrbody.physics.effects.drive_circular import NEAR, sincos_small
+from rrbody.physics.effects.drive_circular import sincos_shifted
 
 
 @njit(cache=True, inline="always")
 def _f(t, phi, pd, H, k, w, d, s0, c0):  # noqa: ANN001
     """(phi', phi'') at a stage whose drive phase is psi0 + d, (sin, cos)(psi0) = (s0, c0)."""
-    if abs(d) <= NEAR:
-        sd, cd = sincos_small(d)
-        s = s0 * cd + c0 * sd
-        c = c0 * cd - s0 * sd
-    else:
-        s = math.sin(phi - w * t)
-        c = math.cos(phi - w * t)
+    s, c = sincos_shifted(phi - w * t, d, s0, c0)
     ve = w * s
     vp = w * c - H * pd
     sp2 = ve * ve + vp * vp

@@ -212,6 +212,7 @@ def _subparser(parser: argparse.ArgumentParser, name: str | None) -> argparse.Ar
 
 
 def commands(parser: argparse.ArgumentParser) -> list[str]:
+    """The names of the parser's subcommands (empty without any)."""
     for a in parser._actions:
         if isinstance(a, argparse._SubParsersAction):
             return list(a.choices)

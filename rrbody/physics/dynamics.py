@@ -54,7 +54,8 @@ def _driven_point(law, t, y, p, d, s0, c0):  # noqa: ANN001 (numba)
 
 @njit(cache=True, inline="always")
 def _driven_extended(law, area, t, y, p, S, d, s0, c0):  # noqa: ANN001 (numba)
-    """(phi', phi'') of an extended body: two trig calls per evaluation, as for a point mass. The CM
+    """(phi', phi'') of an extended body: one sine and cosine of the drive phase per evaluation, as
+    for a point mass (:func:`drive_circular.sincos_psi`). The CM
     velocity in the rod frame (e, e_perp) of CM -> P is (d w sin psi, d w cos psi - l phi'),
     psi = phi - w t; the body frame is the rod frame turned by the constant beta = phi - alpha, so
     v_b = R(beta) v_rod and F_rod = R(-beta) F_b (cos, sin beta precomputed in p)."""

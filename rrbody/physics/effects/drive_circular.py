@@ -14,11 +14,11 @@ from numba import njit
 
 from rrbody.physics import params as P
 
-__all__ = ["torque", "rod_velocity", "sincos_psi", "sincos_small", "NEAR", "frame", "kinematics"]
+__all__ = ["torque", "rod_velocity", "sincos_psi", "sincos_shifted", "sincos_small", "NEAR", "frame", "kinematics"]
 
 NAME = "circular"
 
-#: Largest angle increment |d| (rad) that :func:`sincos_small` serves; beyond it :func:`sincos_psi`
+#: Largest angle increment |d| (rad) that :func:`sincos_small` serves; beyond it :func:`sincos_shifted`
 #: calls the library's sin and cos. A DOP853 step turns psi by up to h |phi' - omega| at its last
 #: stage: ~1.4 rad at the loosest tolerances of the fast-driving case (omega 300 rad/s), so most
 #: stages of every tested run stay below it.
@@ -65,20 +65,27 @@ def sincos_small(d: float) -> tuple[float, float]:
 
 
 @njit(cache=True, inline="always")
+def sincos_shifted(psi: float, d: float, s0: float, c0: float) -> tuple[float, float]:
+    """(sin psi, cos psi) of an angle psi = psi0 + d (rad) whose base psi0 has sine and cosine
+    s0, c0: by the angle-addition formulas with :func:`sincos_small` where |d| <= NEAR, else (or
+    for d = NaN: no base) the library's sin and cos of ``psi`` itself."""
+    if abs(d) <= NEAR:  # False for NaN
+        sd, cd = sincos_small(d)
+        return s0 * cd + c0 * sd, c0 * cd - s0 * sd
+    return math.sin(psi), math.cos(psi)
+
+
+@njit(cache=True, inline="always")
 def sincos_psi(t: float, phi: float, p: np.ndarray, d: float, s0: float, c0: float) -> tuple[float, float]:
     """(sin psi, cos psi) of the drive phase psi = phi - omega t (rad) at time t (s).
 
     A Runge-Kutta stage knows its psi as psi0 + d, psi0 the step's start (whose sine and cosine
     s0, c0 it computed once) and d = h (sum of the stage weights times phi') - omega c h: then
-    the angle-addition formulas with :func:`sincos_small` replace two library calls, which reduce
+    the angle-addition formulas (:func:`sincos_shifted`) replace two library calls, which reduce
     psi (|psi| reaches 1e4 rad in long runs) by 2 pi first. They are also more accurate: d is
     exact to rounding, where phi - omega t rounds to ulp(|psi|), 2e-12 rad at 1e4. Where no such
     base exists pass d = NaN (or |d| > NEAR): the library's sin and cos of phi - omega t."""
-    if abs(d) <= NEAR:  # False for NaN
-        sd, cd = sincos_small(d)
-        return s0 * cd + c0 * sd, c0 * cd - s0 * sd
-    psi = phi - p[P.OMEGA] * t
-    return math.sin(psi), math.cos(psi)
+    return sincos_shifted(phi - p[P.OMEGA] * t, d, s0, c0)
 
 
 @njit(cache=True, inline="always")
