@@ -6,6 +6,10 @@
 - :class:`EngineSettings` and the dt rules (``rrbody.engine.settings``). Needs pymunk.
 """
 
+from rrbody._cache import use_for_kernels
+
+use_for_kernels()  # before any kernel is defined: numba caches them in rrbody's cache folder
+
 from rrbody.engine.builder import EngineHandle, attach, plane_for
 from rrbody.engine.plugin import PRESSURES, PlaneFriction
 from rrbody.engine.run import engine_flip_time, simulate_engine

@@ -56,15 +56,18 @@ def _tables(node_counts: tuple[int, ...], x_end: float) -> tuple[np.ndarray, ...
 
 
 def quadrature_tables(node_counts: tuple[int, ...], x_end: float) -> tuple[np.ndarray, ...]:
-    """:func:`_tables`, stored next to numba's cache on first use: building the rules up to 512 nodes
-    costs ~0.1 s, loading them ~1 ms (the kernels need them as compile-time constants at import)."""
+    """:func:`_tables`, stored in rrbody's cache folder (``rrbody._cache.tables_dir``) on first use:
+    building the rules up to 512 nodes costs ~0.1 s, loading them ~1 ms (the kernels need them as
+    compile-time constants at import)."""
     import hashlib
     import os
     import tempfile
     from pathlib import Path
 
+    from rrbody._cache import tables_dir
+
     key = hashlib.sha1(repr((tuple(node_counts), x_end, "gauss-legendre-newton-1")).encode()).hexdigest()[:16]
-    path = Path(__file__).resolve().parent / "__pycache__" / f"icr_tables-{key}.npz"
+    path = tables_dir() / f"icr_tables-{key}.npz"
     try:
         with np.load(path) as z:
             return tuple(z[f"a{i}"] for i in range(8))
@@ -72,7 +75,7 @@ def quadrature_tables(node_counts: tuple[int, ...], x_end: float) -> tuple[np.nd
         pass
     tabs = _tables(node_counts, x_end)
     try:
-        path.parent.mkdir(exist_ok=True)
+        path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".npz")
     except OSError:
         return tabs  # a read-only install computes the tables at every import

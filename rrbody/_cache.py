@@ -1,0 +1,117 @@
+"""Where rrbody keeps what it computes once and reuses: one user cache folder, never the package.
+
+Layout (``cache_dir()``, by default the platform's user cache folder, ``~/.cache/rrbody`` on Linux;
+``RRBODY_CACHE_DIR`` overrides it)::
+
+    kernels/<version>-<sources>/   numba's compiled kernels for this exact source tree
+    tables/                        quadrature rules (``.npz``), keyed by their own parameters
+    locks/                         one advisory lock file per output in use (rrbody.model.outlock)
+
+``<sources>`` is a hash of every ``.py`` file of the installed package, so a kernel compiled from
+other sources (another version, an edited checkout) is never loaded: numba itself keys a cached
+function only by its own file's time stamp and would miss an edit to a kernel it inlines from
+another file. ``rrbody cache clear`` empties the folder; ``rrbody cache info`` shows it.
+
+The package folder is never written to: an installed rrbody leaves its files as pip put them.
+This module is imported by the layers that hold kernels (physics, integrate, engine) before they
+define any, and it imports numba only there, so ``import rrbody`` stays cheap.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import os
+import sys
+from pathlib import Path
+
+from rrbody._version import __version__
+
+__all__ = ["ENV", "cache_dir", "kernels_dir", "tables_dir", "locks_dir", "source_hash", "use_for_kernels"]
+
+#: the environment variable that moves the cache folder
+ENV = "RRBODY_CACHE_DIR"
+_PKG = Path(__file__).resolve().parent
+
+
+def cache_dir() -> Path:
+    """The cache folder (absolute; not created here): ``$RRBODY_CACHE_DIR``, else the user cache folder."""
+    env = os.environ.get(ENV, "")
+    if env:
+        return Path(env).expanduser().resolve()
+    import platformdirs
+
+    return Path(platformdirs.user_cache_dir("rrbody", appauthor=False))
+
+
+@functools.lru_cache(maxsize=1)
+def source_hash() -> str:
+    """A short hash of the package's sources (path and bytes of every ``.py`` file): about 3 ms."""
+    h = hashlib.sha256(__version__.encode())
+    for f in sorted(_PKG.rglob("*.py")):
+        h.update(f.relative_to(_PKG).as_posix().encode())
+        h.update(f.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def kernels_dir() -> Path:
+    """The folder of numba's compiled kernels for these sources: ``kernels/<version>-<hash>``."""
+    return cache_dir() / "kernels" / f"{__version__}-{source_hash()}"
+
+
+def tables_dir() -> Path:
+    """The folder of precomputed tables (quadrature rules): ``tables/``."""
+    return cache_dir() / "tables"
+
+
+def locks_dir() -> Path:
+    """The folder of the output locks: ``locks/``."""
+    return cache_dir() / "locks"
+
+
+@functools.lru_cache(maxsize=1)
+def use_for_kernels() -> None:
+    """Make numba cache rrbody's kernels (and only rrbody's) in :func:`kernels_dir`.
+
+    numba picks a cache folder per function through a list of *locators*; a locator placed first
+    that answers only for functions defined in this package's files sends them here, and leaves
+    every other program's numba functions (and ``NUMBA_CACHE_DIR``) as they were. Idempotent."""
+    from numba.core import caching
+
+    impl = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl")
+    base = caching._SourceFileBackedLocatorMixin
+
+    class _Locator(base, caching._CacheLocator):  # type: ignore[misc, name-defined]
+        """numba's source-file locator, rooted in rrbody's versioned kernel folder."""
+
+        def __init__(self, py_func: object, py_file: str) -> None:
+            self._py_file = py_file
+            self._lineno = py_func.__code__.co_firstlineno  # type: ignore[attr-defined]
+            rel = Path(py_file).resolve().parent.relative_to(_PKG)
+            self._cache_path = str(kernels_dir().joinpath(*rel.parts))
+
+        def get_cache_path(self) -> str:
+            return self._cache_path
+
+        @classmethod
+        def from_function(cls, py_func: object, py_file: str) -> object:
+            try:
+                Path(py_file).resolve().relative_to(_PKG)
+            except ValueError:
+                return None  # not one of ours: numba's own locators decide
+            self = cls(py_func, py_file)
+            try:
+                self.ensure_cache_path()
+            except OSError:
+                # an unwritable cache folder: a private temporary one, never numba's next choice
+                # (which would be the package folder itself)
+                import tempfile
+
+                self._cache_path = os.path.join(tempfile.gettempdir(), f"rrbody-{os.getuid()}",
+                                                Path(self._cache_path).relative_to(cache_dir()))
+            return self
+
+    _Locator.__name__ = _Locator.__qualname__ = "RrbodyCacheLocator"
+    impl._locator_classes.insert(0, _Locator)
+    # keep the class reachable by name for pickling and debugging
+    sys.modules[__name__].RrbodyCacheLocator = _Locator  # type: ignore[attr-defined]
