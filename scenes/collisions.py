@@ -21,7 +21,6 @@ from typing import Any
 
 import numpy as np
 
-MOVIES = Path(__file__).resolve().parent.parent / "movies"
 DT, T_END, T_MOVIE, SAMPLE = 2e-3, 80.0, 40.0, 10  # s, s, s, steps between samples
 K, COLLISION_WINDOW = 0.02, 1.0  # s^-2; s
 #: drive radii (m): a body with P far from its CM (sweeping d +- 0.45 m) between two with P at the CM
@@ -186,7 +185,9 @@ def main(out_dir: Path, *, force: bool = True) -> None:
           title=f"paths over {T_END:g} s (driven: the colour of their row; free: grey), final poses")
     save_figure(fig, out_dir, "collisions", force=force)
     plt.close(fig)
-    _movie(t, pose, [_outline(x) for x in bodies], len(driven), MOVIES / "collisions.mp4", force=force)
+    movies = out_dir.parent.parent / "movies"  # movies/ is the sibling of results/ (the runner's layout)
+    movies.mkdir(parents=True, exist_ok=True)
+    _movie(t, pose, [_outline(x) for x in bodies], len(driven), movies / "collisions.mp4", force=force)
 
 
 def _movie(t: np.ndarray, pose: np.ndarray, outlines: list, n_driven: int, path: Path, *, force: bool) -> None:

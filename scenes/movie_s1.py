@@ -7,7 +7,7 @@ rotation follow. Time is sped up 2.5x (about 42 s of playback at 30 fps, 1280x72
 1.5 s pause and a banner at the flip. O, P and the CM are labelled; a dial shows the orbit's and the
 spin's sense; green and purple arrows are the CM velocity and the friction force.
 
-Outputs: movies/movie_s1.mp4 (repository root), and in ``out_dir`` a poster of the last frame
+Outputs: movies/movie_s1.mp4 (beside results/), and in ``out_dir`` a poster of the last frame
 (movie_s1_poster.png) and the trajectory that was rendered (movie_s1_trajectory.csv).
 """
 
@@ -17,7 +17,6 @@ import math
 import sys
 from pathlib import Path
 
-MOVIES = Path(__file__).resolve().parent.parent / "movies"
 
 #: the scene (paper Fig. SSs)
 K, H, OMEGA, PHI0 = 0.003, 0.6, 0.6, math.pi
@@ -36,7 +35,8 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     from rrbody.analysis.simulate import simulate
 
     out_dir.mkdir(parents=True, exist_ok=True)
-    MOVIES.mkdir(parents=True, exist_ok=True)
+    movies = out_dir.parent.parent / "movies"  # movies/ is the sibling of results/ (the runner's layout)
+    movies.mkdir(parents=True, exist_ok=True)
     # 1. the scene and its flip time (the red/blue split)
     scene = rod_mass_scene(H, K, OMEGA, PHI0)
     flip = flip_time(scene)
@@ -48,7 +48,7 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     traj.save(out_dir / "movie_s1_trajectory.csv", force=force)
     # 3. the movie and a poster of its last frame
     # (the flip is held for HOLD s of playback under a banner; the trail fades over 4 driving periods)
-    path = render_movie(traj, MOVIES / "movie_s1.mp4", force=force, progress=sys.stderr.isatty(), fps=FPS,
+    path = render_movie(traj, movies / "movie_s1.mp4", force=force, progress=sys.stderr.isatty(), fps=FPS,
                         speed=SPEED, flip=flip, hold=HOLD, arrows=True)
     render_poster(traj, out_dir / "movie_s1_poster.png", force=force, flip=flip)
     print(f"Movie S1: t_f = {flip.t_f:.4f} s, 0..{t_end} s at x{SPEED} -> {path} "

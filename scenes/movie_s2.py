@@ -5,7 +5,7 @@ H = 0.6, omega = 0.6 rad/s, phi0 = pi/2. Reverse rotation is not allowed here: p
 below phi0, there is no flip time, and phi(t) and the CM history are drawn in blue throughout
 (the paper's solid blue line). 0..80 s sped up 2x (40 s of playback at 30 fps, 1280x720, H.264).
 
-Outputs: movies/movie_s2.mp4 (repository root), and in ``out_dir`` a poster of the last frame
+Outputs: movies/movie_s2.mp4 (beside results/), and in ``out_dir`` a poster of the last frame
 (movie_s2_poster.png) and the trajectory that was rendered (movie_s2_trajectory.csv).
 """
 
@@ -15,7 +15,6 @@ import math
 import sys
 from pathlib import Path
 
-MOVIES = Path(__file__).resolve().parent.parent / "movies"
 
 #: the scene (paper Fig. NormalAndPhasePortrait a, inset: CM history from t = 0 to 80 s)
 K, H, OMEGA, PHI0 = 0.003, 0.6, 0.6, 0.5 * math.pi
@@ -31,7 +30,8 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     from rrbody.analysis.simulate import simulate
 
     out_dir.mkdir(parents=True, exist_ok=True)
-    MOVIES.mkdir(parents=True, exist_ok=True)
+    movies = out_dir.parent.parent / "movies"  # movies/ is the sibling of results/ (the runner's layout)
+    movies.mkdir(parents=True, exist_ok=True)
     # 1. the scene; check the paper's claim that there is no reverse rotation (so no red part)
     scene = rod_mass_scene(H, K, OMEGA, PHI0)
     flip = flip_time(scene)
@@ -41,7 +41,7 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     traj = simulate(scene, t_max=T_END, dt_out=DT_OUT)
     traj.save(out_dir / "movie_s2_trajectory.csv", force=force)
     # 3. the movie (no flip: blue throughout, said in the caption) and a poster of its last frame
-    path = render_movie(traj, MOVIES / "movie_s2.mp4", force=force, progress=sys.stderr.isatty(), fps=FPS,
+    path = render_movie(traj, movies / "movie_s2.mp4", force=force, progress=sys.stderr.isatty(), fps=FPS,
                         speed=SPEED, flip=flip, arrows=True)
     render_poster(traj, out_dir / "movie_s2_poster.png", force=force, flip=flip)
     print(f"Movie S2: {flip.regime}; 0..{T_END:g} s at x{SPEED} -> {path} ({path.stat().st_size / 1e6:.2f} MB)")

@@ -14,27 +14,28 @@ import pytest
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 _ROOT = Path(__file__).resolve().parents[1]
-_COMPILED = ("rrbody", "benchmarks")  # the trees whose kernels numba caches on disk (cache=True)
+_COMPILED = ("rrbody", "benchmarks")  # the trees whose sources the benchmarks' kernels may inline
 
 
 def _purge_stale_numba_cache() -> None:
-    """Drop every kernel numba cached on disk once any source of the package changed.
+    """Drop the benchmarks' kernels numba cached on disk once any source of rrbody or the benchmarks changed.
 
     numba keys a cached function by the timestamp of its own file only: an edit to a kernel it
-    inlines from another file (a right-hand side into the stepping loop) would leave the stale
-    compiled copy in use. The sources' hash since the last purge is kept beside the caches."""
+    inlines from another file (rrbody's right-hand side into the benchmarks' lean loop) would leave
+    the stale compiled copy in use. rrbody's own kernels need no purge: they are cached under a hash
+    of the package's sources (``rrbody._cache.kernels_dir``). The sources' hash since the last purge
+    is kept beside the benchmarks' caches."""
     h = hashlib.sha256()
     for tree in _COMPILED:
         for f in sorted((_ROOT / tree).rglob("*.py")):
             h.update(f.relative_to(_ROOT).as_posix().encode())
             h.update(f.read_bytes())
-    stamp = _ROOT / "rrbody" / "__pycache__" / "numba-sources.sha256"
+    stamp = _ROOT / "benchmarks" / "__pycache__" / "numba-sources.sha256"
     digest = h.hexdigest()
     if stamp.is_file() and stamp.read_text() == digest:
         return
-    for tree in _COMPILED:
-        for f in (_ROOT / tree).rglob("__pycache__/*.nb[ic]"):
-            f.unlink(missing_ok=True)
+    for f in (_ROOT / "benchmarks").rglob("__pycache__/*.nb[ic]"):
+        f.unlink(missing_ok=True)
     stamp.parent.mkdir(exist_ok=True)
     stamp.write_text(digest)
 

@@ -381,13 +381,16 @@ def add_parser(sub: Any) -> None:
     r = sub.add_parser("report", help="write results/REPORT.md from the scene outputs",
                        description="Collect the scenes' summary.json files into results/REPORT.md "
                                    "(paper vs rrbody, per figure).")
-    r.add_argument("--results", default=None, help="results folder (default: the repository's results/)")
+    r.add_argument("--results", default=None, help="results folder (default: results/ of the checkout, or of the current folder)")
     r.add_argument("--out", default=None, help="report path (default: RESULTS/REPORT.md)")
     r.set_defaults(func=cmd_report, json=False)
 
 
 def default_results() -> Path:
-    return Path(__file__).resolve().parents[2] / "results"
+    """``results/`` of the checkout, or under the current folder for an installed rrbody."""
+    from rrbody.model.paths import output_root
+
+    return output_root() / "results"
 
 
 def cmd_report(args: argparse.Namespace) -> int:

@@ -21,6 +21,7 @@ from typing import Any
 from rrbody._version import __version__
 from rrbody.cli.args import CliError, Parser, angle, check_options, commands, number, option_help, option_message, \
     parse
+from rrbody.cli.cache import add_parser as add_cache_parser
 from rrbody.cli.options import (add_accuracy_options, add_integrator_options, add_scene_options, scene_from_args,
                                 stepper_option)
 
@@ -177,7 +178,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 
 def cmd_scene(args: argparse.Namespace) -> int:
-    from rrbody.cli.scenes import list_scenes, run_scene, scenes_dir
+    from rrbody.cli.scenes import list_scenes, output_root, run_scene
 
     if args.list or args.name is None:
         for n, doc in list_scenes():
@@ -193,7 +194,7 @@ def cmd_scene(args: argparse.Namespace) -> int:
         from rrbody.analysis.report import write_report
 
         wall = time.perf_counter() - t0  # printed, never stored: tracked files hold no timings
-        print(f"all scenes: {wall:.1f} s; wrote {write_report(scenes_dir().parent / 'results')}")
+        print(f"all scenes: {wall:.1f} s; wrote {write_report(output_root() / 'results')}")
     return 0
 
 

@@ -1,0 +1,80 @@
+"""``rrbody cache info`` and ``rrbody cache clear``: the one folder where rrbody keeps compiled kernels,
+quadrature tables and output locks (``rrbody._cache``; ``RRBODY_CACHE_DIR`` moves it)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+from pathlib import Path
+from typing import Any
+
+from rrbody._cache import ENV, cache_dir, kernels_dir
+
+__all__ = ["add_parser", "cmd_cache", "cache_report"]
+
+
+def _size(path: Path) -> int:
+    """Bytes of the regular files under ``path`` (0 if absent)."""
+    return sum(f.stat().st_size for f in path.rglob("*") if f.is_file() and not f.is_symlink()) if path.is_dir() else 0
+
+
+def cache_report() -> dict[str, Any]:
+    """The cache folder, its size in bytes per part, and the kernel folders of other sources (stale)."""
+    root = cache_dir()
+    current = kernels_dir()
+    kernels = sorted(p for p in (root / "kernels").glob("*") if p.is_dir())
+    return {"path": str(root), "env": ENV, "exists": root.is_dir(), "bytes": _size(root),
+            "kernels": {"current": str(current), "current_bytes": _size(current),
+                        "stale": [str(p) for p in kernels if p != current],
+                        "stale_bytes": sum(_size(p) for p in kernels if p != current)},
+            "tables_bytes": _size(root / "tables")}
+
+
+def _mb(n: int) -> str:
+    return f"{n / 1e6:.1f} MB"
+
+
+def cmd_cache(args: argparse.Namespace) -> int:
+    """Handler of ``rrbody cache``."""
+    rep = cache_report()
+    if args.action == "clear":
+        root = Path(rep["path"])
+        if root.is_dir():
+            # the locks folder stays: a running rrbody may hold a lock in it, and its files are empty
+            for part in root.iterdir():
+                if part.name == "locks":
+                    continue
+                if part.is_dir() and not part.is_symlink():
+                    shutil.rmtree(part, ignore_errors=True)
+                else:
+                    part.unlink(missing_ok=True)
+        freed = rep["bytes"]
+        if args.json:
+            print(json.dumps({"path": rep["path"], "freed_bytes": freed}))
+        else:
+            print(f"cleared {rep['path']} ({_mb(freed)} freed); the next command compiles rrbody's kernels again")
+        return 0
+    if args.json:
+        print(json.dumps(rep))
+        return 0
+    k = rep["kernels"]
+    print(f"rrbody cache: {rep['path']} ({_mb(rep['bytes'])}; set {ENV} to move it)\n"
+          f"  kernels for this version: {k['current']} ({_mb(k['current_bytes'])})\n"
+          f"  kernels of other versions or sources: {len(k['stale'])} folder(s), {_mb(k['stale_bytes'])} "
+          "(never loaded; `rrbody cache clear` removes them)\n"
+          f"  quadrature tables: {_mb(rep['tables_bytes'])}")
+    return 0
+
+
+def add_parser(sub: Any) -> None:
+    """Register ``rrbody cache`` on the CLI's subparsers."""
+    c = sub.add_parser("cache", help="show or clear rrbody's cache folder (compiled kernels, tables)",
+                       description="rrbody keeps its compiled kernels (numba), quadrature tables and output locks "
+                                   f"in one user cache folder (~/.cache/rrbody on Linux; the environment variable "
+                                   f"{ENV} moves it). Kernels compiled from other sources are never loaded. "
+                                   "'info' shows the folder and its size; 'clear' empties it (the next command "
+                                   "compiles again).")
+    c.add_argument("action", choices=("info", "clear"), help="info: where and how big; clear: remove its contents")
+    c.add_argument("--json", action="store_true", help="print one JSON object")
+    c.set_defaults(func=cmd_cache)

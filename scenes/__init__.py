@@ -1,0 +1,1 @@
+"""The scene scripts: one per paper figure or movie and per new question (run by name: `rrbody scene NAME`)."""

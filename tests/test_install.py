@@ -1,0 +1,118 @@
+"""rrbody installed like any package: the wheel carries every package and the scene scripts, and
+rrbody writes nothing inside its installed folder (caches live in one user cache folder).
+
+The ``install`` test builds a real virtual environment, installs rrbody with ``pip install .``
+(not editable) and runs, from an empty folder, what a new user runs first: the scene list, a
+scene, a flip time, an ellipse simulation and the plugin. Then the installed folder must be
+byte-for-byte what pip put there, and the kernels must sit in the cache folder."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import subprocess
+import sys
+import textwrap
+import tomllib
+import venv
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_wheel_lists_every_package() -> None:
+    """pyproject lists the packages by hand (to map scenes/ into the wheel): the list must be complete."""
+    conf = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]
+    on_disk = {".".join(p.parent.relative_to(ROOT).parts) for p in (ROOT / "rrbody").rglob("__init__.py")
+               if "__pycache__" not in p.parts}
+    assert set(conf["packages"]) == on_disk | {"rrbody._scenes"}
+    assert conf["package-dir"] == {"rrbody._scenes": "scenes"}
+
+
+def test_cache_folder_follows_the_environment(tmp_path: Path) -> None:
+    """RRBODY_CACHE_DIR moves every cache; `rrbody cache clear` empties it; kernels are keyed by the sources."""
+    env = {**os.environ, "RRBODY_CACHE_DIR": str(tmp_path / "c")}
+    code = ("from rrbody._cache import kernels_dir, tables_dir, source_hash; import rrbody;"
+            "print(kernels_dir()); print(tables_dir()); print(source_hash())")
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    kern, tables, digest = out.stdout.split()
+    assert Path(kern).parent == tmp_path / "c" / "kernels" and Path(kern).name.endswith(digest)
+    assert Path(tables) == tmp_path / "c" / "tables"
+    (tmp_path / "c" / "tables").mkdir(parents=True)
+    (tmp_path / "c" / "tables" / "x.npz").write_bytes(b"0" * 10)
+    rep = subprocess.run([sys.executable, "-m", "rrbody.cli", "cache", "info", "--json"], env=env,
+                         capture_output=True, text=True, check=True)
+    assert json.loads(rep.stdout)["tables_bytes"] == 10
+    clr = subprocess.run([sys.executable, "-m", "rrbody.cli", "cache", "clear"], env=env, capture_output=True,
+                         text=True, check=True)
+    assert "cleared" in clr.stdout and not (tmp_path / "c" / "tables").exists()
+
+
+def _snapshot(folder: Path) -> dict[str, str]:
+    return {f.relative_to(folder).as_posix(): hashlib.sha256(f.read_bytes()).hexdigest()
+            for f in sorted(folder.rglob("*")) if f.is_file()}
+
+
+@pytest.mark.install
+@pytest.mark.slow
+def test_non_editable_install_lists_scenes_and_writes_nothing_inside(tmp_path: Path) -> None:
+    env_dir = tmp_path / "venv"
+    venv.EnvBuilder(with_pip=True).create(env_dir)
+    py = env_dir / "bin" / "python"
+    pip = [str(py), "-m", "pip", "install", "--quiet", "--disable-pip-version-check"]
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
+    env.update(RRBODY_WORKER="off", RRBODY_CACHE_DIR=str(tmp_path / "cache"), MPLBACKEND="Agg")
+    conf = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
+    deps = [*conf["dependencies"], *conf["optional-dependencies"]["engine"],
+            *conf["optional-dependencies"]["movie"]]
+    got = subprocess.run([*pip, *deps], env=env, capture_output=True, text=True, timeout=900)
+    if got.returncode != 0:
+        pytest.skip(f"could not install the dependencies here: {got.stderr.strip()[-300:]}")
+    inst = subprocess.run([*pip, "--no-deps", str(ROOT)], env=env, capture_output=True, text=True, timeout=900)
+    assert inst.returncode == 0, inst.stderr
+    site = Path(subprocess.run([str(py), "-c", "import rrbody, pathlib; print(pathlib.Path(rrbody.__file__).parent)"],
+                               env=env, capture_output=True, text=True, check=True, cwd=tmp_path).stdout.strip())
+    assert site.is_relative_to(env_dir)  # the installed copy, not the checkout
+    before = _snapshot(site)
+    work = tmp_path / "work"
+    work.mkdir()
+    bin_ = env_dir / "bin"
+
+    def run(*argv: str) -> str:
+        p = subprocess.run([str(bin_ / "rrbody"), *argv], cwd=work, env=env, capture_output=True, text=True,
+                           timeout=900)
+        assert p.returncode == 0, (argv, p.stderr)
+        return p.stdout
+
+    listed = [line.split()[0] for line in run("scene", "--list").splitlines() if line.strip()]
+    expected = sorted(f.stem.replace("_", "-") for f in (ROOT / "scenes").glob("*.py") if not f.name.startswith("_"))
+    assert listed == expected
+    run("scene", "schematic")  # a scene writes under the current folder, never the package
+    assert (work / "results" / "schematic" / "schematic.png").is_file()
+    t_f = json.loads(run("flip-time", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--json"))["t_f"]
+    assert t_f == pytest.approx(12.928094823, abs=1e-8)  # the README's pinned value
+    run("simulate", "--body", "ellipse", "--R0", "0.3", "--delta", "0.9", "--l", "0.2", "--k", "0.0033",
+        "--omega", "0.6", "--t-max", "2", "--out", "e.csv")
+    plugin = textwrap.dedent("""
+        import pymunk
+        from rrbody.plugin import PlaneFriction
+        space = pymunk.Space()
+        pf = PlaneFriction(space, g=9.81)
+        box = pymunk.Body()
+        shape = pymunk.Poly.create_box(box, (0.2, 0.1))
+        shape.density = 800.0
+        space.add(box, shape)
+        box.velocity, box.angular_velocity = (1.5, -0.4), -12.0
+        pf.add(box, mu=0.5)
+        while pf.t < 1.0:
+            pf.step(1 / 240)
+        print(box.velocity.length)
+    """)
+    p = subprocess.run([str(py), "-c", plugin], cwd=work, env=env, capture_output=True, text=True, timeout=900)
+    assert p.returncode == 0, p.stderr
+    assert _snapshot(site) == before  # nothing written inside the installed package
+    assert any((tmp_path / "cache" / "kernels").rglob("*.nbi"))  # the kernels went to the cache folder
+    assert any((tmp_path / "cache" / "tables").glob("*.npz"))
