@@ -37,9 +37,10 @@ demo: $(VENV)/.installed-demo
 test: $(VENV)/.installed-test
 	$(BIN)/python -m pytest -n 2 --durations=15 tests
 
-## make bench: work-precision benchmarks -> benchmarks/results/
+## make bench: work-precision benchmarks -> benchmarks/results/, then every figure the README and docs quote
 bench: $(VENV)/.installed-test
 	$(BIN)/python -m benchmarks.run
+	$(BIN)/python -m benchmarks.quotes
 
 ## make scenes: every paper figure and the report -> results/
 scenes: $(VENV)/.installed-test

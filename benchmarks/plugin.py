@@ -13,15 +13,26 @@ interleaved (each repeat times every variant in turn on a freshly built space), 
 2. **phixtpm engine step**: rrbody's driven rod-mass (H = 0.2, k = 0.05, w = 0.6) stepped by
    ``h.plane.step`` against the same driven body in plain pymunk (a kinematic driver with a constant
    velocity and a ``PivotJoint``; no friction, no per-step Python).
+3. **Adding and removing bodies one by one** (issue 29): the bodies of study 1 already in a space,
+   then N ``pf.add`` calls timed, the first ``pf.step`` after them (half kicks, the id table) timed
+   apart, then N ``pf.remove`` calls in a random order; N = 1,000 and 10,000, interleaved, best of
+   the repeats. Target: 10,000 adds cost at most 15x 1,000 (linear growth is 10x; rebuilding the
+   arrays on every add made it quadratic).
+
+The engine study (``python -m benchmarks.run --only engine``) runs all three and records study 3 in
+``engine_plugin_adds.csv`` and as the last of its targets.
 """
 
 from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
+
+from .common import Target
 
 DT = 1.0 / 120.0
 STEPS = 120
@@ -149,3 +160,58 @@ def growth_slope(rows: list[dict[str, Any]]) -> float:
     x = np.log([r["bodies"] for r in rows])
     y = np.log([r["plugin_us"] for r in rows])
     return float(np.polyfit(x, y, 1)[0])
+
+
+#: issue 29: N adds may cost at most this many times the adds of N / 10 bodies (10x is linear)
+ADDS_RATIO_MAX = 15.0
+
+
+def _adds_once(n: int, seed: int) -> dict[str, float]:
+    """Seconds of n ``pf.add`` calls, the first ``pf.step`` after them and n ``pf.remove`` calls."""
+    import pymunk
+
+    from rrbody.engine import PlaneFriction
+
+    space = pymunk.Space()
+    bodies = _bodies(space, n)
+    pf = PlaneFriction(space)
+    t0 = time.perf_counter()
+    for b in bodies:
+        pf.add(b, mu=MU)
+    t1 = time.perf_counter()
+    pf.step(DT)
+    t2 = time.perf_counter()
+    order = np.random.default_rng(seed).permutation(n)
+    t3 = time.perf_counter()
+    for k in order:
+        pf.remove(bodies[k])
+    t4 = time.perf_counter()
+    return {"adds": t1 - t0, "first_step": t2 - t1, "removes": t4 - t3}
+
+
+def add_scaling(ns: Sequence[int] = (1000, 10_000), repeats: int = 3) -> tuple[list[dict[str, Any]], Target]:
+    """Study 3: best seconds of n adds, the first step and n removes for each n, interleaved over
+    ``repeats`` fresh spaces; and the target (adds of the largest n over the smallest, <= 15x for 10x
+    the bodies)."""
+    _adds_once(100, 0)  # warm: the compiled kernels load, not timed
+    best = {n: {"adds": math.inf, "first_step": math.inf, "removes": math.inf} for n in ns}
+    for r in range(repeats):
+        for n in ns:
+            for k, v in _adds_once(n, r).items():
+                best[n][k] = min(best[n][k], v)
+    n0 = ns[0]
+    rows = [{"bodies": n, "adds_s": b["adds"], "us_per_add": b["adds"] / n * 1e6, "first_step_s": b["first_step"],
+             "removes_s": b["removes"], "us_per_remove": b["removes"] / n * 1e6,
+             "adds_ratio": b["adds"] / best[n0]["adds"], "removes_ratio": b["removes"] / best[n0]["removes"]}
+            for n, b in best.items()]
+    for r in rows:
+        print(f"[engine/plugin] {r['bodies']} adds {r['adds_s']:.3f} s ({r['us_per_add']:.0f} us each, "
+              f"{r['adds_ratio']:.2f}x {n0}), first step {r['first_step_s'] * 1e3:.1f} ms, removes "
+              f"{r['removes_s'] * 1e3:.1f} ms ({r['removes_ratio']:.2f}x)", flush=True)
+    top = rows[-1]
+    want = ADDS_RATIO_MAX * (top["bodies"] / n0) / 10.0
+    target = Target(f"PlaneFriction: {top['bodies']:,} adds one by one vs {n0:,}", f"<= {want:g}x",
+                    f"{top['adds_ratio']:.2f}x ({top['adds_s']:.3g} s vs {rows[0]['adds_s']:.3g} s; removes "
+                    f"{top['removes_ratio']:.2f}x)", top["adds_ratio"] <= want,
+                    f"best of {repeats}, interleaved; half circles, half boxes")
+    return rows, target

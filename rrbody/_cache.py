@@ -10,7 +10,9 @@ Layout (``cache_dir()``, by default the platform's user cache folder, ``~/.cache
 ``<sources>`` is a hash of every ``.py`` file of the installed package, so a kernel compiled from
 other sources (another version, an edited checkout) is never loaded: numba itself keys a cached
 function only by its own file's time stamp and would miss an edit to a kernel it inlines from
-another file. ``rrbody cache clear`` empties the folder; ``rrbody cache info`` shows it.
+another file. The first run of new sources removes the kernel folders of other sources beyond the
+four newest that have gone unused for an hour. ``rrbody cache clear`` empties the folder;
+``rrbody cache info`` shows it.
 
 The package folder is never written to: an installed rrbody leaves its files as pip put them.
 This module is imported by the layers that hold kernels (physics, integrate, engine) before they
@@ -27,7 +29,8 @@ from pathlib import Path
 
 from rrbody._version import __version__
 
-__all__ = ["ENV", "cache_dir", "kernels_dir", "tables_dir", "locks_dir", "source_hash", "use_for_kernels"]
+__all__ = ["ENV", "cache_dir", "kernels_dir", "tables_dir", "locks_dir", "source_hash", "use_for_kernels",
+           "prune_kernels"]
 
 #: the environment variable that moves the cache folder
 ENV = "RRBODY_CACHE_DIR"
@@ -54,9 +57,39 @@ def source_hash() -> str:
     return h.hexdigest()[:16]
 
 
+#: kernel folders of other sources kept (the newest), so that switching between a few versions or
+#: branches does not recompile; older ones are removed once unused for PRUNE_AGE_S
+KEEP_KERNEL_FOLDERS = 4
+PRUNE_AGE_S = 3600.0
+
+
 def kernels_dir() -> Path:
     """The folder of numba's compiled kernels for these sources: ``kernels/<version>-<hash>``."""
     return cache_dir() / "kernels" / f"{__version__}-{source_hash()}"
+
+
+def prune_kernels(now: float | None = None) -> list[Path]:
+    """Remove kernel folders of other sources beyond the KEEP_KERNEL_FOLDERS newest, if untouched for
+    PRUNE_AGE_S seconds (a process of another version may be using a recent one). Returns them."""
+    import shutil
+    import time
+
+    current = kernels_dir()
+    others = []
+    for p in (current.parent.iterdir() if current.parent.is_dir() else ()):
+        if p.is_dir() and p != current:
+            try:
+                others.append((p.stat().st_mtime, p))
+            except OSError:
+                continue
+    others.sort(reverse=True)
+    now = time.time() if now is None else now
+    removed = []
+    for mtime, p in others[KEEP_KERNEL_FOLDERS:]:
+        if now - mtime > PRUNE_AGE_S:
+            shutil.rmtree(p, ignore_errors=True)
+            removed.append(p)
+    return removed
 
 
 def tables_dir() -> Path:
@@ -111,6 +144,11 @@ def use_for_kernels() -> None:
                                                 Path(self._cache_path).relative_to(cache_dir()))
             return self
 
+    if not kernels_dir().is_dir():  # the first run of these sources: the time to tidy up old ones
+        try:
+            prune_kernels()
+        except OSError:
+            pass
     _Locator.__name__ = _Locator.__qualname__ = "RrbodyCacheLocator"
     impl._locator_classes.insert(0, _Locator)
     # keep the class reachable by name for pickling and debugging

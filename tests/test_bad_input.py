@@ -187,3 +187,47 @@ def test_cli_critical_h_rejects_out_of_range_options(data) -> None:  # noqa: ANN
     args = {"--k": "0.01", "--omega": "0.3", option: value}
     code, stdout, stderr = _run_cli(["critical-h"] + [x for kv in args.items() for x in kv])
     assert code == 2 and option in stderr and "Traceback" not in stderr and stdout == ""
+
+
+# ---- every numeric value is finite at every step of parsing (issue 29) ------------------------
+@settings(max_examples=200, deadline=None)
+@given(m=st.integers(1, 9), e=st.integers(-420, 420), form=st.sampled_from(["{x}", "{x}pi", "{x}*pi/3", "2pi/{x}",
+                                                                           "{x}deg", "-{x}pi/7"]))
+def test_angle_steps_are_finite_and_never_a_silent_zero(m: int, e: int, form: str) -> None:
+    """A nonzero literal in any position gives a finite nonzero angle or a ValueError naming the
+    parameter: never inf or nan, and never 0 from an overflow or underflow on the way."""
+    from rrbody.model.angles import parse_angle
+
+    text = form.format(x=f"{m}e{e}")
+    try:
+        v = parse_angle(text)
+    except ValueError as err:
+        assert "phi0" in str(err)
+    else:
+        assert math.isfinite(v) and v != 0.0, (text, v)
+
+
+@pytest.mark.parametrize("text", ["1e400", "-1e400", "1e-400", "inf", "nan", "1_000", "0x10", "1e", "", " ", "٣"])
+def test_number_literals_outside_the_float_range_are_refused(text: str) -> None:
+    from rrbody.model.angles import parse_number
+
+    with pytest.raises(ValueError, match="speed"):
+        parse_number(text, name="speed")
+
+
+def test_number_literals_as_written() -> None:
+    from rrbody.model.angles import parse_number
+
+    for text, value in (("0", 0.0), ("-0.0", 0.0), ("0e-500", 0.0), ("2.5", 2.5), (".5", 0.5), ("1E6", 1e6),
+                        ("1.7976931348623157e308", 1.7976931348623157e308), ("5e-324", 5e-324)):
+        assert parse_number(text, name="x") == value
+
+
+@pytest.mark.parametrize("value", [10**400, -(10**400), 10**309])
+def test_huge_integers_are_a_value_error_not_an_overflow(value: int) -> None:
+    from rrbody.model.checks import check, check_int, check_range, check_real
+
+    for fn in (lambda: check("omega", value), lambda: check_real("t", value), lambda: check_range("t", value, 0, 1),
+               lambda: check_int("n", value, 0, 10), lambda: parse_angle(value)):
+        with pytest.raises(ValueError):
+            fn()

@@ -2,8 +2,8 @@
 naming it, exit 2, nothing written.
 
 The fast tests run rrbody in a subprocess whose import system refuses the optional packages (as if they
-were not installed). The ``install`` test builds a real virtual environment with only the core
-dependencies and ``pip install --no-deps .`` (about a minute: pip cache, then numba compiles the kernels).
+were not installed). The real install of the core alone, in a fresh virtual environment, is in
+``tests/test_install.py``.
 """
 
 from __future__ import annotations
@@ -13,7 +13,6 @@ import os
 import subprocess
 import sys
 import textwrap
-import venv
 from pathlib import Path
 
 import pytest
@@ -83,41 +82,36 @@ def test_missing_extra_is_one_line_exit_2_and_writes_nothing(tmp_path: Path, arg
     assert p.returncode == 2, (p.stdout, p.stderr)
     lines = p.stderr.strip().splitlines()
     assert len(lines) == 1 and "Traceback" not in p.stderr
-    assert f"pip install 'rrbody[{extra}]'" in lines[0]
+    # run from this checkout (PYTHONPATH), so the hint is the checkout's editable install, naming its folder
+    assert f"pip install -e '.[{extra}]' (run in {ROOT})" in lines[0]
     assert sorted(x.name for x in tmp_path.iterdir()) == []  # no CSV, movie or recording, no temporary file
 
 
-@pytest.mark.install
-@pytest.mark.slow
-def test_fresh_core_install(tmp_path: Path) -> None:
-    """A real `pip install .` without extras: flip time works, optional packages are absent, a movie asks for [movie]."""
-    env_dir = tmp_path / "venv"
-    venv.EnvBuilder(with_pip=True).create(env_dir)
-    py = env_dir / "bin" / "python"
-    pip = [str(py), "-m", "pip", "install", "--quiet", "--disable-pip-version-check"]
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
-    env["RRBODY_WORKER"] = "off"
-    deps = subprocess.run([*pip, "numpy>=1.26", "scipy>=1.11", "numba>=0.59", "tqdm>=4.66"], env=env,
-                          capture_output=True, text=True, timeout=900)
-    if deps.returncode != 0:
-        pytest.skip(f"could not install the core dependencies here: {deps.stderr.strip()[-300:]}")
-    inst = subprocess.run([*pip, "--no-deps", str(ROOT)], env=env, capture_output=True, text=True, timeout=900)
-    assert inst.returncode == 0, inst.stderr
-    work = tmp_path / "work"
-    work.mkdir()
-    code = textwrap.dedent(f"""
-        import importlib.util, json
-        from rrbody import flip_time, rod_mass_scene
-        absent = [m for m in {OPTIONAL!r} if importlib.util.find_spec(m) is None]
-        print(json.dumps({{"t_f": flip_time(rod_mass_scene(0.2, 0.05, 0.6)).t_f, "absent": absent}}))
-    """)
-    p = subprocess.run([str(py), "-c", code], cwd=work, env=env, capture_output=True, text=True, timeout=900)
-    assert p.returncode == 0, p.stderr
-    out = json.loads(p.stdout.strip().splitlines()[-1])
-    assert out["t_f"] == pytest.approx(12.928094823, abs=1e-8)
-    assert set(out["absent"]) >= {"pymunk", "matplotlib", "rerun", "xarray"}
-    cli = env_dir / "bin" / "rrbody"
-    m = subprocess.run([str(cli), "simulate", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--t-max", "2",
-                        "--movie", "m.mp4"], cwd=work, env=env, capture_output=True, text=True, timeout=900)
-    assert m.returncode == 2 and m.stderr.strip().count("\n") == 0
-    assert "pip install 'rrbody[movie]'" in m.stderr and not (work / "m.mp4").exists()
+def _package_in(root: Path, pyproject: str | None) -> Path:
+    """A fake ``rrbody`` package folder under ``root``, beside a pyproject.toml holding ``pyproject``."""
+    pkg = root / "rrbody"
+    pkg.mkdir(parents=True)
+    if pyproject is not None:
+        (root / "pyproject.toml").write_text(pyproject)
+    return pkg
+
+
+def test_install_hint_from_a_checkout_names_the_editable_install_and_its_folder(tmp_path: Path) -> None:
+    from rrbody.model.extras import install_hint
+
+    pkg = _package_in(tmp_path / "clone", '[project]\nname = "rrbody"\nversion = "0.1.0"\n')
+    hint = install_hint("rerun", pkg)
+    assert hint == f"pip install -e '.[rerun]' (run in {tmp_path / 'clone'})"
+    assert "rrbody[" not in hint
+
+
+@pytest.mark.parametrize("pyproject", [
+    None,                                          # site-packages: no pyproject.toml beside the package
+    '[project]\nname = "someone-else"\n',          # another project's checkout that vendors rrbody
+    "this is [not toml",                           # unreadable: never guess a checkout
+])
+def test_install_hint_of_an_installed_package_names_the_package(tmp_path: Path, pyproject: str | None) -> None:
+    from rrbody.model.extras import install_hint
+
+    pkg = _package_in(tmp_path / "site-packages", pyproject)
+    assert install_hint("rerun", pkg) == "pip install 'rrbody[rerun]'"

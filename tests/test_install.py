@@ -51,6 +51,33 @@ def test_cache_folder_follows_the_environment(tmp_path: Path) -> None:
     assert "cleared" in clr.stdout and not (tmp_path / "c" / "tables").exists()
 
 
+def test_kernels_of_other_sources_are_never_loaded(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The kernel folder is keyed by a hash of every source file: an edit anywhere (a kernel inlined
+    from another file included) or another version gives another folder, so a stale kernel is never found."""
+    import shutil
+
+    from rrbody import _cache
+
+    tree = tmp_path / "rrbody"
+    shutil.copytree(ROOT / "rrbody", tree, ignore=shutil.ignore_patterns("__pycache__"))
+    monkeypatch.setattr(_cache, "_PKG", tree)
+    monkeypatch.setenv(_cache.ENV, str(tmp_path / "c"))
+
+    def folder() -> Path:
+        _cache.source_hash.cache_clear()
+        return _cache.kernels_dir()
+
+    first = folder()
+    assert folder() == first  # deterministic
+    law = tree / "physics" / "effects" / "law_dry.py"
+    law.write_text(law.read_text() + "\n# an edit\n")
+    edited = folder()
+    assert edited != first and edited.parent == first.parent
+    monkeypatch.setattr(_cache, "__version__", "9.9.9")
+    assert folder().name.startswith("9.9.9-") and folder() != edited
+    _cache.source_hash.cache_clear()
+
+
 def _snapshot(folder: Path) -> dict[str, str]:
     return {f.relative_to(folder).as_posix(): hashlib.sha256(f.read_bytes()).hexdigest()
             for f in sorted(folder.rglob("*")) if f.is_file()}
@@ -59,6 +86,12 @@ def _snapshot(folder: Path) -> dict[str, str]:
 @pytest.mark.install
 @pytest.mark.slow
 def test_non_editable_install_lists_scenes_and_writes_nothing_inside(tmp_path: Path) -> None:
+    """`pip install .` (not editable) into a fresh venv, in two stages. The core alone: a flip time
+    works, the optional packages are absent, a movie asks for the [movie] extra. Then with the
+    engine and movie extras, from an empty folder: the scene list, a scene, a flip time, an ellipse
+    simulation and the plugin; the installed folder stays byte-for-byte what pip put there."""
+    from tests.test_extras import OPTIONAL
+
     env_dir = tmp_path / "venv"
     venv.EnvBuilder(with_pip=True).create(env_dir)
     py = env_dir / "bin" / "python"
@@ -66,34 +99,53 @@ def test_non_editable_install_lists_scenes_and_writes_nothing_inside(tmp_path: P
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
     env.update(RRBODY_WORKER="off", RRBODY_CACHE_DIR=str(tmp_path / "cache"), MPLBACKEND="Agg")
     conf = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
-    deps = [*conf["dependencies"], *conf["optional-dependencies"]["engine"],
-            *conf["optional-dependencies"]["movie"]]
-    got = subprocess.run([*pip, *deps], env=env, capture_output=True, text=True, timeout=900)
+    got = subprocess.run([*pip, *conf["dependencies"]], env=env, capture_output=True, text=True, timeout=900)
     if got.returncode != 0:
-        pytest.skip(f"could not install the dependencies here: {got.stderr.strip()[-300:]}")
+        pytest.skip(f"could not install the core dependencies here: {got.stderr.strip()[-300:]}")
     inst = subprocess.run([*pip, "--no-deps", str(ROOT)], env=env, capture_output=True, text=True, timeout=900)
     assert inst.returncode == 0, inst.stderr
     site = Path(subprocess.run([str(py), "-c", "import rrbody, pathlib; print(pathlib.Path(rrbody.__file__).parent)"],
                                env=env, capture_output=True, text=True, check=True, cwd=tmp_path).stdout.strip())
     assert site.is_relative_to(env_dir)  # the installed copy, not the checkout
-    before = _snapshot(site)
+    before = _snapshot(site)  # as pip put it
     work = tmp_path / "work"
     work.mkdir()
     bin_ = env_dir / "bin"
 
-    def run(*argv: str) -> str:
+    def run(*argv: str, code: int = 0) -> subprocess.CompletedProcess[str]:
         p = subprocess.run([str(bin_ / "rrbody"), *argv], cwd=work, env=env, capture_output=True, text=True,
                            timeout=900)
-        assert p.returncode == 0, (argv, p.stderr)
-        return p.stdout
+        assert p.returncode == code, (argv, p.stderr)
+        return p
 
-    listed = [line.split()[0] for line in run("scene", "--list").splitlines() if line.strip()]
+    # 1. the core alone
+    core = textwrap.dedent(f"""
+        import importlib.util, json
+        from rrbody import flip_time, rod_mass_scene
+        absent = [m for m in {OPTIONAL!r} if importlib.util.find_spec(m) is None]
+        print(json.dumps({{"t_f": flip_time(rod_mass_scene(0.2, 0.05, 0.6)).t_f, "absent": absent}}))
+    """)
+    p = subprocess.run([str(py), "-c", core], cwd=work, env=env, capture_output=True, text=True, timeout=900)
+    assert p.returncode == 0, p.stderr
+    out = json.loads(p.stdout.strip().splitlines()[-1])
+    assert out["t_f"] == pytest.approx(12.928094823, abs=1e-8)  # the README's pinned value
+    assert set(out["absent"]) >= {"pymunk", "matplotlib", "rerun", "xarray"}
+    m = run("simulate", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--t-max", "2", "--movie", "m.mp4", code=2)
+    assert m.stderr.strip().count("\n") == 0 and not (work / "m.mp4").exists()
+    assert "pip install 'rrbody[movie]'" in m.stderr  # an installed package: the index's name, not a checkout's
+
+    # 2. with the engine and movie extras
+    extras = [*conf["optional-dependencies"]["engine"], *conf["optional-dependencies"]["movie"]]
+    got = subprocess.run([*pip, *extras], env=env, capture_output=True, text=True, timeout=900)
+    if got.returncode != 0:
+        pytest.skip(f"could not install the extras here: {got.stderr.strip()[-300:]}")
+    listed = [line.split()[0] for line in run("scene", "--list").stdout.splitlines() if line.strip()]
     expected = sorted(f.stem.replace("_", "-") for f in (ROOT / "scenes").glob("*.py") if not f.name.startswith("_"))
     assert listed == expected
     run("scene", "schematic")  # a scene writes under the current folder, never the package
     assert (work / "results" / "schematic" / "schematic.png").is_file()
-    t_f = json.loads(run("flip-time", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--json"))["t_f"]
-    assert t_f == pytest.approx(12.928094823, abs=1e-8)  # the README's pinned value
+    t_f = json.loads(run("flip-time", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--json").stdout)["t_f"]
+    assert t_f == pytest.approx(12.928094823, abs=1e-8)
     run("simulate", "--body", "ellipse", "--R0", "0.3", "--delta", "0.9", "--l", "0.2", "--k", "0.0033",
         "--omega", "0.6", "--t-max", "2", "--out", "e.csv")
     plugin = textwrap.dedent("""

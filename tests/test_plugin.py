@@ -232,7 +232,10 @@ def test_add_remove_and_bodies() -> None:
         pf.step(1e-3)
     assert made[1].velocity == v1  # no friction any more
     assert made[0].velocity.x < 1.0 and made[0].velocity == made[2].velocity
-    space.remove(made[0], *made[0].shapes)  # a body leaving the space simply stops being read
+    space.remove(made[0], *made[0].shapes)  # a body leaving the space must leave the plugin too
+    with pytest.raises(ValueError, match=r"pf.bodies\[0\] .* is no longer in the space.*pf.remove\(body\)"):
+        pf.step(1e-3)
+    pf.remove(made[0])
     pf.step(1e-3)
     with pytest.raises(ValueError, match="body is not in this PlaneFriction"):
         pf.remove(made[1])

@@ -395,7 +395,13 @@ def default_results() -> Path:
 
 def cmd_report(args: argparse.Namespace) -> int:
     """Handler of ``rrbody report``."""
-    res = Path(args.results) if args.results else default_results()
+    from rrbody.model.io import check_writable
+
+    if args.results is not None and not args.results.strip():
+        raise ValueError(f"--results must be a folder path, got {args.results!r}")
+    res = Path(args.results) if args.results is not None else default_results()
+    if args.out is not None:  # '' is an empty path (refused), not "the default"
+        check_writable(args.out, force=True, name="--out")
     path = write_report(res, out=args.out)
     print(f"wrote {path}")
     return 0

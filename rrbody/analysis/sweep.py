@@ -8,8 +8,7 @@ evaluates every point on an executor:
   ``distributed.Client``,
 - ``workers=0``: in this process (debugging, tests).
 
-Points are sent in batches (``batch_size`` points per task) so that per-task overhead stays small
-next to the ~1 ms a typical flip time costs.
+Points are sent in batches (``batch_size`` points per task): little overhead next to ~1 ms a point.
 
 Checkpoint and resume
 ---------------------
@@ -18,17 +17,15 @@ specification and the rrbody version) then one JSON line per point, flushed and 
 batch finishes. The file is append-only, so a kill can at worst leave one truncated last line;
 ``resume=True`` drops it, checks that the header matches the requested sweep (a different scene,
 grid, quantity, options or rrbody version raises ValueError rather than mixing results) and
-computes only the missing points. The final table is written atomically (:mod:`rrbody.model.io`) and
-the checkpoint removed. Results do not depend on the executor, the batch size or interruptions:
-each point is an independent deterministic computation.
+computes only the missing points. The table is written atomically and the checkpoint removed. Results
+do not depend on the executor, the batch size or interruptions (each point is deterministic).
 
-Output
-------
-``.csv``: one row per point (axis values, then results); the first line is
-``# rrbody-sweep: {json}`` with the specification, the axes (the grid metadata) and the rrbody
-version. ``.nc``: a NetCDF file (xarray, h5netcdf engine) with one dimension per grid axis and the
-same metadata in the attribute ``rrbody_sweep`` (NetCDF4 via h5netcdf when h5py is installed, else
-NetCDF3 via scipy). A ``<out>.json`` sidecar repeats the metadata.
+Output: ``.csv`` or ``.nc`` with a ``<out>.json`` sidecar (formats: :mod:`rrbody.analysis.sweep_store`).
+
+One writer, clean faults: a sweep locks its table, checkpoint and sidecar (:mod:`rrbody.model.outlock`)
+before it looks at them, so a second sweep to one output is refused at once (``OutputBusy``, naming
+the other process), whatever ``force`` or ``resume`` say; a killed sweep's lock is free for ``resume``.
+A dead worker, a lost Dask scheduler or a full disk raises :class:`SweepFault` (points saved; resume).
 
 Parameters of the base scene
 ----------------------------
@@ -43,7 +40,8 @@ disk or ellipse; ``H`` or ``l``, ``R0``, ``delta``, ``orientation``, ``omega``, 
 Validation
 ----------
 A :class:`Sweep` checks its options and every value of every axis when it is built (each value
-with the base and the other axes' first values), so a bad sweep fails before any work or file.
+with the base and the other axes' first values); :func:`run_sweep` checks the outputs, the options
+and the scheduler (its address, then that it answers) before any work or file.
 """
 
 from __future__ import annotations
@@ -53,7 +51,6 @@ import copy
 import json
 import math
 import os
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -61,13 +58,13 @@ from typing import Any
 import numpy as np
 
 from rrbody._version import __version__
-from rrbody.analysis.sweep_store import checkpoint_path, count_rows, load_sweep, read_checkpoint, read_meta, \
-    write_output
+from rrbody.analysis.sweep_store import check_outputs, checkpoint_path, count_rows, load_sweep, output_files, \
+    read_checkpoint, read_meta, stream_checkpoint, write_output
 from rrbody.model.checks import MissingParameters, check, check_choice
 from rrbody.model.scene import NUMERIC_SCENE_PARAMS, SCENE_PARAMS
 
 __all__ = ["Sweep", "QUANTITIES", "run_sweep", "load_sweep", "make_scene", "evaluate_point", "checkpoint_path",
-           "SweepInterrupted", "SweepStopped", "read_meta", "run_fresh_or_resume", "AXIS_PARAMS"]
+           "SweepInterrupted", "SweepStopped", "SweepFault", "read_meta", "run_fresh_or_resume", "AXIS_PARAMS"]
 
 #: quantity -> result columns it produces (in order)
 QUANTITIES: dict[str, tuple[str, ...]] = {
@@ -98,6 +95,17 @@ class SweepStopped(KeyboardInterrupt):
     def __init__(self, done: int, total: int, checkpoint: Path) -> None:
         super().__init__(f"{done} of {total} points saved in {str(checkpoint)!r}")
         self.done, self.total, self.checkpoint = done, total, checkpoint
+
+
+class SweepFault(RuntimeError):
+    """A fault ended a sweep (``what``: a worker process died, the Dask scheduler was lost, the disk is
+    full): ``done`` of ``total`` points are in ``checkpoint``; the same sweep with ``resume=True``
+    (``--resume``) computes the rest."""
+
+    def __init__(self, what: str, done: int, total: int, checkpoint: Path) -> None:
+        super().__init__(f"{what}; {done} of {total} points are saved in {str(checkpoint)!r}; run the same sweep "
+                         "with resume=True to finish it")
+        self.what, self.done, self.total, self.checkpoint = what, done, total, checkpoint
 
 
 @dataclass(frozen=True)
@@ -157,6 +165,10 @@ class Sweep:
             bad = [k for k in axes if k not in AXIS_PARAMS]
             if bad:
                 raise ValueError(f"axes must be among {', '.join(AXIS_PARAMS)}, got {bad!r}")
+            both = [k for k in axes if k in self.base]
+            if both:
+                raise ValueError(f"base and axes both give {', '.join(both)} (base {both[0]}={self.base[both[0]]!r}); "
+                                 "an axis sets its parameter at every point: give each parameter in one place")
         self._check_points()
 
     def _check_options(self) -> None:
@@ -293,93 +305,88 @@ def _sweep_from_spec(spec: dict[str, Any]) -> Sweep:
                  mode=spec["mode"], options=spec["options"])
 
 
-def _batches(todo: Sequence[int], size: int) -> list[list[int]]:
-    return [list(todo[j:j + size]) for j in range(0, len(todo), size)]
-
-
 # ---- running ---------------------------------------------------------------------------------
 def run_sweep(sweep: Sweep, out: str | os.PathLike[str], *, resume: bool = False, force: bool = False,
               scheduler: Any = None, workers: int | None = None, batch_size: int | None = None,
               progress: bool = True, _stop_after: int | None = None) -> Path:
     """Evaluate ``sweep`` and write ``out`` (``.csv`` or ``.nc``); returns the path.
 
-    ``resume``: continue from ``<out>.checkpoint.jsonl`` (only missing points are computed).
-    Without ``resume`` an existing checkpoint or output is refused unless ``force`` (which starts
-    afresh). ``workers``: local processes (default: the core count; never more than batches; 0 runs
-    in this process; above the core count a RuntimeWarning). Ctrl-C (KeyboardInterrupt) stops the
-    pool at once and raises :class:`SweepStopped`, which says how many points the checkpoint holds.
-    ``scheduler``: Dask scheduler address or Client (overrides ``workers``). ``batch_size``:
-    points per task (default: about 4 tasks per worker, at most 256 points). ``_stop_after``:
-    test hook, raise :class:`SweepInterrupted` once that many points are checkpointed.
+    ``resume``: continue from ``<out>.checkpoint.jsonl`` (only missing points are computed); without
+    it an existing checkpoint or output needs ``force`` (start afresh); not both. An output another
+    process writes is refused (``OutputBusy``) whatever the flags. ``workers``: local processes
+    (default: the core count; never more than batches; 0: this process; above the cores a
+    RuntimeWarning). Ctrl-C raises :class:`SweepStopped`, a fault :class:`SweepFault` (the pool is
+    stopped at once). ``scheduler``: Dask address (checked, then reached, before anything is written)
+    or Client (overrides ``workers``). ``batch_size``: points per task (default: ~4 tasks per worker,
+    <= 256). ``_stop_after``: test hook, raise :class:`SweepInterrupted` after that many points.
     """
-    from rrbody.model.io import atomic_write_text, check_writable
+    from rrbody.analysis.pool import check_scheduler, connect_scheduler, plan_batches, plan_workers
+    from rrbody.model.outlock import claimed
 
     out_p = Path(out)
-    if out_p.suffix not in (".csv", ".nc"):
-        raise ValueError(f"out must end in .csv or .nc, got {str(out_p)!r}")
-    if out_p.suffix == ".nc" and sweep.mode != "grid":
-        raise ValueError("out: NetCDF output needs mode='grid'; use .csv for lists")
-    ck = checkpoint_path(out_p)
-    spec = sweep.spec()
-    if not resume:
-        check_writable(out_p, force=force, name="out")
-        if ck.exists() and not force:
-            raise ValueError(f"out: checkpoint {str(ck)!r} exists from an earlier run; pass resume=True (--resume) "
-                             "to continue it or force=True (--force) to start afresh")
-    else:
-        parent = out_p.parent if str(out_p.parent) else Path(".")
-        if not parent.is_dir():
-            raise ValueError(f"out: folder {str(parent)!r} does not exist")
     if batch_size is not None:
         batch_size = int(check("batch_size", batch_size))
     if workers is not None and scheduler is None:
         check("workers", workers)
-    done: dict[int, dict[str, Any]] = {}
-    if resume and ck.exists():
-        done = read_checkpoint(ck, spec)
-    elif resume and out_p.exists() and not ck.exists():
-        meta = read_meta(out_p)
-        if meta.get("spec") != spec:
-            raise ValueError(f"resume: {str(out_p)!r} holds a different sweep; refusing to mix results")
-        return out_p  # already complete
-    todo = [i for i in range(sweep.size) if i not in done]
-    cores = os.cpu_count() or 1
-    if batch_size is None:  # about 4 tasks per process, at most 256 points each
-        per = cores if workers is None else max(1, min(int(workers), cores))
-        batch_size = max(1, min(256, math.ceil(len(todo) / (4 * per))))
-    batches = _batches(todo, batch_size)
-    from rrbody.analysis.pool import iter_dask, iter_local, plan_workers
+    if scheduler is not None:
+        check_scheduler(scheduler)
+    # what no other writer can change first (a missing folder is named as such), then the lock, then
+    # the rest under it: an output another process writes is refused whatever force or resume say
+    check_outputs(out_p, grid=sweep.mode == "grid", resume=resume, force=force, existing=False)
+    with claimed(output_files(out_p)):
+        check_outputs(out_p, grid=sweep.mode == "grid", resume=resume, force=force)
+        ck = checkpoint_path(out_p)
+        spec = sweep.spec()
+        done: dict[int, dict[str, Any]] = {}
+        if resume and ck.exists():
+            done = read_checkpoint(ck, spec)
+        elif resume and out_p.exists():
+            if read_meta(out_p).get("spec") != spec:
+                raise ValueError(f"resume: {str(out_p)!r} holds a different sweep; refusing to mix results")
+            return out_p  # already complete
+        batches = plan_batches([i for i in range(sweep.size) if i not in done], batch_size, workers)
+        n_workers = 0 if scheduler is not None else plan_workers(workers, len(batches))
+        client = connect_scheduler(scheduler) if isinstance(scheduler, str) else scheduler
+        try:
+            return _compute(sweep, out_p, done, batches, client, n_workers, progress, _stop_after)
+        finally:
+            if client is not scheduler:
+                client.close()
 
-    n_workers = 0 if scheduler is not None else plan_workers(workers, len(batches))
-    if not (resume and ck.exists()):
-        atomic_write_text(ck, json.dumps(spec) + "\n", force=True, name="checkpoint")
-    it = (iter_dask(_run_batch, spec, batches, scheduler) if scheduler is not None
+
+def _compute(sweep: Sweep, out: Path, done: dict[int, dict[str, Any]], batches: list[list[int]], client: Any,
+             n_workers: int, progress: bool, stop_after: int | None) -> Path:
+    """Run the batches into the checkpoint, then write the table (the caller validated and locked the
+    outputs). A fault becomes :class:`SweepFault`, Ctrl-C :class:`SweepStopped`."""
+    from rrbody.analysis.pool import ExecutorFault, iter_dask, iter_local
+
+    ck = checkpoint_path(out)
+    spec = sweep.spec()
+    it = (iter_dask(_run_batch, spec, batches, client) if client is not None
           else iter_local(_run_batch, spec, batches, n_workers))
     bar = _bar(sweep.size, len(done), progress, sweep.quantity)
     n_new = 0
     try:
-        with open(ck, "a") as fh:
-            for rows in it:
-                for r in rows:
-                    fh.write(json.dumps(r) + "\n")
-                    done[int(r["i"])] = r
-                fh.flush()
-                os.fsync(fh.fileno())
-                n_new += len(rows)
-                if bar is not None:
-                    bar.update(len(rows))
-                if _stop_after is not None and n_new >= _stop_after:
-                    raise SweepInterrupted(f"stopped after {n_new} points (test hook)")
+        for n in stream_checkpoint(ck, spec, it, done):
+            n_new += n
+            if bar is not None:
+                bar.update(n)
+            if stop_after is not None and n_new >= stop_after:
+                raise SweepInterrupted(f"stopped after {n_new} points (test hook)")
+        write_output(sweep, done, out, force=True)
+        ck.unlink()
     except KeyboardInterrupt:
         raise SweepStopped(count_rows(ck), sweep.size, ck) from None
+    except (ExecutorFault, OSError) as e:  # a dead worker, a lost scheduler; a full disk, named where known
+        what = (str(e) if isinstance(e, ExecutorFault) else
+                f"{e.strerror or e}: {str(e.filename)!r}" if e.filename else f"{e.strerror or e}")
+        raise SweepFault(what, count_rows(ck), sweep.size, ck) from None
     finally:
         with contextlib.suppress(Exception):
             it.close()  # type: ignore[attr-defined]
         if bar is not None:
             bar.close()
-    write_output(sweep, done, out_p, force=True)
-    ck.unlink()
-    return out_p
+    return out
 
 
 def _bar(total: int, initial: int, progress: bool, desc: str) -> Any:

@@ -3,8 +3,20 @@
 ``sweep`` arguments are :class:`rrbody.analysis.sweep.Sweep` objects (typed ``Any`` here: this
 module sits below the sweep engine and does not import it).
 
-See :mod:`rrbody.analysis.sweep` for the formats. Every file is written atomically
-(:mod:`rrbody.model.io`); the checkpoint is appended to, flushed and fsync'ed per batch.
+Every file is written atomically (:mod:`rrbody.model.io`); the checkpoint is appended to, flushed
+and fsync'ed per batch (its format: :mod:`rrbody.analysis.sweep`).
+
+Output
+------
+``.csv``: one row per point (axis values, then results); the first line is
+``# rrbody-sweep: {json}`` with the specification, the axes (the grid metadata) and the rrbody
+version. ``.nc``: a NetCDF file (xarray, h5netcdf engine) with one dimension per grid axis and the
+same metadata in the attribute ``rrbody_sweep`` (NetCDF4 via h5netcdf when h5py is installed, else
+NetCDF3 via scipy). A ``<out>.json`` sidecar repeats the metadata.
+
+One output, three files (the table, its checkpoint, its sidecar): :func:`output_files` lists them,
+for the locks that keep a second writer away and for :func:`check_outputs`, which validates them
+all before a sweep computes or writes anything.
 """
 
 from __future__ import annotations
@@ -12,6 +24,7 @@ from __future__ import annotations
 import csv
 import json
 import os
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -20,7 +33,7 @@ import numpy as np
 from rrbody._version import __version__
 
 __all__ = ["checkpoint_path", "read_checkpoint", "write_output", "read_meta", "load_sweep", "columns", "HEADER",
-           "count_rows"]
+           "count_rows", "output_files", "check_outputs", "stream_checkpoint"]
 
 HEADER = "# rrbody-sweep: "
 
@@ -29,6 +42,38 @@ def checkpoint_path(out: str | os.PathLike[str]) -> Path:
     """The checkpoint beside ``out``: ``<out>.checkpoint.jsonl``."""
     p = Path(out)
     return p.with_name(p.name + ".checkpoint.jsonl")
+
+
+def output_files(out: str | os.PathLike[str]) -> list[tuple[str, Path]]:
+    """Every file a sweep to ``out`` writes, as ``(name, path)``: the table, its checkpoint, its sidecar."""
+    p = Path(out)
+    return [("out", p), ("checkpoint", checkpoint_path(p)), ("sidecar", p.with_name(p.name + ".json"))]
+
+
+def check_outputs(out: str | os.PathLike[str], *, grid: bool, resume: bool, force: bool, existing: bool = True) -> None:
+    """Validate a sweep's outputs before any work: the suffix (``.nc`` needs a grid), every file a
+    regular file or absent in a writable folder; without ``resume``, an existing table needs
+    ``force`` and an existing checkpoint needs ``resume`` or ``force``. ValueError naming ``out``.
+
+    ``existing=False`` checks only what another writer cannot change (suffix, names, folder, kinds):
+    the check before the output lock is taken; the full check follows under the lock."""
+    from rrbody.model.io import check_writable
+
+    p = Path(out)
+    if p.suffix not in (".csv", ".nc"):
+        raise ValueError(f"out must end in .csv or .nc, got {str(p)!r}")
+    if p.suffix == ".nc" and not grid:
+        raise ValueError("out: NetCDF output needs mode='grid'; use .csv for lists")
+    if resume and force:
+        raise ValueError("resume and force contradict each other: resume continues the checkpoint, force discards "
+                         "it and starts afresh; give one of them")
+    for name, f in output_files(p):
+        check_writable(f, force=resume or force or name != "out" or not existing,
+                       name="out" if name == "out" else f"out: {name}")
+    ck = checkpoint_path(p)
+    if existing and not (resume or force) and ck.exists():
+        raise ValueError(f"out: checkpoint {str(ck)!r} exists from an earlier run; pass resume=True (--resume) to "
+                         "continue it or force=True (--force) to start afresh")
 
 
 def read_checkpoint(path: Path, spec: dict[str, Any]) -> dict[int, dict[str, Any]]:
@@ -64,6 +109,39 @@ def read_checkpoint(path: Path, spec: dict[str, Any]) -> dict[int, dict[str, Any
 
         atomic_write_text(path, clean, force=True, name="checkpoint")
     return rows
+
+
+def stream_checkpoint(path: Path, spec: dict[str, Any], results: Iterable[list[dict[str, Any]]],
+                      done: dict[int, dict[str, Any]]) -> Iterator[int]:
+    """Append every batch of rows of ``results`` to the checkpoint ``path`` (created, atomically, with
+    the header ``spec`` if absent), flushed and fsync'ed per batch; ``done`` gains the rows; yields
+    each batch's size once it is on disk. An OSError of a write names ``path`` (its ``filename``)."""
+    from rrbody.model.io import atomic_write_text
+
+    if not path.exists():
+        atomic_write_text(path, json.dumps(spec) + "\n", force=True, name="checkpoint")
+    try:  # unbuffered: one write per batch, nothing left to flush (and fail) at close
+        fd = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CLOEXEC)
+    except OSError as e:
+        raise _named(e, path) from None
+    try:
+        for rows in results:
+            data = "".join(json.dumps(r) + "\n" for r in rows).encode()
+            try:
+                while data:
+                    data = data[os.write(fd, data):]
+                os.fsync(fd)
+            except OSError as e:
+                raise _named(e, path) from None
+            done.update((int(r["i"]), r) for r in rows)
+            yield len(rows)
+    finally:
+        os.close(fd)
+
+
+def _named(e: OSError, path: Path) -> OSError:
+    """``e`` with ``path`` as its file name (a write on an open file does not name it)."""
+    return e if e.filename else type(e)(e.errno, e.strerror, str(path))
 
 
 def columns(sweep: Any) -> list[str]:
@@ -157,9 +235,10 @@ def _nc_engine() -> str:
 
 
 def count_rows(path: Path) -> int:
-    """Finished points in a checkpoint (for the message after an interruption)."""
+    """Finished points in a checkpoint (for the message after an interruption or a fault): complete
+    lines only, since a write cut short (a kill, a full disk) leaves a last line without its newline."""
     try:
-        with open(path) as fh:
-            return max(0, sum(1 for ln in fh if ln.strip()) - 1)
+        with open(path, "rb") as fh:
+            return max(0, sum(1 for ln in fh if ln.endswith(b"\n") and ln.strip()) - 1)
     except OSError:
         return 0

@@ -12,14 +12,17 @@ from __future__ import annotations
 import argparse
 import difflib
 import math
+import re
 import sys
 from collections.abc import Callable, Sequence
 from typing import Any, NoReturn
 
+from rrbody.model.angles import parse_number
 from rrbody.model.checks import LIMITS, check
 
-__all__ = ["CliError", "Parser", "OPTION_PARAMS", "number", "angle", "float_list", "option_help", "check_options",
-           "option_message", "preprocess_argv", "suggest", "commands", "parse", "_angle", "_finite", "_float_list"]
+__all__ = ["CliError", "Parser", "OPTION_PARAMS", "number", "integer", "angle", "float_list", "option_help",
+           "check_options", "option_message", "preprocess_argv", "suggest", "commands", "subparser", "parse",
+           "check_repeats", "given", "plain_text", "_angle", "_finite", "_float_list"]
 
 
 class CliError(ValueError):
@@ -37,6 +40,22 @@ class Parser(argparse.ArgumentParser):
 
     def error(self, message: str) -> NoReturn:
         raise CliError(_rewrite_argparse(message))
+
+    def format_help(self) -> str:
+        """The help with reST markup made plain: descriptions and help texts may come from docstrings,
+        whose ``code`` and :func:`roles` a terminal would show raw."""
+        return plain_text(super().format_help())
+
+
+_ROLE = re.compile(r":[a-z]+(?::[a-z]+)?:`~?([^`]+)`")
+_DOUBLE = re.compile(r"``(.+?)``", re.S)  # help text is wrapped: a literal may span a line break
+_SINGLE = re.compile(r"`([^`\n]+)`")
+
+
+def plain_text(text: str) -> str:
+    """``text`` without reST markup: roles (:func: and the like) and double backquotes are dropped, a
+    single-backquoted word is put in plain quotes."""
+    return _SINGLE.sub(r"'\1'", _DOUBLE.sub(r"\1", _ROLE.sub(r"\1", text)))
 
 
 def _rewrite_argparse(message: str) -> str:
@@ -65,7 +84,7 @@ _PARAM_OPTIONS: dict[str, str] = {**{p: o for o, p in OPTION_PARAMS.items()}, "R
                                   "friction": "--friction", "friction_method": "--friction-method",
                                   "orientation": "--orientation", "accuracy": "--accuracy", "method": "--method",
                                   "quantity": "--quantity", "batch": "--batch", "resume": "--resume",
-                                  "n_scan": "--n-scan", "stepper": "--stepper"}
+                                  "n_scan": "--n-scan", "stepper": "--stepper", "scheduler": "--scheduler"}
 
 
 def option_help(param: str, text: str, default: object = None) -> str:
@@ -81,25 +100,32 @@ def _valid(option: str) -> str:
 
 
 def number(option: str) -> Callable[[str], float]:
-    """argparse type: a finite float (range checks come later, from the model's table)."""
+    """argparse type: a finite float written as a decimal literal, finite as written (``1e400`` is
+    refused, not read as inf) and not a nonzero literal that underflows to 0 (``1e-400``); range
+    checks come later, from the model's table."""
     def parse(text: str) -> float:
         try:
-            v = float(text)
-        except ValueError:
-            v = math.nan
-        if not math.isfinite(v):
-            raise argparse.ArgumentTypeError(f"{option} must be a finite number{_valid(option)}, got {text!r}")
-        return v
+            return parse_number(text, name=option, valid=_valid(option))
+        except ValueError as e:
+            raise argparse.ArgumentTypeError(str(e)) from None
 
     parse.__name__ = "number"
     return parse
 
 
+_INT = re.compile(r"^\s*[+-]?\d+\s*$", re.ASCII)
+
+
 def integer(option: str) -> Callable[[str], int]:
     """argparse type: an integer written as one (``1e3`` and ``1.0`` count, ``1.5`` does not)."""
     def parse(text: str) -> int:
+        if _INT.match(text):
+            try:
+                return int(text)  # exact, however many digits (up to Python's limit)
+            except ValueError:
+                pass
         try:
-            v = float(text)
+            v = parse_number(text, name=option)
         except ValueError:
             v = math.nan
         if not (math.isfinite(v) and v.is_integer()):
@@ -133,16 +159,22 @@ def float_list(option: str, n: int) -> Callable[[str], tuple[float, ...]]:
     """argparse type: ``n`` comma-separated finite numbers."""
     def parse(text: str) -> tuple[float, ...]:
         parts = [s for s in text.replace(" ", "").split(",") if s]
-        try:
-            vals = tuple(float(s) for s in parts)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{option} must be {n} comma-separated numbers, got {text!r}") from None
-        if len(vals) != n or not all(math.isfinite(v) for v in vals):
+        if len(parts) != n:
             raise argparse.ArgumentTypeError(f"{option} must be {n} finite comma-separated numbers, got {text!r}")
-        return vals
+        try:
+            return tuple(parse_number(s, name=option) for s in parts)
+        except ValueError as e:
+            raise argparse.ArgumentTypeError(f"{option} must be {n} finite comma-separated numbers, got {text!r}"
+                                             f"{_reason(str(e))}") from None
 
     parse.__name__ = "list"
     return parse
+
+
+def _reason(message: str) -> str:
+    """The ': why' tail of a parse_number message ('' when there is none)."""
+    head, sep, tail = message.rpartition("': ")
+    return f": {tail}" if sep else ""
 
 
 # names kept for callers of the old helpers
@@ -162,8 +194,20 @@ def check_options(args: argparse.Namespace, options: Sequence[str]) -> None:
             check(param, x, label=opt)
 
 
+#: a library hint ``force=True`` (also ``force=True / --force``, ``resume=True (--resume)``)
+_KEYWORD = re.compile(r"\b([a-z_]+)=True(?: \((--[a-z-]+)\)| / (--[a-z-]+))?")
+
+
+def shell_words(msg: str) -> str:
+    """A library message's Python hints in the words of the command line: ``pass force=True`` becomes
+    ``pass --force`` (a shell user has no keyword arguments)."""
+    return _KEYWORD.sub(lambda m: m[2] or m[3] or "--" + m[1].replace("_", "-"), msg)
+
+
 def option_message(msg: str, *, extended: bool = False) -> str:
-    """Rewrite a library message '<name> must ...' so that it names the CLI option."""
+    """Rewrite a library message '<name> must ...' so that it names the CLI option (and says --force
+    where the library says force=True)."""
+    msg = shell_words(msg)
     for name in sorted(_PARAM_OPTIONS, key=len, reverse=True):
         for sep in (" ", ": "):
             if msg.startswith(name + sep):
@@ -204,7 +248,8 @@ def preprocess_argv(parser: argparse.ArgumentParser, argv: list[str]) -> list[st
     return out
 
 
-def _subparser(parser: argparse.ArgumentParser, name: str | None) -> argparse.ArgumentParser | None:
+def subparser(parser: argparse.ArgumentParser, name: str | None) -> argparse.ArgumentParser | None:
+    """The parser of subcommand ``name`` (None if there is none)."""
     for a in parser._actions:  # argparse has no public accessor for its subparsers
         if isinstance(a, argparse._SubParsersAction):
             return a.choices.get(name) if name else None
@@ -219,8 +264,8 @@ def commands(parser: argparse.ArgumentParser) -> list[str]:
     return []
 
 
-def _check_repeats(sp: argparse.ArgumentParser, argv: list[str]) -> None:
-    """A single-valued option given twice is an error, not 'the last one wins' in silence."""
+def check_repeats(sp: argparse.ArgumentParser, argv: list[str]) -> None:
+    """A single-valued option given twice in ``argv`` is an error, not 'the last one wins' in silence."""
     once = {o: a for a in sp._actions for o in a.option_strings
             if not isinstance(a, (argparse._AppendAction, argparse._HelpAction))}
     seen: set[int] = set()  # ids of the actions already set
@@ -239,11 +284,11 @@ def parse(parser: argparse.ArgumentParser, argv: list[str], *, repeats: bool = F
     if argv and not argv[0].startswith("-") and argv[0] not in commands(parser):
         raise CliError(f"unknown command {argv[0]!r}{suggest(argv[0], commands(parser))}; "
                        f"commands: {', '.join(commands(parser))}")
-    sp = _subparser(parser, argv[0]) if argv else None
+    sp = subparser(parser, argv[0]) if argv else None
     if sp is not None:
         argv = [argv[0], *preprocess_argv(sp, argv[1:])]
         if not repeats:
-            _check_repeats(sp, argv[1:])
+            check_repeats(sp, argv[1:])
     args, extra = parser.parse_known_args(argv)
     unknown = [x for x in extra if x.startswith("-")] or extra
     if unknown:
@@ -251,4 +296,14 @@ def parse(parser: argparse.ArgumentParser, argv: list[str], *, repeats: bool = F
         word = unknown[0].split("=")[0]
         raise CliError(f"unknown option {word}{suggest(word, opts)}" if word.startswith("-")
                        else f"unexpected argument {word!r}")
+    if sp is not None:
+        names = {o: a.option_strings[-1] for a in sp._actions for o in a.option_strings}
+        args._given = frozenset(names[t.split("=", 1)[0]] for t in argv[1:] if t.split("=", 1)[0] in names)
     return args
+
+
+def given(args: argparse.Namespace, option: str) -> bool:
+    """True when ``option`` (as ``--name``) was typed, on the command line or in a batch line, whatever its
+    value: a default and an explicit value equal to it differ here (``--g 9.81`` with ``--k`` is a
+    contradiction, leaving ``--g`` out is not)."""
+    return option in getattr(args, "_given", ())

@@ -22,8 +22,8 @@ from rrbody._version import __version__
 from rrbody.cli.args import CliError, Parser, angle, check_options, commands, number, option_help, option_message, \
     parse
 from rrbody.cli.cache import add_parser as add_cache_parser
-from rrbody.cli.options import (add_accuracy_options, add_integrator_options, add_scene_options, scene_from_args,
-                                stepper_option)
+from rrbody.cli.options import (add_accuracy_options, add_integrator_options, add_scene_options,
+                                check_contradictions, scene_from_args, stepper_option)
 
 __all__ = ["main", "entry", "build_parser", "scene_from_args", "run_command"]
 
@@ -48,23 +48,51 @@ def _progress(args: argparse.Namespace) -> bool:
 
 
 # ---- subcommands -----------------------------------------------------------------------------
-def cmd_simulate(args: argparse.Namespace) -> int:
-    from rrbody.model.io import check_writable
+#: simulate's outputs: option -> (the suffix its writer needs, what the file holds)
+SIMULATE_OUTPUTS = {"--out": ("", "trajectory CSV"), "--movie": (".mp4", "movie"),
+                    "--rerun": (".rrd", "rerun recording")}
 
-    scene = scene_from_args(args, required=("--t-max",))
+
+def _check_outputs(args: argparse.Namespace) -> dict[str, str]:
+    """simulate's output paths by option, each checked before anything runs or is written: writable
+    (a regular file or absent, not empty, not too long), the suffix its writer needs, no two of them
+    one file, none of them the batch input being read."""
+    from rrbody.model.io import check_distinct, check_writable
+
+    paths = {opt: getattr(args, opt[2:]) for opt in SIMULATE_OUTPUTS if getattr(args, opt[2:], None) is not None}
+    for opt, path in paths.items():
+        check_writable(path, force=args.force, name=opt)
+        suffix = SIMULATE_OUTPUTS[opt][0]
+        if suffix and not str(path).lower().endswith(suffix):  # the renderer's rule, checked before the run
+            raise CliError(f"{opt} must end in {suffix}, got {path!r}")
+    batch_input = getattr(args, "batch_input", None)
+    check_distinct(paths, {"--batch": batch_input} if batch_input else {})
+    return paths
+
+
+def cmd_simulate(args: argparse.Namespace) -> int:
     check_options(args, ("--dt-out", "--fps", "--movie-speed"))
+    scene = scene_from_args(args, required=("--t-max",))
     stepper = stepper_option(args)
-    for opt, suffix in (("out", ""), ("movie", ".mp4"), ("rerun", ".rrd")):
-        path = getattr(args, opt, None)
-        if path:
-            check_writable(path, force=args.force, name=f"--{opt}")
-            if suffix and not str(path).lower().endswith(suffix):  # the renderer's rule, checked before the run
-                raise CliError(f"--{opt} must end in {suffix}, got {path!r}")
+    paths = _check_outputs(args)
     pictures = bool(args.movie or args.rerun or args.rerun_spawn)
     if pictures:  # a missing extra is reported before anything runs or is written
         from rrbody.render import check_extras
 
         check_extras(movie=bool(args.movie), rerun=bool(args.rerun or args.rerun_spawn))
+    from rrbody.model.io import check_writable
+    from rrbody.model.outlock import claimed
+
+    # one writer per output: another rrbody process aiming at one of these paths is refused here, before
+    # the run (the lock is held until the outputs are written)
+    with claimed(paths.items()):
+        for opt, path in paths.items():  # what changed between the checks above and the claim
+            check_writable(path, force=args.force, name=opt)
+        return _simulate(args, scene, stepper, pictures)
+
+
+def _simulate(args: argparse.Namespace, scene: Any, stepper: dict[str, str], pictures: bool) -> int:
+    """The run and the writing of simulate, its outputs checked and claimed."""
     from rrbody.analysis.simulate import simulate
 
     opts: dict[str, Any] = {"max_steps": args.max_steps}
@@ -76,7 +104,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     if "warning" in traj.meta:
         print(f"rrbody simulate: warning: {traj.meta['warning']}; the trajectory is partial", file=sys.stderr)
     written: dict[str, str] = {}
-    if args.out:
+    if args.out is not None:
         written["out"] = str(traj.save(args.out, force=args.force))
     flip = None
     if pictures:  # the flip shown is flip_time over the whole run, never the lowest phi of this span
@@ -111,7 +139,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     if flip is not None:
         text += f"\npictures: {flip.caption(float(traj.t[0]), float(traj.t[-1]))}"
     for k, v in written.items():
-        text += f"\nwrote {k}: {v}"
+        text += f"\nwrote {v} ({SIMULATE_OUTPUTS['--' + k][1]})"
     emit(args, summary, text)
     return 0
 
@@ -148,8 +176,7 @@ def cmd_critical_h(args: argparse.Namespace) -> int:
                if v is None and not (o.startswith("--k") and args.friction == "none")]
     if missing:
         raise CliError(f"missing required options: {', '.join(missing)}")
-    if args.k is not None and args.mu is not None:
-        raise CliError("--k and --mu are alternatives: give one of them")
+    check_contradictions(args)
     from rrbody.analysis.flip import critical_h
     from rrbody.model.friction import Friction
 
@@ -202,7 +229,9 @@ def _batch_option(p: argparse.ArgumentParser, what: str) -> None:
     p.add_argument("--batch", metavar="FILE", default=None,
                    help=f"read one JSON object of options per line from FILE ('-': stdin), e.g. "
                         f"{{\"H\": 0.2, \"k\": 0.05, \"omega\": 0.6}}; write one JSON {what} per line, in order "
-                        "(options on the command line are defaults for every line)")
+                        "(options on the command line are defaults for every line). A line obeys the command "
+                        "line's rules (one value per option, of its type, each option once), must be UTF-8 and "
+                        "at most 1 MiB; a bad line gives {\"error\": ..., \"line\": N} and the others still run")
 
 
 def build_parser() -> Parser:
@@ -271,6 +300,7 @@ def build_parser() -> Parser:
 
     add_sweep_parser(sub)
     add_report_parser(sub)
+    add_cache_parser(sub)
 
     dm = sub.add_parser("demo", help="the main job (what `make demo` runs): Movie S1",
                         description="Run the Movie S1 scene: movies/movie_s1.mp4 and results/movie-s1/. No options.")

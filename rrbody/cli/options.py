@@ -7,11 +7,12 @@ import argparse
 import math
 from typing import Any
 
-from rrbody.cli.args import CliError, angle, check_options, float_list, integer, number, option_help, option_message
+from rrbody.cli.args import (CliError, angle, check_options, float_list, given, integer, number, option_help,
+                             option_message)
 from rrbody.model.scene import FRICTION_METHODS
 
-__all__ = ["add_scene_options", "add_integrator_options", "add_accuracy_options", "scene_from_args", "scene_params", "SCENE_OPTIONS",
-           "INTEGRATOR_OPTIONS", "STEPPERS", "stepper_option"]
+__all__ = ["add_scene_options", "add_integrator_options", "add_accuracy_options", "scene_from_args", "scene_params",
+           "SCENE_OPTIONS", "INTEGRATOR_OPTIONS", "STEPPERS", "stepper_option", "check_contradictions"]
 
 #: the numeric scene options (each names a parameter of the model's table)
 SCENE_OPTIONS = ("--H", "--l", "--R0", "--delta", "--omega", "--d", "--k", "--mu", "--g", "--phi0", "--phi-dot0",
@@ -104,6 +105,57 @@ def stepper_option(a: argparse.Namespace) -> dict[str, str]:
     return {"stepper": stepper}
 
 
+def _value(a: argparse.Namespace, dest: str) -> Any:
+    """The parsed value of ``dest`` (None where the command has no such option)."""
+    return getattr(a, dest, None)
+
+
+def check_contradictions(a: argparse.Namespace) -> None:
+    """Refuse options that contradict each other, naming both: an option whose value would be ignored
+    in silence because of another one (``--friction none`` with ``--k``). Only options typed count
+    (:func:`rrbody.cli.args.given`), not defaults; each rule applies where the command has both options.
+    Raises CliError."""
+    def both(x: str, y: str, why: str, fix: str) -> CliError:
+        return CliError(f"{x} and {y} contradict each other: {why}; {fix}")
+
+    friction = _value(a, "friction")
+    if friction == "none" and given(a, "--friction"):
+        for opt in ("--k", "--mu", "--g"):
+            if given(a, opt):
+                raise both("--friction none", opt, f"without friction {opt} has no effect",
+                           f"drop {opt} or choose --friction dry or viscous")
+    if given(a, "--k") and given(a, "--mu"):
+        raise both("--k", "--mu", "they are alternatives (k = mu g / d)", "give one of them")
+    if given(a, "--g") and not given(a, "--mu"):
+        raise CliError("--g applies only with --mu (k = mu g / d); with --k, or with neither, it has no effect: "
+                       "drop --g or give --mu")
+    method = _value(a, "method")
+    if method == "ode":
+        for opt in ("--dt", "--iterations"):
+            if given(a, opt):
+                raise both(opt, "--method ode", "the ODE path chooses its own steps",
+                           f"drop {opt} or use --method engine")
+    elif method == "engine":
+        for opt in ("--rtol", "--accuracy"):
+            if given(a, opt):
+                raise both(opt, "--method engine", "the engine steps with a fixed --dt",
+                           f"drop {opt} or use --method ode")
+    body = _value(a, "body")
+    for opt, kinds in (("--R0", ("disk", "ellipse")), ("--delta", ("ellipse",))):
+        if body is not None and body not in kinds and given(a, opt):
+            raise both(opt, f"--body {body}" + ("" if given(a, "--body") else " (the default)"),
+                       f"{opt} applies to --body {' or '.join(kinds)} only", f"drop {opt} or choose --body {kinds[-1]}")
+    if _value(a, "no_drive") is False:
+        for opt in ("--v0", "--spin0"):
+            if given(a, opt):
+                raise CliError(f"{opt} applies to a free body only (with --no-drive); a driven body starts from "
+                               f"--phi0 and --phi-dot0: drop {opt} or add --no-drive")
+    if hasattr(a, "movie") and not _value(a, "movie"):
+        for opt in ("--fps", "--movie-speed", "--movie-arrows"):
+            if given(a, opt):
+                raise CliError(f"{opt} applies only with --movie: add --movie FILE.mp4 or drop {opt}")
+
+
 def scene_params(a: argparse.Namespace) -> dict[str, Any]:
     """The parsed scene options as keyword arguments of scene_from_params (None: not given)."""
     keys = ("body", "H", "l", "R0", "delta", "orientation", "omega", "d", "k", "mu", "g", "friction", "phi0",
@@ -121,6 +173,7 @@ def scene_from_args(a: argparse.Namespace, *, required: tuple[str, ...] = ()) ->
     from rrbody.model.scene import scene_from_params
 
     check_options(a, [o for o in (*SCENE_OPTIONS, *INTEGRATOR_OPTIONS) if hasattr(a, o[2:].replace("-", "_"))])
+    check_contradictions(a)
     missing = [o for o in required if getattr(a, o[2:].replace("-", "_"), None) is None]
     try:
         scene = scene_from_params(**scene_params(a))

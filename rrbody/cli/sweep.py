@@ -2,9 +2,12 @@
 
 The scene options are those of ``simulate`` and ``flip-time`` (any body: ``--body rod|disk|ellipse``,
 ``--R0``, ``--delta``, ``--l``, free bodies with ``--no-drive``); ``--axis NAME=...`` varies any
-numeric one. Everything (options, every axis value, the output path, ``--workers``) is checked
-before any work starts or any file is written. This module imports the sweep engine only when the
-command runs, so other commands never load it.
+numeric one. Everything (options, every axis value, options that contradict each other, the output
+path and whether another process is writing it, ``--workers``, the scheduler's address and that it
+answers) is checked before any work starts or any file is written: bad input is one line, exit 2. A
+fault (a worker process that dies, a lost Dask scheduler, a full disk) is one line too, exit 1,
+saying how many points are saved and the exact command that finishes the sweep (``--resume``).
+This module imports the sweep engine only when the command runs, so other commands never load it.
 """
 
 from __future__ import annotations
@@ -12,12 +15,15 @@ from __future__ import annotations
 import argparse
 import inspect
 import json
+import logging
 import math
+import shlex
 import sys
 from typing import Any
 
-from rrbody.cli.args import CliError, check_options, integer, number, option_help, option_message, suggest
-from rrbody.cli.options import SCENE_OPTIONS, add_accuracy_options, add_scene_options, scene_params
+from rrbody.cli.args import CliError, check_options, given, integer, number, option_help, option_message, suggest
+from rrbody.cli.options import SCENE_OPTIONS, add_accuracy_options, add_scene_options, check_contradictions, \
+    scene_params
 
 __all__ = ["add_parser", "cmd_sweep", "QUANTITY_NAMES"]
 
@@ -28,10 +34,11 @@ _ALWAYS = ("phi0", "d", "friction")  # written into every sweep's base, as befor
 
 def _values(name: str, text: str) -> list[float]:
     """Axis values: a list v1,v2,... or start:stop:num[:log]; angle expressions for phi0."""
-    from rrbody.model.angles import parse_angle
+    from rrbody.model.angles import parse_angle, parse_number
 
     def num(t: str) -> float:
-        return parse_angle(t, name=name) if name == "phi0" else float(t)
+        # finite at every step, as on the command line (1e400 is refused, not read as inf)
+        return parse_angle(t, name=name) if name == "phi0" else parse_number(t, name=f"--axis {name}")
 
     if ":" in text:
         parts = text.split(":")
@@ -101,16 +108,59 @@ def add_parser(sub: Any) -> None:
     g.add_argument("--tol", type=number("--tol"), default=None, help=option_help("tol", "critical_h tolerance on H"))
     o = s.add_argument_group("output and execution")
     o.add_argument("--out", required=True, help="output .csv or .nc (2-D grids); a regular file or absent")
-    o.add_argument("--resume", action="store_true", help="continue an interrupted sweep from its checkpoint")
-    o.add_argument("--force", action="store_true", help="overwrite an existing output (regular file) / start afresh")
-    o.add_argument("--scheduler", default=None, help="Dask scheduler address, e.g. tcp://127.0.0.1:8786")
+    o.add_argument("--resume", action="store_true", help="continue an interrupted sweep from its checkpoint "
+                                                         "(not with --force)")
+    o.add_argument("--force", action="store_true", help="overwrite an existing output (regular file) / start afresh "
+                                                        "(never an output another rrbody process is writing)")
+    o.add_argument("--scheduler", default=None, help="Dask scheduler address, e.g. tcp://127.0.0.1:8786 (its form, "
+                                                     "then that it answers, checked before anything is written)")
     o.add_argument("--workers", type=integer("--workers"), default=None,
                    help=option_help("workers", "local processes (default: the core count; never more than the "
                                                "batches; a warning above the core count)"))
     o.add_argument("--batch-size", type=integer("--batch-size"), default=None,
                    help=option_help("batch_size", "points per task (default: ~4 tasks per process, <= 256)"))
     o.add_argument("--json", action="store_true", help="print one JSON object (out, points, shape)")
-    s.set_defaults(func=cmd_sweep)
+    # the options in the order of --help, for the --resume command a fault prints
+    options = tuple((a.dest, a.option_strings[-1], a.nargs == 0) for a in s._actions
+                    if a.option_strings and a.dest != "help")
+    s.set_defaults(func=cmd_sweep, _sweep_options=options)
+
+
+def _resume_command(args: argparse.Namespace) -> str:
+    """The command that finishes this sweep: the options typed, --force dropped, --resume added."""
+    def text(v: Any) -> str:
+        if isinstance(v, (tuple, list)):
+            return ",".join(text(x) for x in v)
+        return repr(v) if isinstance(v, float) else str(v)
+
+    words = ["rrbody", "sweep"]
+    for dest, opt, flag in getattr(args, "_sweep_options", ()):
+        if not given(args, opt) or dest in ("force", "resume"):
+            continue
+        v = getattr(args, dest)
+        for one in (v if dest == "axis" else [v]):
+            if flag:
+                words.append(opt)
+            else:
+                t = text(one)
+                words += [f"{opt}={t}"] if t.startswith("-") else [opt, t]
+    return shlex.join([*words, "--resume"])
+
+
+def _contradictions(args: argparse.Namespace, axes: dict[str, Any]) -> None:
+    """Options that cannot both hold, named both: --resume with --force; an option typed that is also a
+    swept axis; and those of every scene command (:func:`check_contradictions`), where an axis counts
+    as its option typed (``--friction none`` with ``--axis k=...`` ignores the axis as it would ``--k``)."""
+    if args.resume and args.force:
+        raise CliError("--resume and --force contradict each other: --resume continues the checkpoint, --force "
+                       "discards it and starts afresh; give one of them")
+    opts = {name: "--" + name.replace("_", "-") for name in axes}
+    for name, opt in opts.items():
+        if given(args, opt):
+            raise CliError(f"{opt} and --axis {name}=... contradict each other: the axis sets {name} at every "
+                           f"point; drop {opt} or the axis")
+    typed = frozenset(getattr(args, "_given", ())) | set(opts.values())
+    check_contradictions(argparse.Namespace(**{**vars(args), "_given": typed}))
 
 
 def _base(args: argparse.Namespace, axes: dict[str, Any]) -> dict[str, Any]:
@@ -128,10 +178,21 @@ def _base(args: argparse.Namespace, axes: dict[str, Any]) -> dict[str, Any]:
     return base
 
 
+def _quiet_dask() -> None:
+    """Silence Dask's loggers: it logs a lost connection as tracebacks on stderr, and the command
+    reports the fault in one line. Importing it here reports a missing extra before any file."""
+    import distributed  # noqa: F401
+
+    for name in ["distributed", *logging.root.manager.loggerDict]:
+        if name == "distributed" or name.startswith("distributed."):  # several have their own level
+            logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+
+
 def cmd_sweep(args: argparse.Namespace) -> int:
     """Handler of ``rrbody sweep``."""
     check_options(args, (*SCENE_OPTIONS, "--rtol", "--t-max", "--tol", "--workers", "--batch-size"))
     axes = parse_axes(args.axis)
+    _contradictions(args, axes)
     base = _base(args, axes)
     options: dict[str, Any] = {"accuracy": args.accuracy}
     if args.rtol is not None:
@@ -140,7 +201,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         options["t_max"] = args.t_max
     if args.tol is not None and args.quantity == "critical_h":
         options["tol"] = args.tol
-    from rrbody.analysis.sweep import Sweep, SweepStopped, run_sweep
+    from rrbody.analysis.sweep import Sweep, SweepFault, SweepStopped, run_sweep
     from rrbody.model.checks import MissingParameters
 
     extended = args.body != "rod"
@@ -157,6 +218,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             name, _, rest = msg[5:].partition(": ")
             raise CliError(f"--axis {name}: {option_message(rest, extended=extended)}") from None
         raise CliError(option_message(msg, extended=extended)) from None
+    if args.scheduler is not None:
+        _quiet_dask()
     try:
         out = run_sweep(sweep, args.out, resume=args.resume, force=args.force, scheduler=args.scheduler,
                         workers=args.workers, batch_size=args.batch_size,
@@ -165,6 +228,10 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         print(f"rrbody sweep: interrupted: {e.done} of {e.total} points are saved in {str(e.checkpoint)!r}; "
               "run the same command with --resume to compute the rest", file=sys.stderr)
         return 130
+    except SweepFault as e:
+        print(f"rrbody sweep: error: {e.what}; {e.done} of {e.total} points are saved in {str(e.checkpoint)!r}; "
+              f"finish with: {_resume_command(args)}", file=sys.stderr)
+        return 1
     except ValueError as e:
         raise CliError(option_message(str(e), extended=extended)) from None
     if args.json:

@@ -26,6 +26,8 @@ about the centre of gravity / area, m^2), V0, V1 (vertex rows of ``geo``), Q0, Q
 rows); POINT: the load at (CX, CY); SAMPLED: Q0, Q1 (rows (x, y, weight) of ``geo``, weights sum 1).
 ``geo``: polygon vertices (x, y, 0), far-field rules and samples (x, y, w).
 ``lookup``: row 0 the plugin bodies' ids (int64 view of pymunk's uintptr ids) sorted, row 1 their rows.
+``cache`` (int64, rows ROWMAP, ROW_ID, STATUS): the plugin row of each row of the space's bulk read,
+the id it was found for, and what the last check found (see :func:`plane_check`).
 """
 
 from __future__ import annotations
@@ -138,6 +140,48 @@ def _find(lookup: np.ndarray, key: np.int64) -> int:
     return -1
 
 
+#: rows of ``cache`` (int64, 3 x at least max(N_STATUS, bodies in the space)): the plugin row of each row of
+#: the space's bulk read (-1: not a plugin body), the id it was found for, and the last check's status
+ROWMAP, ROW_ID, STATUS = 0, 1, 2
+#: STATUS entries: plugin bodies found in the space, plugin bodies with a non-finite state, and the
+#: ``got`` row of the first of them (-1 if none)
+SEEN, BAD, FIRST_BAD = 0, 1, 2
+N_STATUS = 3
+
+
+@njit(cache=True)
+def plane_check(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.ndarray, n_plugin: int) -> bool:
+    """Map every body of the space to its plugin row and check the plugin bodies' state; True if the
+    step may go on: every plugin body is in the space (``n_plugin`` of them) and its angle, velocity
+    and spin (``got`` columns 0-3) are finite. Changes nothing but ``cache``.
+
+    ``cache[ROWMAP, i]`` is the plugin row of ``got`` row i, valid while ``cache[ROW_ID, i] == ids[i]``:
+    the binary search runs only for rows whose body changed (the space's order is stable between
+    steps), and the caller zeroes row ROW_ID whenever ``lookup`` changes (ids are pointers, never 0)."""
+    rowmap = cache[ROWMAP]
+    seen = cache[ROW_ID]
+    n_seen = 0
+    n_bad = 0
+    first = -1
+    for i in range(got.shape[0]):
+        key = ids[i]
+        if seen[i] != key:
+            rowmap[i] = _find(lookup, key)
+            seen[i] = key
+        if rowmap[i] < 0:
+            continue
+        n_seen += 1
+        if not (math.isfinite(got[i, 0]) and math.isfinite(got[i, 1]) and math.isfinite(got[i, 2])
+                and math.isfinite(got[i, 3])):
+            n_bad += 1
+            if first < 0:
+                first = i
+    cache[STATUS, SEEN] = n_seen
+    cache[STATUS, BAD] = n_bad
+    cache[STATUS, FIRST_BAD] = first
+    return n_bad == 0 and n_seen == n_plugin
+
+
 @njit(cache=True)
 def _driver(j: int, bodies: np.ndarray, t: float, dt: float) -> None:
     """The kinematic driver's position and velocity for the step from t to t + dt (s): its position
@@ -166,23 +210,30 @@ def _driver(j: int, bodies: np.ndarray, t: float, dt: float) -> None:
 
 
 @njit(cache=True)
-def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, bodies: np.ndarray, shapes: np.ndarray,
-               geo: np.ndarray, t: float, dt: float, out: np.ndarray) -> int:
+def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.ndarray, bodies: np.ndarray,
+               shapes: np.ndarray, geo: np.ndarray, t: float, dt: float, out: np.ndarray) -> int:
     """One step of plane friction for every plugin body in a space, from the plugin's time t (s).
 
     ``got`` has a row per body of the space (pymunk.batch order: angle, vx, vy, w, fx, fy, torque),
-    ``ids`` their ids. Writes the forces and torques to apply into ``out`` (rows fx, fy, torque: the
-    user's own plus friction), flags the bodies the rest rule acts on (column STOP) and returns their
-    count. Velocities are read as belonging to the half step (the staggered scheme of
-    docs/engine.md): friction acts at the predicted angle alpha + w dt with the velocity extrapolated
-    from the last two steps.
+    ``ids`` their ids. First :func:`plane_check`: if a plugin body is missing from the space or its
+    state is not finite, returns -1 having changed nothing but ``cache`` (-2, having changed nothing,
+    if ``cache`` has fewer columns than the space has bodies). Otherwise writes the forces and torques
+    to apply into ``out`` (rows fx, fy, torque: the user's own plus friction), flags the bodies the
+    rest rule acts on (column STOP) and returns their count. Velocities are read as belonging to the
+    half step (the staggered scheme of docs/engine.md): friction acts at the predicted angle
+    alpha + w dt with the velocity extrapolated from the last two steps.
     """
+    if got.shape[0] > cache.shape[1]:
+        return -2  # the caller enlarges the cache and calls again
+    if not plane_check(got, ids, lookup, cache, bodies.shape[0]):
+        return -1
+    rowmap = cache[ROWMAP]
     n_stop = 0
     for i in range(got.shape[0]):
         out[i, 0] = got[i, 4]
         out[i, 1] = got[i, 5]
         out[i, 2] = got[i, 6]
-        j = _find(lookup, ids[i])
+        j = rowmap[i]
         if j < 0:
             continue
         was = bodies[j, STOP]
@@ -236,15 +287,16 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, bodies: np.
     return n_stop
 
 
-def fast_entry(dispatcher: Any, *args: Any) -> Any:
-    """Call ``dispatcher(*args)`` once and return the compiled entry point for these argument types.
+def fast_entry(dispatcher: Any, *args: Any) -> tuple[Any, Any]:
+    """Call ``dispatcher(*args)`` once; return the compiled entry point for these argument types and
+    the call's result.
 
     Calling the entry point skips numba's per-call type dispatch (about 0.3 us of the ~1 us a
     many-argument call costs, measured); the arrays passed later must have the same types. Falls
     back to the dispatcher itself if numba's internals differ."""
-    dispatcher(*args)
+    result = dispatcher(*args)
     try:
         sig = tuple(dispatcher.typeof_pyval(a) for a in args)
-        return dispatcher.overloads[sig].entry_point
+        return dispatcher.overloads[sig].entry_point, result
     except (AttributeError, KeyError, TypeError):  # pragma: no cover - numba internals
-        return dispatcher
+        return dispatcher, result

@@ -13,7 +13,7 @@ segments with a radius, several per body) under a uniform normal pressure m g / 
 circles (instantaneous-centre quadrature) and convex polygons (:mod:`rrbody.physics.polygon`).
 One compiled call per step reads every body through ``pymunk.batch``, computes all wrenches and
 writes the forces back; then ``space.step`` runs. The contract (what is read, when it acts, what is
-guaranteed at rest) is in docs/engine.md.
+guaranteed at rest) is in docs/plugin.md.
 """
 
 from __future__ import annotations
@@ -34,6 +34,55 @@ __all__ = ["PlaneFriction", "PRESSURES"]
 PRESSURES: tuple[str, ...] = ("uniform",)
 
 
+def _not_finite(position: tuple[float, float] | None, angle: float, velocity: tuple[float, float],
+                spin: float) -> str:
+    """``"<quantity> must be finite (<unit>), got <value>"`` for the first non-finite one, else ``""``. The
+    angle first: pymunk derives the position it reports from it (an infinite angle reads as a NaN position)."""
+    for what, unit, val in (("angle", "rad", angle), ("position", "m", position), ("velocity", "m/s", velocity),
+                            ("angular_velocity", "rad/s", spin)):
+        if val is not None and not all(map(math.isfinite, val if isinstance(val, tuple) else (val,))):
+            return f"{what} must be finite ({unit}), got {val!r}"
+    return ""
+
+
+class _Rows:
+    """The first ``n`` rows of an array whose capacity doubles when full: appending k rows costs O(k)
+    amortised (no copy of the rows already there, except at the log2(n) reallocations)."""
+
+    def __init__(self, width: int | None, dtype: Any = np.float64, capacity: int = 16) -> None:
+        self.buf = np.zeros((capacity,) if width is None else (capacity, width), dtype=dtype)
+        self.n = 0
+        self.reallocs = 0  # how many times the storage moved (tests check it grows like log n)
+
+    def append(self, rows: np.ndarray) -> int:
+        """Append ``rows`` (shape (k, width), or (k,) for a 1-D array); return the first new row's index."""
+        k = rows.shape[0]
+        start = self._reserve(k)
+        self.buf[start:start + k] = rows
+        return start
+
+    def append_one(self, row: Any) -> int:
+        """Append one row (a scalar for a 1-D array); return its index."""
+        start = self._reserve(1)
+        self.buf[start] = row
+        return start
+
+    def _reserve(self, k: int) -> int:
+        start = self.n
+        if start + k > self.buf.shape[0]:
+            new = np.zeros((max(start + k, 2 * self.buf.shape[0]), *self.buf.shape[1:]), dtype=self.buf.dtype)
+            new[:start] = self.buf[:start]
+            self.buf = new
+            self.reallocs += 1
+        self.n = start + k
+        return start
+
+    @property
+    def view(self) -> np.ndarray:
+        """The rows in use (a C-contiguous view: what the compiled kernels take)."""
+        return self.buf[:self.n]
+
+
 class PlaneFriction:
     """Dry friction of a horizontal plane under the bodies of one ``pymunk.Space``.
 
@@ -44,6 +93,12 @@ class PlaneFriction:
         neither); the plane's weight enters only through ``g``.
     g : float
         Gravitational acceleration pressing bodies on the plane, m/s^2, > 0.
+
+    ``add`` and ``remove`` cost O(1) amortised whatever the number of bodies (arrays that double their
+    capacity; a removed body's row is replaced by the last one), so bodies can come and go one by one
+    in scenes of 10^4 bodies. A body removed from the space must be removed from the plugin as well
+    (``pf.remove(body)``): ``step`` raises ``ValueError`` naming a body that is no longer in the space,
+    and one whose angle, velocity or spin is not finite, before it changes anything.
     """
 
     def __init__(self, space: Any, g: float = 9.81) -> None:
@@ -54,13 +109,20 @@ class PlaneFriction:
         self.space = space
         self.g = float(check("g", g))
         self._io = BatchIO(space)
-        self._slots: dict[Any, int] = {}  # body -> row
+        self._slots: dict[Any, int] = {}  # body -> row; its keys keep the order bodies were added in
         self._list: list[Any] = []  # row -> body
-        self._bodies = np.zeros((0, K.N_BODY))
-        self._geo: list[tuple[np.ndarray, np.ndarray]] = []  # per body: footprint rows and geo block
+        self._rows = _Rows(K.N_BODY)  # the kernel's ``bodies`` rows
+        self._idrows = _Rows(None, np.int64)  # row -> the body's id (int64 view of pymunk's uintptr)
+        self._shrows = _Rows(K.N_SHAPE)  # every body's footprint rows, ranges shifted into ``_georows``
+        self._georows = _Rows(3)
+        self._dead = [0, 0]  # rows of _shrows, _georows no body points to any more (compacted when many)
+        self._geo: list[tuple[np.ndarray, np.ndarray]] = []  # row -> its footprint rows and geo block
+        self._views()
         self.pre_step: list[Any] = []  # callables f(dt) run after friction is set, before space.step (builder)
         self._fresh: set[Any] = set()
-        self._dirty = True
+        self._dirty = True  # membership changed: the id lookup is rebuilt at the next step
+        self._k_lookup = np.zeros((2, 0), dtype=np.int64)
+        self._cache = np.zeros((3, 16), dtype=np.int64)  # the kernel's row cache (kernel.plane_check)
         self._kernel: Any = None  # the compiled step's entry point, found on the first step
         self.t = 0.0  # s: time advanced by step (compensated sum)
         self._tc = 0.0
@@ -71,18 +133,28 @@ class PlaneFriction:
     @property
     def bodies(self) -> tuple[Any, ...]:
         """The bodies that feel the plane's friction, in the order they were added."""
-        return tuple(self._list)
+        return tuple(self._slots)
 
     def add(self, body: Any, *, mu: float, pressure: str = "uniform") -> None:
         """Give ``body`` (dynamic, already in the space, with at least one shape of positive area)
         friction coefficient ``mu`` (>= 0) against the plane. Its mass is ``body.mass`` (from the
         shapes' density or mass, or set by you), its shapes' geometry is read now: call ``add``
         again after changing either. The body's current velocity is its velocity at the next step's
-        start time (the first step gives it the half kick of the staggered scheme)."""
+        start time (the first step gives it the half kick of the staggered scheme).
+
+        Raises ValueError naming the body for a mass or moment that is not positive and finite and
+        for a position, angle, velocity or spin that is not finite. Amortised O(1): no copy of the
+        other bodies' data."""
         self._check_body(body)
         mu = float(check("mu", mu))
         check_choice("pressure", pressure, PRESSURES)
         self._add(body, law=K.LAW_DRY, coeff=mu * self.g, footprint=body_footprint(body), snap=True, history=None)
+
+    def _name(self, body: Any) -> str:
+        """``pf.bodies[k] (repr)`` for messages (O(n): error paths only)."""
+        if body in self._slots:
+            return f"pf.bodies[{list(self._slots).index(body)}] ({body!r})"
+        return repr(body)
 
     def _check_body(self, body: Any) -> None:
         import pymunk
@@ -96,8 +168,14 @@ class PlaneFriction:
             raise ValueError("body must be added to the PlaneFriction's space first (space.add(body, *shapes))")
         m, moment = float(body.mass), float(body.moment)
         if not (0.0 < m < math.inf and 0.0 < moment < math.inf):
-            raise ValueError(f"body mass and moment must be positive and finite (kg, kg m^2), got mass {m!r}, "
-                             f"moment {moment!r}: give its shapes a density or mass, or set body.mass/moment")
+            raise ValueError(f"body {self._name(body)}: mass and moment must be positive and finite (kg, kg m^2), "
+                             f"got mass {m!r}, moment {moment!r}: give its shapes a density or mass, or set "
+                             f"body.mass/moment")
+        p, v, a, w = body.position, body.velocity, body.angle, body.angular_velocity
+        if not math.isfinite(p.x + p.y + v.x + v.y + a + w):  # one test on the common path (a huge sum: no error)
+            bad = _not_finite((p.x, p.y), a, (v.x, v.y), w)
+            if bad:
+                raise ValueError(f"body {self._name(body)}: {bad}")
 
     def _add(self, body: Any, *, law: float, coeff: float, footprint: Footprint, snap: bool,
              history: tuple[float, float, float, float] | None, v_eps: float = 0.0, staggered: bool = True) -> None:
@@ -111,62 +189,105 @@ class PlaneFriction:
             m, moment / m, law, coeff, reach, 1.0 if snap else 0.0, v_eps, gx, gy, jj, 1.0 if staggered else 0.0
         if history is not None:
             row[[K.PVX, K.PVY, K.PW, K.GAP]] = history
-        if body in self._slots:
-            j = self._slots[body]
-            self._bodies[j] = row
-            self._geo[j] = (shapes, geo)
-        else:
-            self._slots[body] = len(self._list)
+        j = self._slots.get(body)
+        if j is None:
+            j = self._rows.append_one(row)
+            uid = body.id  # a pointer (uintptr): stored as the int64 with the same bits, as pymunk.batch reads it
+            self._idrows.append_one(uid - (1 << 64) if uid >= 1 << 63 else uid)
+            self._slots[body] = j
             self._list.append(body)
-            self._bodies = np.vstack([self._bodies, row])
             self._geo.append((shapes, geo))
+            self._dirty = True
+        else:  # re-read: the old footprint rows become garbage (compacted when they outnumber the live ones)
+            self._drop_geometry(j)
+            self._rows.buf[j] = row
+            self._geo[j] = (shapes, geo)
+        self._place(j)
+        self._compact_if_sparse()
+        self._views()
         if history is None:
             self._fresh.add(body)
         else:
             self._fresh.discard(body)
-        self._dirty = True
 
     def remove(self, body: Any) -> None:
-        """Stop applying friction to ``body`` (it stays in the space)."""
+        """Stop applying friction to ``body`` (it stays in the space). Call it before or after
+        ``space.remove(body, ...)``: the plugin refuses to step with a body that left the space.
+        Amortised O(1) (the last row moves into the removed one's place)."""
         if body not in self._slots:
             raise ValueError(f"body is not in this PlaneFriction, got {body!r}")
         j = self._slots.pop(body)
-        self._list.pop(j)
-        self._geo.pop(j)
-        self._bodies = np.ascontiguousarray(np.delete(self._bodies, j, axis=0))
-        self._slots = {b: i for i, b in enumerate(self._list)}
+        self._drop_geometry(j)
+        last = self._rows.n - 1
+        if j != last:
+            moved = self._list[last]
+            self._rows.buf[j] = self._rows.buf[last]
+            self._idrows.buf[j] = self._idrows.buf[last]
+            self._list[j] = moved
+            self._geo[j] = self._geo[last]
+            self._slots[moved] = j  # an existing key: its place in the order of addition is kept
+        self._list.pop()
+        self._geo.pop()
+        self._rows.n -= 1
+        self._idrows.n -= 1
+        self._compact_if_sparse()
+        self._views()
         self._fresh.discard(body)
         self._t_stop.pop(body, None)
         self._dirty = True
 
-    def _pack(self) -> None:
-        """Flatten every body's footprint rows and geo blocks into the kernel's arrays."""
-        shapes, geos = [], []
-        ng = ns = 0
-        for j, (sh, geo) in enumerate(self._geo):
-            sh = sh.copy()
-            poly = sh[:, K.KIND] == K.POLYGON
-            sh[poly, K.V0] += ng
-            sh[poly, K.V1] += ng
-            ranged = poly | (sh[:, K.KIND] == K.SAMPLED)
-            sh[ranged, K.Q0] += ng
-            sh[ranged, K.Q1] += ng
-            self._bodies[j, K.S0], self._bodies[j, K.S1] = ns, ns + sh.shape[0]
-            ns += sh.shape[0]
-            ng += geo.shape[0]
-            shapes.append(sh)
-            geos.append(geo)
-        self._k_shapes = np.ascontiguousarray(np.concatenate(shapes)) if shapes else np.zeros((0, K.N_SHAPE))
-        self._k_geo = np.ascontiguousarray(np.concatenate(geos)) if geos else np.zeros((0, 3))
-        ids = np.array([b.id for b in self._list], dtype=np.uint64).view(np.int64)
-        order = np.argsort(ids)
+    def _place(self, j: int) -> None:
+        """Append row j's footprint (``_geo[j]``) to the kernel's shapes and geo arrays, its polygon and
+        sample ranges shifted to where its geo block lands, and point the body's S0, S1 at it."""
+        sh, geo = self._geo[j]
+        s0 = self._shrows.append(sh)
+        if geo.shape[0]:  # polygons and samples: their vertex and rule ranges move with the block
+            ng = self._georows.append(geo)
+            if ng:
+                rows = self._shrows.buf[s0:s0 + sh.shape[0]]
+                kind = rows[:, K.KIND]
+                rows[kind == K.POLYGON, K.V0:K.Q1 + 1] += ng  # V0, V1, Q0, Q1: consecutive columns
+                rows[kind == K.SAMPLED, K.Q0:K.Q1 + 1] += ng
+        buf = self._rows.buf
+        buf[j, K.S0] = s0
+        buf[j, K.S1] = s0 + sh.shape[0]
+
+    def _drop_geometry(self, j: int) -> None:
+        """Row j's footprint rows are garbage now (the caller compacts once the rows are consistent)."""
+        sh, geo = self._geo[j]
+        self._dead[0] += sh.shape[0]
+        self._dead[1] += geo.shape[0]
+
+    def _compact_if_sparse(self) -> None:
+        """Rewrite the shapes and geo arrays from the live footprints once garbage outnumbers them (plus
+        some slack): O(live) work after at least as many dead rows, so O(1) amortised per add/remove."""
+        live_s = self._shrows.n - self._dead[0]
+        live_g = self._georows.n - self._dead[1]
+        if self._dead[0] <= live_s + 64 and self._dead[1] <= live_g + 1024:
+            return
+        self._shrows.n = self._georows.n = 0
+        self._dead = [0, 0]
+        for j in range(self._rows.n):
+            self._place(j)
+
+    def _views(self) -> None:
+        """The kernel's arrays: views of the rows in use (no copy)."""
+        self._bodies = self._rows.view
+        self._k_shapes = self._shrows.view
+        self._k_geo = self._georows.view
+
+    def _relink(self) -> None:
+        """After adds or removals: the sorted id -> row table, and a reset of the kernel's row cache."""
+        ids = self._idrows.view
+        order = np.argsort(ids, kind="stable")
         self._k_lookup = np.ascontiguousarray(np.vstack([ids[order], order.astype(np.int64)]))
+        self._cache[K.ROW_ID] = 0  # ids are pointers, never 0: every cached row is looked up again
         self._dirty = False
 
     # ---- stepping ----------------------------------------------------------------------------
     def _kick(self, dt: float) -> None:
         """Half kick of newly added bodies: their velocity becomes the one at t + dt/2."""
-        for body in list(self._fresh):
+        for body in self._fresh:
             j = self._slots[body]
             v = body.velocity
             vx, vy, w = float(v.x), float(v.y), float(body.angular_velocity)
@@ -184,22 +305,37 @@ class PlaneFriction:
 
         Use it in place of ``space.step``: a plain ``space.step`` advances the space without friction.
         Forces you set on a body before the call (``body.force``, ``apply_force_at_...``) act as usual.
+
+        Raises ValueError, and changes nothing (no friction, no ``space.step``), naming the first body
+        of the plugin that is no longer in the space (remove it from the plugin too: ``pf.remove(body)``)
+        or whose angle, velocity or spin is not finite. The check is part of the compiled step; positions,
+        which the step does not read, are checked by ``add``.
         """
         if not 0.0 < dt < math.inf:  # (also refuses NaN; no check helper: this is the hot path)
             raise ValueError(f"dt must be > 0 s and finite, got {dt!r}")
         dt = float(dt)
         if self._dirty:
-            self._pack()
-        if self._fresh:
-            self._kick(dt)
+            self._relink()
         if self._list:
             got, ids, out = self._io.read()
-            args = (got, ids, self._k_lookup, self._bodies, self._k_shapes, self._k_geo, self.t, dt, out)
+            if self._fresh:
+                # the half kicks change velocities: check every body first, so a refused step changes nothing
+                self._grow_caches(got.shape[0])
+                if not K.plane_check(got, ids, self._k_lookup, self._cache, self._rows.n):
+                    self._refuse(got)
+                self._kick(dt)
+                got, ids, out = self._io.read()
+            args = (got, ids, self._k_lookup, self._cache, self._bodies, self._k_shapes, self._k_geo, self.t, dt, out)
             if self._kernel is None:
-                self._kernel = K.fast_entry(K.plane_step, *args)  # runs this step's kernel once
-                n_flag = int(np.count_nonzero(self._bodies[:, K.STOP]))
+                self._kernel, n_flag = K.fast_entry(K.plane_step, *args)  # runs this step's kernel once
             else:
                 n_flag = self._kernel(*args)
+            if n_flag < 0:  # rare: the space grew past the caches, or the check failed
+                if n_flag == -2:
+                    self._grow_caches(got.shape[0])
+                    n_flag = self._kernel(got, ids, self._k_lookup, self._cache, *args[4:])
+                if n_flag < 0:
+                    self._refuse(got)
             self._io.write_forces()
             for f in self.pre_step:
                 f(dt)
@@ -210,6 +346,26 @@ class PlaneFriction:
         t = self.t + y
         self._tc = (t - self.t) - y
         self.t = t
+
+    def _grow_caches(self, n: int) -> None:
+        """Room in the kernel's row cache for ``n`` bodies of the space (doubling: amortised O(1))."""
+        if n > self._cache.shape[1]:
+            self._cache = np.zeros((3, max(n, 2 * self._cache.shape[1])), dtype=np.int64)  # ROW_ID 0: all stale
+
+    def _refuse(self, got: np.ndarray) -> None:
+        """Raise the ValueError for what :func:`rrbody.engine.kernel.plane_check` found (error path only)."""
+        n_bad, i = int(self._cache[K.STATUS, K.BAD]), int(self._cache[K.STATUS, K.FIRST_BAD])
+        if n_bad:
+            a, vx, vy, w = got[i, :4].tolist()
+            more = f" (and {n_bad - 1} more bodies)" if n_bad > 1 else ""
+            raise ValueError(f"body {self._name(self._list[int(self._cache[K.ROWMAP, i])])}: "
+                             f"{_not_finite(None, a, (vx, vy), w)}{more}; the step was refused and nothing "
+                             f"changed: give the body a finite state, or pf.remove(body)")
+        gone = [b for b in self._slots if b.space is not self.space]
+        more = f" (and {len(gone) - 1} more bodies)" if len(gone) > 1 else ""
+        raise ValueError(f"body {self._name(gone[0])} is no longer in the space but still in this PlaneFriction"
+                         f"{more}; the step was refused and nothing changed: call pf.remove(body) when you "
+                         f"remove a body from the space")
 
     def _rest(self, dt: float) -> None:
         """Bookkeeping of the rest rule: stop times, and exact zeros the step after a stop."""
@@ -248,8 +404,6 @@ class PlaneFriction:
                angle: float | None = None) -> tuple[float, float, float]:
         """The friction force (N, world frame) and torque about the centre of gravity (N m) on ``body``
         at its current angle and velocity, or at the given ones (no rest rule, no limiter)."""
-        if self._dirty:
-            self._pack()
         j = self._slots[body]
         v = body.velocity
         vx, vy, w = (float(v.x), float(v.y), float(body.angular_velocity)) if velocity is None else velocity

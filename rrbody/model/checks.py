@@ -123,6 +123,15 @@ def _fail(name: str, value: object, valid: str) -> ValueError:
     return ValueError(f"{name} must be {valid}, got {value!r}")
 
 
+def _float(value: object) -> float:
+    """``float(value)``, with an int or fraction beyond the float range as inf (``float(10**400)`` raises
+    OverflowError, which is not the ValueError every check promises)."""
+    try:
+        return float(value)  # type: ignore[arg-type]
+    except OverflowError:
+        return math.inf if value > 0 else -math.inf  # type: ignore[operator]
+
+
 def _plain_number(value: object) -> bool:
     """A real number that is not a bool (float and int first: the ABC check costs a microsecond)."""
     tp = type(value)
@@ -140,7 +149,7 @@ def check(name: str, value: object, *, label: str | None = None) -> float | int:
         return check_int(label, value, int(lim.lo), int(lim.hi), unit=lim.unit)
     if not _plain_number(value):
         raise _fail(label, value, lim.text())
-    v = float(value)
+    v = _float(value)
     if v == 0.0 and lim.zero_ok:
         return 0.0
     ok_lo = v > lim.lo if lim.lo_open else v >= lim.lo
@@ -154,7 +163,7 @@ def check_real(name: str, value: object) -> float:
     """Return ``value`` as a finite float, or raise ``ValueError`` naming ``name``."""
     if isinstance(value, bool) or not isinstance(value, Real):
         raise ValueError(f"{name} must be a finite real number, got {value!r} ({type(value).__name__})")
-    v = float(value)
+    v = _float(value)
     if not math.isfinite(v):
         raise ValueError(f"{name} must be a finite real number, got {v!r}")
     return v
@@ -166,7 +175,7 @@ def check_range(name: str, value: object, lo: float, hi: float, *, lo_open: bool
     # the message is built only on failure: validation runs on every call of the fast paths
     if not _plain_number(value):
         raise _fail(name, value, range_text(lo, hi, lo_open, hi_open, False, unit))
-    v = float(value)
+    v = _float(value)
     ok_lo = v > lo if lo_open else v >= lo
     ok_hi = v < hi if hi_open else v <= hi
     if not (math.isfinite(v) and ok_lo and ok_hi) or (v != 0.0 and abs(v) < TINY):
@@ -195,8 +204,8 @@ def check_int(name: str, value: object, lo: int, hi: int | None = None, *, unit:
         raise _fail(name, value, valid())
     elif isinstance(value, Integral):
         iv = int(value)
-    elif isinstance(value, Real) and math.isfinite(float(value)) and float(value).is_integer():
-        iv = int(float(value))
+    elif isinstance(value, Real) and math.isfinite(_float(value)) and _float(value).is_integer():
+        iv = int(_float(value))
     else:
         raise _fail(name, value, valid())
     if iv < lo or (hi is not None and iv > hi):

@@ -15,14 +15,23 @@ docs       sphinx, furo, myst-parser, selenium    ``make docs`` and its browser 
 test       pytest, hypothesis, pytest-xdist       ``make test``
 all        every extra above
 =========  =====================================  ==========================================
+
+The hint names the install command that works where rrbody runs from: ``pip install 'rrbody[movie]'``
+for an installed package, ``pip install -e '.[movie]'`` run in the checkout's folder (named in the
+message) when rrbody runs from a source checkout, where ``rrbody[movie]`` would fetch a second copy
+from the package index instead of adding the extra to the checkout.
 """
 
 from __future__ import annotations
 
 import importlib
+from pathlib import Path
 from types import ModuleType
 
-__all__ = ["EXTRA_OF", "MissingExtraError", "require", "missing_extra_message"]
+from rrbody.model.paths import source_checkout
+
+__all__ = ["EXTRA_OF", "MissingExtraError", "require", "missing_extra_message", "install_hint",
+           "source_checkout"]
 
 #: top-level module name -> the extra that installs it
 EXTRA_OF: dict[str, str] = {
@@ -39,10 +48,19 @@ class MissingExtraError(ImportError):
     """An optional dependency is not installed; the message names the extra that provides it."""
 
 
+def install_hint(extra: str, package_dir: Path | None = None) -> str:
+    """The command that installs ``extra`` for the rrbody at ``package_dir`` (default: this one)."""
+    root = source_checkout(package_dir) if package_dir is not None else source_checkout()
+    if root is None:
+        return f"pip install 'rrbody[{extra}]'"
+    # from a checkout, 'rrbody[extra]' would install a second rrbody from the index beside the checkout
+    return f"pip install -e '.[{extra}]' (run in {root})"
+
+
 def _message(module: str, purpose: str | None) -> str:
     extra = EXTRA_OF.get(module.split(".")[0], "all")
     what = f"{purpose} needs" if purpose else "this needs"
-    return f"{what} the optional package {module.split('.')[0]!r}: pip install 'rrbody[{extra}]'"
+    return f"{what} the optional package {module.split('.')[0]!r}: {install_hint(extra)}"
 
 
 def require(module: str, *, purpose: str | None = None) -> ModuleType:

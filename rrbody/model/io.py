@@ -1,7 +1,13 @@
 """Safe output: every file is written to a temporary sibling and renamed into place.
 
 A crash or Ctrl-C mid-write leaves any previous file intact, and an existing file is never
-clobbered unless ``force=True``.
+clobbered unless ``force=True``. Every output path is checked before any work is done
+(:func:`check_writable`: a regular file or absent, not empty, not too long for the file system),
+and the outputs of one run are checked to be distinct files, none of them an input
+(:func:`check_distinct`).
+
+Messages name the output as the caller calls it: an option (``--out``), whose hints speak the
+command line's words (``pass --force``), or a Python parameter (``out``: ``pass force=True``).
 """
 
 from __future__ import annotations
@@ -10,11 +16,19 @@ import contextlib
 import os
 import stat
 import tempfile
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 from typing import IO, Any
 
-__all__ = ["atomic_path", "atomic_write_text", "check_writable"]
+__all__ = ["atomic_path", "atomic_write_text", "atomic_write_with", "check_writable", "check_distinct", "same_file",
+           "NAME_RESERVE"]
+
+#: bytes of a file name kept free for what rrbody writes beside an output: its temporary sibling
+#: ``.NAME.XXXXXXXX.part.SUFFIX`` and a sweep's ``NAME.checkpoint.jsonl`` (whose own temporary name is
+#: the longest, NAME plus 38 bytes)
+NAME_RESERVE = 48
+#: the limits assumed where the file system does not say (POSIX NAME_MAX and Linux PATH_MAX), bytes
+_NAME_MAX, _PATH_MAX = 255, 4096
 
 
 _KINDS = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pipe)"), (stat.S_ISCHR, "a character device"),
@@ -28,14 +42,73 @@ def _kind(mode: int) -> str:
     return "not a regular file"
 
 
+def _force_hint(name: str) -> str:
+    """How to overwrite, in the caller's words: ``--force`` for an option, ``force=True`` in Python."""
+    return "--force" if name.startswith("--") else "force=True"
+
+
+def _limits(folder: str) -> tuple[int, int]:
+    """(longest file name, longest path) in bytes in ``folder``'s file system, asked of the nearest
+    existing folder (the POSIX/Linux defaults where the system does not say)."""
+    d = os.path.abspath(folder)
+    while not os.path.isdir(d) and os.path.dirname(d) != d:
+        d = os.path.dirname(d)
+    out = []
+    for key, default in (("PC_NAME_MAX", _NAME_MAX), ("PC_PATH_MAX", _PATH_MAX)):
+        try:
+            v = os.pathconf(d, key)
+        except (OSError, ValueError, AttributeError):  # no pathconf (Windows) or no such limit
+            v = -1
+        out.append(v if v and v > 0 else default)
+    return out[0], out[1]
+
+
+def _check_spelling(path: str | os.PathLike[str], name: str) -> str:
+    """The path as text, refused (``ValueError`` naming ``name``) when empty, holding a NUL byte,
+    not encodable for the file system, or longer than the file system allows (a component longer
+    than NAME_MAX less :data:`NAME_RESERVE`, the whole longer than PATH_MAX less the reserve): the
+    system's raw 'File name too long' would otherwise come mid-run, after the work."""
+    try:
+        text = os.fspath(path)
+    except TypeError:
+        raise ValueError(f"{name} must be a file path, got {path!r}") from None
+    if isinstance(text, bytes):
+        text = os.fsdecode(text)
+    if not text.strip():
+        raise ValueError(f"{name} must be a file path, got {text!r} (an empty path does not mean 'no output': "
+                         f"omit {name} for that)")
+    if "\x00" in text:
+        raise ValueError(f"{name}: {text!r} holds a NUL character, which no file name may contain")
+    try:
+        raw = os.fsencode(text)
+    except UnicodeError:
+        raise ValueError(f"{name}: {text!r} cannot be encoded as a file name on this system") from None
+    folder = os.path.dirname(text) or "."
+    name_max, path_max = _limits(folder)
+    *folders, last = raw.split(os.fsencode(os.sep))
+    for part, most in [*((f, name_max) for f in folders), (last, name_max - NAME_RESERVE)]:
+        if len(part) > most:
+            shown = os.fsdecode(part)
+            why = ("the file system's limit" if most == name_max else
+                   f"the file system takes {name_max}, and rrbody writes a temporary sibling with a longer name")
+            raise ValueError(f"{name}: the name {shown[:40] + '...' if len(shown) > 40 else shown!r} is "
+                             f"{len(part)} bytes long; at most {most} bytes are allowed here ({why})")
+    if len(raw) > path_max - NAME_RESERVE:
+        raise ValueError(f"{name}: the path is {len(raw)} bytes long; at most {path_max - NAME_RESERVE} bytes are "
+                         f"allowed here (the system takes {path_max})")
+    return text
+
+
 def check_writable(path: str | os.PathLike[str], *, force: bool = False, name: str = "out") -> Path:
     """Validate an output path before any work is done; return the path to write (a symbolic link
     to a regular file resolves to its target, so the link survives and the target is replaced).
 
-    The path must be absent or a regular file (never a directory, FIFO, device, socket, or a link
-    to one, nor a dangling link: ``force`` does not change that); an existing file needs
-    ``force``; the folder must exist and be writable. Raises ``ValueError`` naming ``name``."""
-    p = Path(path)
+    The path must be a non-empty path of a length the file system takes (see
+    :data:`NAME_RESERVE`), absent or a regular file (never a directory, FIFO, device, socket, or a
+    link to one, nor a dangling link: ``force`` does not change that); an existing file needs
+    ``force``; the folder must exist and be writable. Raises ``ValueError`` naming ``name`` (an
+    option such as ``--out``, or a Python parameter such as ``out``: the hint follows suit)."""
+    p = Path(_check_spelling(path, name))
     if p.is_symlink():
         try:
             target = p.resolve(strict=True)
@@ -45,21 +118,59 @@ def check_writable(path: str | os.PathLike[str], *, force: bool = False, name: s
         st = target.stat()
         if not stat.S_ISREG(st.st_mode):
             raise ValueError(f"{name}: {str(p)!r} is a symbolic link to {_kind(st.st_mode)}; rrbody writes only "
-                             "regular files, with or without --force")
+                             f"regular files, with or without {_force_hint(name)}")
         p = target
     elif p.exists() or os.path.lexists(p):
         mode = p.lstat().st_mode
         if not stat.S_ISREG(mode):
             raise ValueError(f"{name}: {str(p)!r} is {_kind(mode)}; rrbody writes only regular files, with or "
-                             "without --force")
+                             f"without {_force_hint(name)}")
     if p.exists() and not force:
-        raise ValueError(f"{name}: {str(p)!r} already exists (pass force=True / --force to overwrite)")
+        raise ValueError(f"{name}: {str(p)!r} already exists; pass {_force_hint(name)} to overwrite it")
     parent = p.parent if str(p.parent) else Path(".")
     if not parent.is_dir():
         raise ValueError(f"{name}: folder {str(parent)!r} does not exist")
     if not os.access(parent, os.W_OK | os.X_OK):
         raise ValueError(f"{name}: folder {str(parent)!r} is not writable")
     return p
+
+
+def same_file(a: str | os.PathLike[str], b: str | os.PathLike[str]) -> bool:
+    """True when ``a`` and ``b`` name one file: the same device and inode where both exist (hard
+    links, symbolic links, any spelling), else the same absolute path with links resolved."""
+    try:
+        return os.path.samefile(a, b)
+    except (OSError, ValueError):  # one of them does not exist (yet), or is no valid path
+        pass
+    try:
+        return os.path.normcase(os.path.realpath(a)) == os.path.normcase(os.path.realpath(b))
+    except (OSError, ValueError):
+        return False
+
+
+def check_distinct(outputs: Mapping[str, str | os.PathLike[str] | None],
+                   inputs: Mapping[str, str | os.PathLike[str] | None] | None = None) -> None:
+    """Refuse outputs that are one file, or an output that is an input, before anything is written.
+
+    ``outputs`` and ``inputs`` map a name (``--out``, ``movie``) to a path (None: not given). Raises
+    ``ValueError`` naming both: two outputs to one file would leave only the last one written (``--out
+    o.mp4 --movie o.mp4``), and an output onto an input would replace the input while it is read
+    (``--batch in.jsonl --out in.jsonl --force``). Comparison by :func:`same_file`."""
+    def shown(pa: str | os.PathLike[str], pb: str | os.PathLike[str]) -> str:
+        a, b = os.fspath(pa), os.fspath(pb)
+        return repr(a) if a == b else f"{a!r} and {b!r} are one file"
+
+    outs = [(n, p) for n, p in outputs.items() if p is not None]
+    ins = [(n, p) for n, p in (inputs or {}).items() if p is not None]
+    for i, (na, pa) in enumerate(outs):
+        for nb, pb in outs[i + 1:]:
+            if same_file(pa, pb):
+                raise ValueError(f"{na} and {nb} name the same file ({shown(pa, pb)}); give each output its own "
+                                 "path")
+        for nb, pb in ins:
+            if same_file(pa, pb):
+                raise ValueError(f"{na} is the input of {nb} ({shown(pa, pb)}); writing it would replace what is "
+                                 "being read: choose another path")
 
 
 @contextlib.contextmanager
@@ -76,7 +187,8 @@ def atomic_path(path: str | os.PathLike[str], *, force: bool = False, name: str 
     try:
         yield tmp_path
         if not force and final.exists():
-            raise ValueError(f"{name}: {str(final)!r} appeared while writing (pass --force to overwrite)")
+            raise ValueError(f"{name}: {str(final)!r} appeared while writing; pass {_force_hint(name)} to overwrite "
+                             "it")
         if os.path.lexists(final) and not stat.S_ISREG(final.lstat().st_mode):
             raise ValueError(f"{name}: {str(final)!r} became {_kind(final.lstat().st_mode)} while writing; "
                              "left it alone")

@@ -100,9 +100,12 @@ def claim(path: str | os.PathLike[str], *, name: str = "out") -> None:
         if same:
             break
         os.close(fd)
-    argv = " ".join(sys.argv[:1] and [Path(sys.argv[0]).name, *sys.argv[1:]])[:300]
+    prog = Path(sys.argv[0]).name if sys.argv and sys.argv[0] else "python"
+    if prog in ("__main__.py", "-m"):  # `python -m rrbody.cli ...`: name the command as a user types it
+        prog = "rrbody"
+    argv = " ".join([prog, *sys.argv[1:]])[:300]
     os.ftruncate(fd, 0)
-    os.write(fd, f"process {os.getpid()} ({argv or 'python'})\n{key}\n".encode(errors="replace"))
+    os.write(fd, f"process {os.getpid()} ({argv})\n{key}\n".encode(errors="replace"))
     _HELD[key] = fd
 
 
@@ -132,6 +135,22 @@ def claimed(paths: Iterable[tuple[str, str | os.PathLike[str]]]) -> Iterator[Non
     finally:
         for path in taken:
             release(path)
+
+
+def _forget_in_child() -> None:
+    """In a forked child, close the copies of this process's lock descriptors and forget them.
+
+    ``flock`` belongs to the open file, which ``fork`` shares: without this a lock would outlive a
+    killed parent for as long as its last child (a sweep's workers), and a ``--resume`` at once would
+    be refused; a child's exit would also remove the parent's lock files. Closing a copy does not
+    release the parent's lock."""
+    for fd in _HELD.values():
+        with contextlib.suppress(OSError):
+            os.close(fd)
+    _HELD.clear()
+
+
+os.register_at_fork(after_in_child=_forget_in_child)
 
 
 @atexit.register

@@ -18,16 +18,21 @@ __all__ = ["source_checkout", "scenes_dir", "output_root"]
 _PKG = Path(__file__).resolve().parents[1]
 
 
-@functools.lru_cache(maxsize=1)
-def source_checkout() -> Path | None:
-    """The repository root when rrbody runs from its source tree, else ``None``."""
-    root = _PKG.parent
-    project = root / "pyproject.toml"
+@functools.lru_cache(maxsize=4)
+def source_checkout(package_dir: Path = _PKG) -> Path | None:
+    """The checkout folder when ``package_dir`` is the rrbody package of a source checkout, else ``None``.
+
+    A checkout is recognised by a ``pyproject.toml`` beside the package folder whose ``[project]`` name
+    is ``rrbody``; an installed package sits in ``site-packages``, which has none."""
+    import tomllib  # only when asked: `import rrbody` stays lean
+
+    root = package_dir.parent
     try:
-        named = 'name = "rrbody"' in project.read_text()
-    except OSError:
+        meta = tomllib.loads((root / "pyproject.toml").read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
         return None
-    return root if named and (root / "scenes").is_dir() else None
+    project = meta.get("project")
+    return root if isinstance(project, dict) and project.get("name") == "rrbody" else None
 
 
 def scenes_dir() -> Path:

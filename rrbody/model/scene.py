@@ -227,6 +227,17 @@ def scene_from_params(*, body: str = "rod", H: float | None = None, l: float | N
         raise MissingParameters(missing)
     if k is not None and mu is not None:
         raise ValueError(f"k must be given alone: k and mu are alternatives, got k={k!r} and mu={mu!r}")
+    # contradictions are named, never silently resolved (a k that would be ignored is an error)
+    if friction == "none" and any(v not in (None, 0, 0.0) for v in (k, mu)):
+        given = "k" if k not in (None, 0, 0.0) else "mu"
+        raise ValueError(f"{given} must not be given with friction='none' (no friction has no coefficient), "
+                         f"got {given}={k if given == 'k' else mu!r}")
+    if body == "rod" and R0 is not None:
+        raise ValueError(f"R0 must not be given for a rod-mass body (it has no area), got R0={R0!r}; "
+                         "choose body='disk' or 'ellipse'")
+    if not no_drive and (tuple(v0) != (0.0, 0.0) or spin0 != 0.0):
+        raise ValueError(f"v0 and spin0 set the launch of a free body: give them with no_drive=True, got "
+                         f"v0={tuple(v0)!r}, spin0={spin0!r}")
     d = float(check("d", d))
     if friction == "none":
         fric = Friction("none")
