@@ -117,6 +117,13 @@ def _rhs_table(results: Path) -> str:
                      for r in rows])
 
 
+def _coldstart_table(results: Path) -> str:
+    """The cold-start study's processes, cold (empty cache) and warm, beside issue 23's bound."""
+    return md_table(["first call (a fresh process)", "cold (s)", "warm (s)", "cold / warm", "issue 23's bound, cold (s)"],
+                    [(r["scenario"], float(r["cold_s"]), float(r["warm_s"]), float(r["cold_over_warm"]),
+                      float(r["target_s"])) for r in _rows(results, "coldstart.csv")])
+
+
 # ------------------------------------------------------------------------------ named quotes
 
 
@@ -217,6 +224,7 @@ _TABLES: dict[str, Callable[[Path], str]] = {
     "table.targets-brief": lambda r: _targets_table(r, notes=False),
     "table.plugin": _plugin_table,
     "table.rhs": _rhs_table,
+    "table.coldstart": _coldstart_table,
 }
 
 _OF_TARGET: dict[str, Callable[[Target], str]] = {

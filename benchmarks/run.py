@@ -34,6 +34,7 @@ STUDIES: dict[str, str] = {
     "sweeps": "benchmarks.sweeps",
     "render": "benchmarks.render",
     "startup": "benchmarks.startup",
+    "coldstart": "benchmarks.coldstart",
 }
 
 DEFAULT_OUT = Path(__file__).resolve().parent / "results"

@@ -90,6 +90,7 @@ def test_non_editable_install_lists_scenes_and_writes_nothing_inside(tmp_path: P
     works, the optional packages are absent, a movie asks for the [movie] extra. Then with the
     engine and movie extras, from an empty folder: the scene list, a scene, a flip time, an ellipse
     simulation and the plugin; the installed folder stays byte-for-byte what pip put there."""
+    from benchmarks.coldstart import PLUGIN_PROGRAM
     from tests.test_extras import OPTIONAL
 
     env_dir = tmp_path / "venv"
@@ -148,22 +149,8 @@ def test_non_editable_install_lists_scenes_and_writes_nothing_inside(tmp_path: P
     assert t_f == pytest.approx(12.928094823, abs=1e-8)
     run("simulate", "--body", "ellipse", "--R0", "0.3", "--delta", "0.9", "--l", "0.2", "--k", "0.0033",
         "--omega", "0.6", "--t-max", "2", "--out", "e.csv")
-    plugin = textwrap.dedent("""
-        import pymunk
-        from rrbody.plugin import PlaneFriction
-        space = pymunk.Space()
-        pf = PlaneFriction(space, g=9.81)
-        box = pymunk.Body()
-        shape = pymunk.Poly.create_box(box, (0.2, 0.1))
-        shape.density = 800.0
-        space.add(box, shape)
-        box.velocity, box.angular_velocity = (1.5, -0.4), -12.0
-        pf.add(box, mu=0.5)
-        while pf.t < 1.0:
-            pf.step(1 / 240)
-        print(box.velocity.length)
-    """)
-    p = subprocess.run([str(py), "-c", plugin], cwd=work, env=env, capture_output=True, text=True, timeout=900)
+    p = subprocess.run([str(py), "-c", PLUGIN_PROGRAM], cwd=work, env=env, capture_output=True, text=True,
+                       timeout=900)
     assert p.returncode == 0, p.stderr
     assert _snapshot(site) == before  # nothing written inside the installed package
     assert any((tmp_path / "cache" / "kernels").rglob("*.nbi"))  # the kernels went to the cache folder

@@ -17,6 +17,7 @@ import inspect
 import json
 import logging
 import math
+import re
 import shlex
 import sys
 from typing import Any
@@ -75,7 +76,9 @@ def parse_axes(items: list[str]) -> dict[str, tuple[float, ...]]:
             raise CliError(f"--axis {name} is given twice; give each axis once (two axes make a 2-D grid)")
         try:
             vals = _values(name, rest)
-        except (ValueError, IndexError):
+        except (ValueError, IndexError) as e:
+            if str(e).startswith(f"--axis {name}"):  # a value the number parser refused: its own words
+                raise CliError(str(e)) from None
             raise CliError(f"--axis must be NAME=v1,v2,... or NAME=start:stop:num[:log] (1 <= num <= 1e6, log "
                            f"needs start, stop > 0), got {text!r}") from None
         if not vals or not all(math.isfinite(v) for v in vals):
@@ -160,7 +163,14 @@ def _contradictions(args: argparse.Namespace, axes: dict[str, Any]) -> None:
             raise CliError(f"{opt} and --axis {name}=... contradict each other: the axis sets {name} at every "
                            f"point; drop {opt} or the axis")
     typed = frozenset(getattr(args, "_given", ())) | set(opts.values())
-    check_contradictions(argparse.Namespace(**{**vars(args), "_given": typed}))
+    try:
+        check_contradictions(argparse.Namespace(**{**vars(args), "_given": typed}))
+    except CliError as e:  # name an axis as the user typed it, not as the option it stands for
+        msg = str(e)
+        for name, opt in opts.items():
+            if not given(args, opt):
+                msg = re.sub(rf"{re.escape(opt)}\b(?!-)", f"--axis {name}=...", msg)
+        raise CliError(msg) from None
 
 
 def _base(args: argparse.Namespace, axes: dict[str, Any]) -> dict[str, Any]:
