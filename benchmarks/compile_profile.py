@@ -63,6 +63,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m benchmarks.compile_profile", description=__doc__.split("\n")[0])
     ap.add_argument("--out", type=Path, default=DEFAULT_OUT, help="output folder (default: benchmarks/results)")
     args = ap.parse_args(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
     full = profile()
     no_llvm_opt = profile("0")
     rows = [{"function": "(whole first call, CPU s)", "compilations": "", "inclusive_s": full["cpu_s"]},
