@@ -207,7 +207,7 @@ def test_step_refuses_a_non_finite_state_and_changes_nothing(what: str, value: o
         setattr(bodies[1], what, old)
 
     clean, (msg, repaired) = _fault_and_repair(inject, repair, first_step=first_step)
-    assert f"body pf.bodies[1] (Body(" in msg and f"{what} must be finite" in msg and "pf.remove(body)" in msg
+    assert "body pf.bodies[1] (Body(" in msg and f"{what} must be finite" in msg and "pf.remove(body)" in msg
     assert repaired == clean
 
 

@@ -228,18 +228,16 @@ def connect_scheduler(address: str, *, timeout: float = SCHEDULER_TIMEOUT_S) -> 
 
 
 def iter_dask(run: Callable[[dict[str, Any], Batch], Rows], spec: dict[str, Any], batches: list[Batch],
-              scheduler: Any, *, close: bool = False) -> Iterator[Rows]:
-    """Results of ``run(spec, batch)`` on a Dask cluster: ``scheduler`` is a ``distributed.Client``
-    or an address (connected here, and closed at the end); ``close``: close a given Client at the end.
+              client: Any) -> Iterator[Rows]:
+    """Results of ``run(spec, batch)`` on a Dask cluster through ``client`` (a ``distributed.Client``,
+    e.g. from :func:`connect_scheduler`; whoever made it closes it).
 
     A scheduler lost mid-run (its futures cancelled, the connection closed) or a Dask worker that
     keeps dying raises :class:`ExecutorFault`."""
     from concurrent.futures import CancelledError
 
-    from distributed import Client, as_completed
+    from distributed import as_completed
 
-    own = not isinstance(scheduler, Client)
-    client = connect_scheduler(scheduler) if own else scheduler
     where = getattr(getattr(client, "scheduler", None), "address", None) or "its address"
     futs: list[Any] = []
     try:
@@ -261,5 +259,3 @@ def iter_dask(run: Callable[[dict[str, Any], Batch], Rows], spec: dict[str, Any]
                 client.cancel(futs)
         except Exception:  # noqa: BLE001 - a lost scheduler cannot be told anything; nothing to undo
             pass
-        if own or close:
-            client.close()

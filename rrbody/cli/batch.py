@@ -235,9 +235,10 @@ def _check_command_line(command: str, args: argparse.Namespace) -> None:
     that are one file or the batch input itself (``--batch in.jsonl --out in.jsonl --force``)."""
     if command != "simulate":
         return
+    from rrbody.cli.options import SIMULATE_OUTPUTS
     from rrbody.model.io import check_distinct
 
-    outs = {o: getattr(args, o[2:], None) for o in ("--out", "--movie", "--rerun")}
+    outs = {o: getattr(args, o[2:], None) for o in SIMULATE_OUTPUTS}
     src = input_path(args.batch)
     name = "--batch - (standard input)" if args.batch == "-" else "--batch"
     try:

@@ -22,8 +22,8 @@ from rrbody._version import __version__
 from rrbody.cli.args import CliError, Parser, angle, check_options, commands, number, option_help, option_message, \
     parse
 from rrbody.cli.cache import add_parser as add_cache_parser
-from rrbody.cli.options import (add_accuracy_options, add_integrator_options, add_scene_options,
-                                check_contradictions, scene_from_args, stepper_option)
+from rrbody.cli.options import (SIMULATE_OUTPUTS, add_accuracy_options, add_integrator_options,
+                                add_scene_options, check_contradictions, scene_from_args, stepper_option)
 
 __all__ = ["main", "entry", "build_parser", "scene_from_args", "run_command"]
 
@@ -48,11 +48,6 @@ def _progress(args: argparse.Namespace) -> bool:
 
 
 # ---- subcommands -----------------------------------------------------------------------------
-#: simulate's outputs: option -> (the suffix its writer needs, what the file holds)
-SIMULATE_OUTPUTS = {"--out": ("", "trajectory CSV"), "--movie": (".mp4", "movie"),
-                    "--rerun": (".rrd", "rerun recording")}
-
-
 def _check_outputs(args: argparse.Namespace) -> dict[str, str]:
     """simulate's output paths by option, each checked before anything runs or is written: writable
     (a regular file or absent, not empty, not too long), the suffix its writer needs, no two of them

@@ -12,8 +12,12 @@ from rrbody.cli.args import (CliError, angle, check_options, float_list, given, 
 from rrbody.model.scene import FRICTION_METHODS
 
 __all__ = ["add_scene_options", "add_integrator_options", "add_accuracy_options", "scene_from_args", "scene_params",
-           "SCENE_OPTIONS", "INTEGRATOR_OPTIONS", "STEPPERS", "stepper_option", "check_contradictions"]
+           "SCENE_OPTIONS", "INTEGRATOR_OPTIONS", "STEPPERS", "stepper_option", "check_contradictions",
+           "SIMULATE_OUTPUTS"]
 
+#: simulate's outputs: option -> (the suffix its writer needs, what the file holds)
+SIMULATE_OUTPUTS = {"--out": ("", "trajectory CSV"), "--movie": (".mp4", "movie"),
+                    "--rerun": (".rrd", "rerun recording")}
 #: the numeric scene options (each names a parameter of the model's table)
 SCENE_OPTIONS = ("--H", "--l", "--R0", "--delta", "--omega", "--d", "--k", "--mu", "--g", "--phi0", "--phi-dot0",
                  "--samples", "--v0", "--spin0")

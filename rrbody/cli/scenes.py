@@ -11,7 +11,6 @@ from __future__ import annotations
 import ast
 import importlib.util
 import time
-from pathlib import Path
 
 from rrbody.model.paths import output_root, scenes_dir
 

@@ -204,8 +204,8 @@ def check_int(name: str, value: object, lo: int, hi: int | None = None, *, unit:
         raise _fail(name, value, valid())
     elif isinstance(value, Integral):
         iv = int(value)
-    elif isinstance(value, Real) and math.isfinite(_float(value)) and _float(value).is_integer():
-        iv = int(_float(value))
+    elif isinstance(value, Real) and math.isfinite(f := _float(value)) and f.is_integer():
+        iv = int(f)
     else:
         raise _fail(name, value, valid())
     if iv < lo or (hi is not None and iv > hi):

@@ -111,12 +111,13 @@ def claim(path: str | os.PathLike[str], *, name: str = "out") -> None:
 
 def release(path: str | os.PathLike[str]) -> None:
     """Give up this process's lock on ``path`` (no-op if not held); the lock file is removed."""
-    fd = _HELD.pop(lock_key(path), None)
+    key = lock_key(path)
+    fd = _HELD.pop(key, None)
     if fd is None:
         return
     # unlink while still holding the lock, so a waiter that opened it sees a stale inode and retries
     with contextlib.suppress(OSError):
-        os.unlink(_lock_file(lock_key(path)))
+        os.unlink(_lock_file(key))
     os.close(fd)
 
 
