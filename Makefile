@@ -27,6 +27,13 @@ $(VENV)/.installed-docs: pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e '.[$(DOCS_EXTRAS)]'
 	touch $@
 
+# the kernels compiled at install (setup.py) are those of the sources at install time; after an edit
+# the suite's own targets compile them again (a few seconds when nothing changed: rrbody.cli.prebuild)
+KERNEL_SOURCES := $(shell find rrbody -name '*.py' -not -path '*/__pycache__/*')
+$(VENV)/.kernels: $(KERNEL_SOURCES) | $(VENV)/.installed-test
+	$(BIN)/python -m rrbody.cli.prebuild --into rrbody/_kernels
+	touch $@
+
 venv: $(VENV)/.installed-test
 
 ## make demo: set up (core + movie extra), then run the main job: Movie S1 -> movies/movie_s1.mp4
@@ -34,11 +41,11 @@ demo: $(VENV)/.installed-demo
 	$(BIN)/rrbody demo
 
 ## make test: set up (test, engine, movie, rerun, dask, data extras), then the whole test suite (2 workers)
-test: $(VENV)/.installed-test
+test: $(VENV)/.installed-test $(VENV)/.kernels
 	$(BIN)/python -m pytest -n 2 --durations=15 tests
 
 ## make bench: work-precision benchmarks -> benchmarks/results/, then every figure the README and docs quote
-bench: $(VENV)/.installed-test
+bench: $(VENV)/.installed-test $(VENV)/.kernels
 	$(BIN)/python -m benchmarks.run
 	$(BIN)/python -m benchmarks.quotes
 
@@ -55,4 +62,4 @@ docs-check: $(VENV)/.installed-docs
 	$(BIN)/python docs/check_site.py docs/_build/html
 
 clean:
-	rm -rf $(VENV) build *.egg-info docs/_build
+	rm -rf $(VENV) build *.egg-info docs/_build rrbody/_kernels

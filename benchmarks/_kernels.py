@@ -44,11 +44,14 @@ _RHS_LOOPS: dict[int, object] = {}
 
 
 def loop_rhs_for(system: int):  # noqa: ANN201
-    """m calls of the composed right-hand side with the system code compiled in (as the ODE loop does)."""
-    if system not in _RHS_LOOPS:
+    """m calls of the composed right-hand side with the compiled code in (as the ODE loop does)."""
+    from rrbody.physics.effects import compiled_code
+
+    key = compiled_code(system)
+    if key not in _RHS_LOOPS:
         from rrbody.physics.dynamics import rhs
 
-        code = int(system)
+        code = key
 
         @njit(cache=True)
         def run(p, S, m):  # noqa: ANN001
@@ -61,5 +64,5 @@ def loop_rhs_for(system: int):  # noqa: ANN201
                 acc += out[0, 1]
             return acc
 
-        _RHS_LOOPS[system] = run
-    return _RHS_LOOPS[system]
+        _RHS_LOOPS[key] = run
+    return _RHS_LOOPS[key]

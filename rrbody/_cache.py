@@ -7,10 +7,18 @@ Layout (``cache_dir()``, by default the platform's user cache folder, ``~/.cache
     tables/                        quadrature rules (``.npz``), keyed by their own parameters
     locks/                         one advisory lock file per output in use (rrbody.model.outlock)
 
-``<sources>`` is a hash of every ``.py`` file of the installed package, so a kernel compiled from
-other sources (another version, an edited checkout) is never loaded: numba itself keys a cached
-function only by its own file's time stamp and would miss an edit to a kernel it inlines from
-another file. The first run of new sources removes the kernel folders of other sources beyond the
+``<sources>`` is a hash of every ``.py`` file of the package (the scene scripts aside: they hold no
+kernel), so a kernel compiled from other sources (another version, an edited checkout) is never
+loaded: numba itself keys a cached function only by its own file's time stamp and would miss an
+edit to a kernel it inlines from another file. The same hash, not the files' time stamps, is the
+stamp numba checks in each index, so kernels compiled from a source tree load from an installed copy
+of it.
+
+Kernels compiled at install: the build backend compiles every kernel once
+(:mod:`rrbody.cli.prebuild`) into the package's ``_kernels/<version>-<sources>/``; the first use of
+rrbody copies that folder into the cache folder (``seed_kernels``), where numba loads it like
+kernels of its own (its version, the CPU and every function's bytecode are still checked: a kernel
+that does not match is compiled again, never used). The first run of new sources removes the kernel folders of other sources beyond the
 four newest that have gone unused for an hour. ``rrbody cache clear`` empties the folder;
 ``rrbody cache info`` shows it.
 
@@ -29,8 +37,8 @@ from pathlib import Path
 
 from rrbody._version import __version__
 
-__all__ = ["ENV", "cache_dir", "kernels_dir", "tables_dir", "locks_dir", "source_hash", "use_for_kernels",
-           "prune_kernels"]
+__all__ = ["ENV", "cache_dir", "kernels_dir", "shipped_kernels_dir", "tables_dir", "locks_dir", "source_hash",
+           "use_for_kernels", "prune_kernels", "seed_kernels"]
 
 #: the environment variable that moves the cache folder
 ENV = "RRBODY_CACHE_DIR"
@@ -52,6 +60,8 @@ def source_hash() -> str:
     """A short hash of the package's sources (path and bytes of every ``.py`` file): about 3 ms."""
     h = hashlib.sha256(__version__.encode())
     for f in sorted(_PKG.rglob("*.py")):
+        if f.relative_to(_PKG).parts[0] == "_scenes":  # only in an installed copy (scenes/ in a checkout)
+            continue
         h.update(f.relative_to(_PKG).as_posix().encode())
         h.update(f.read_bytes())
     return h.hexdigest()[:16]
@@ -66,6 +76,34 @@ PRUNE_AGE_S = 3600.0
 def kernels_dir() -> Path:
     """The folder of numba's compiled kernels for these sources: ``kernels/<version>-<hash>``."""
     return cache_dir() / "kernels" / f"{__version__}-{source_hash()}"
+
+
+def shipped_kernels_dir() -> Path:
+    """Where an install keeps the kernels it compiled for these sources (may not exist):
+    ``<package>/_kernels/<version>-<hash>``."""
+    return _PKG / "_kernels" / kernels_dir().name
+
+
+def seed_kernels() -> bool:
+    """Copy the kernels compiled at install into the cache folder, if it has none for these sources
+    yet. Atomic (a copy in a temporary folder, renamed): of two processes seeding at once, one wins
+    and the other's copy is dropped. Returns whether this call seeded."""
+    import shutil
+    import tempfile
+
+    target = kernels_dir()
+    shipped = shipped_kernels_dir()
+    if target.is_dir() or not shipped.is_dir():
+        return False
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=".seed-", dir=target.parent))
+    try:
+        shutil.copytree(shipped, tmp, dirs_exist_ok=True)
+        os.rename(tmp, target)  # replaces nothing but an empty folder
+    except OSError:
+        shutil.rmtree(tmp, ignore_errors=True)
+        return False
+    return True
 
 
 def prune_kernels(now: float | None = None) -> list[Path]:
@@ -126,6 +164,11 @@ def use_for_kernels() -> None:
         def get_cache_path(self) -> str:
             return self._cache_path
 
+        def get_source_stamp(self) -> str:
+            # the hash of all sources, not this file's time stamp: an installed copy of a source tree
+            # (new time stamps) loads the kernels compiled from it, an edited tree never does
+            return source_hash()
+
         @classmethod
         def from_function(cls, py_func: object, py_file: str) -> object:
             try:
@@ -147,6 +190,7 @@ def use_for_kernels() -> None:
     if not kernels_dir().is_dir():  # the first run of these sources: the time to tidy up old ones
         try:
             prune_kernels()
+            seed_kernels()
         except OSError:
             pass
     _Locator.__name__ = _Locator.__qualname__ = "RrbodyCacheLocator"

@@ -3,7 +3,8 @@ rrbody writes nothing inside its installed folder (caches live in one user cache
 
 The ``install`` test builds a real virtual environment, installs rrbody with ``pip install .``
 (not editable) and runs, from an empty folder, what a new user runs first: the scene list, a
-scene, a flip time, an ellipse simulation and the plugin. Then the installed folder must be
+scene, a flip time, an ellipse simulation and the plugin. The install compiles every kernel into the
+package (setup.py), and the first flip time compiles nothing. Then the installed folder must be
 byte-for-byte what pip put there, and the kernels must sit in the cache folder."""
 
 from __future__ import annotations
@@ -59,7 +60,7 @@ def test_kernels_of_other_sources_are_never_loaded(tmp_path: Path, monkeypatch: 
     from rrbody import _cache
 
     tree = tmp_path / "rrbody"
-    shutil.copytree(ROOT / "rrbody", tree, ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copytree(ROOT / "rrbody", tree, ignore=shutil.ignore_patterns("__pycache__", "_kernels"))
     monkeypatch.setattr(_cache, "_PKG", tree)
     monkeypatch.setenv(_cache.ENV, str(tmp_path / "c"))
 
@@ -108,6 +109,8 @@ def test_non_editable_install_lists_scenes_and_writes_nothing_inside(tmp_path: P
     site = Path(subprocess.run([str(py), "-c", "import rrbody, pathlib; print(pathlib.Path(rrbody.__file__).parent)"],
                                env=env, capture_output=True, text=True, check=True, cwd=tmp_path).stdout.strip())
     assert site.is_relative_to(env_dir)  # the installed copy, not the checkout
+    # the build compiled every kernel into the package (setup.py, rrbody.cli.prebuild)
+    assert any((site / "_kernels").glob("*/integrate/*.nbi")), "no kernels compiled at install"
     before = _snapshot(site)  # as pip put it
     work = tmp_path / "work"
     work.mkdir()
@@ -126,8 +129,11 @@ def test_non_editable_install_lists_scenes_and_writes_nothing_inside(tmp_path: P
         absent = [m for m in {OPTIONAL!r} if importlib.util.find_spec(m) is None]
         print(json.dumps({{"t_f": flip_time(rod_mass_scene(0.2, 0.05, 0.6)).t_f, "absent": absent}}))
     """)
-    p = subprocess.run([str(py), "-c", core], cwd=work, env=env, capture_output=True, text=True, timeout=900)
+    p = subprocess.run([str(py), "-c", core], cwd=work, env={**env, "NUMBA_DEBUG_CACHE": "1"}, capture_output=True,
+                       text=True, timeout=900)
     assert p.returncode == 0, p.stderr
+    # the first flip time of a fresh install loads the install's kernels: numba compiles (and saves) nothing
+    assert [line for line in p.stdout.splitlines() if "data saved" in line] == []
     out = json.loads(p.stdout.strip().splitlines()[-1])
     assert out["t_f"] == pytest.approx(12.928094823, abs=1e-8)  # the README's pinned value
     assert set(out["absent"]) >= {"pymunk", "matplotlib", "rerun", "xarray"}

@@ -1,5 +1,6 @@
-"""``rrbody cache info`` and ``rrbody cache clear``: the one folder where rrbody keeps compiled kernels,
-quadrature tables and output locks (``rrbody._cache``; ``RRBODY_CACHE_DIR`` moves it)."""
+"""``rrbody cache info|clear|build``: the one folder where rrbody keeps compiled kernels, quadrature
+tables and output locks (``rrbody._cache``; ``RRBODY_CACHE_DIR`` moves it); ``build`` compiles every
+kernel into it now (:mod:`rrbody.cli.prebuild`), as the install does."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import shutil
 from pathlib import Path
 from typing import Any
 
-from rrbody._cache import ENV, cache_dir, kernels_dir
+from rrbody._cache import ENV, cache_dir, kernels_dir, shipped_kernels_dir
 
 __all__ = ["add_parser", "cmd_cache", "cache_report"]
 
@@ -28,7 +29,8 @@ def cache_report() -> dict[str, Any]:
             "kernels": {"current": str(current), "current_bytes": _size(current),
                         "stale": [str(p) for p in kernels if p != current],
                         "stale_bytes": sum(_size(p) for p in kernels if p != current)},
-            "tables_bytes": _size(root / "tables")}
+            "tables_bytes": _size(root / "tables"),
+            "installed_kernels": {"path": str(shipped_kernels_dir()), "bytes": _size(shipped_kernels_dir())}}
 
 
 def _mb(n: int) -> str:
@@ -37,6 +39,15 @@ def _mb(n: int) -> str:
 
 def cmd_cache(args: argparse.Namespace) -> int:
     """Handler of ``rrbody cache``."""
+    if args.action == "build":
+        from rrbody.cli.prebuild import build
+
+        if not args.json:
+            print("rrbody: compiling every kernel (about 1-2 minutes on 2 cores) ...", flush=True)
+        where = build(None, quiet=args.json)
+        if args.json:
+            print(json.dumps({"path": str(where), "bytes": _size(where)}))
+        return 0
     rep = cache_report()
     if args.action == "clear":
         root = Path(rep["path"])
@@ -53,7 +64,7 @@ def cmd_cache(args: argparse.Namespace) -> int:
         if args.json:
             print(json.dumps({"path": rep["path"], "freed_bytes": freed}))
         else:
-            print(f"cleared {rep['path']} ({_mb(freed)} freed); the next command compiles rrbody's kernels again")
+            print(f"cleared {rep['path']} ({_mb(freed)} freed); the next command loads or compiles rrbody's kernels again")
         return 0
     if args.json:
         print(json.dumps(rep))
@@ -63,18 +74,24 @@ def cmd_cache(args: argparse.Namespace) -> int:
           f"  kernels for this version: {k['current']} ({_mb(k['current_bytes'])})\n"
           f"  kernels of other versions or sources: {len(k['stale'])} folder(s), {_mb(k['stale_bytes'])} "
           "(never loaded; `rrbody cache clear` removes them)\n"
-          f"  quadrature tables: {_mb(rep['tables_bytes'])}")
+          f"  quadrature tables: {_mb(rep['tables_bytes'])}\n"
+          f"  kernels compiled at install: {rep['installed_kernels']['path']} "
+          f"({_mb(rep['installed_kernels']['bytes']) if rep['installed_kernels']['bytes'] else 'none for these sources'}; "
+          "copied into the cache folder on first use)")
     return 0
 
 
 def add_parser(sub: Any) -> None:
     """Register ``rrbody cache`` on the CLI's subparsers."""
-    c = sub.add_parser("cache", help="show or clear rrbody's cache folder (compiled kernels, tables)",
+    c = sub.add_parser("cache", help="show, clear or fill rrbody's cache folder (compiled kernels, tables)",
                        description="rrbody keeps its compiled kernels (numba), quadrature tables and output locks "
                                    f"in one user cache folder (~/.cache/rrbody on Linux; the environment variable "
                                    f"{ENV} moves it). Kernels compiled from other sources are never loaded. "
                                    "'info' shows the folder and its size; 'clear' empties it (the next command "
-                                   "compiles again).")
-    c.add_argument("action", choices=("info", "clear"), help="info: where and how big; clear: remove its contents")
+                                   "loads the kernels compiled at install again, or compiles them); 'build' "
+                                   "compiles every kernel into it now, as the install does (useful after "
+                                   "editing a checkout).")
+    c.add_argument("action", choices=("info", "clear", "build"),
+                   help="info: where and how big; clear: remove its contents; build: compile every kernel now")
     c.add_argument("--json", action="store_true", help="print one JSON object")
     c.set_defaults(func=cmd_cache)

@@ -63,7 +63,7 @@ def rk_step(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp):  # noqa: ANN001 
     (:func:`rrbody.dynamics.rhs`; an integer rather than a function argument, because numba
     cannot cache functions that take other compiled functions as arguments). ``p`` and ``S``
     are the parameter vector and the area-sample array. Inlined into :func:`trial_step`, which is
-    compiled once per system code (``literally``).
+    compiled once per compiled code (``literally``; :func:`rrbody.physics.effects.compiled_code`).
     """
     # the state size as a compile-time constant (2 for a driven body, 6 for a free one), so the stage
     # loops below have constant trip counts and are unrolled
@@ -105,7 +105,7 @@ def rk_step(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp):  # noqa: ANN001 
 def error_norm(system, K, h, scale, E3, E5):  # noqa: ANN001
     """scipy's DOP853 error norm (RMS over components of the scaled 5th/3rd-order estimates);
     ``system`` fixes the state size at compile time, as in :func:`rk_step` (inlined into the loop,
-    which is compiled per system code)."""
+    which is compiled per compiled code)."""
     n = 2 if system % 10 == 0 else 6
     e5 = 0.0
     e3 = 0.0

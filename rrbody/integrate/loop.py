@@ -45,6 +45,7 @@ from rrbody.integrate.radau import radau_step
 from rrbody.integrate.rodas import ros_step, spectral_radius
 from rrbody.physics import params as P
 from rrbody.physics.dynamics import SYSTEM_DRIVEN, jacobian
+from rrbody.physics.effects import compiled_code
 
 __all__ = ["advance", "advance_for", "new_loop_state", "STATUS", "STEP_METHODS", "L_T", "L_H", "L_NSTEP", "L_NREJ", "L_NOUT",
            "L_NROS", "L_NSWITCH"]
@@ -186,9 +187,9 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
 
     Returns a key of :data:`STATUS`. ``ev`` is the event state (:func:`rrbody.integrate.events.new_event_state`),
     ``minima`` its buffer of located minima, ``u_stop`` the speed (m/s) below which a free body's
-    stop is completed analytically (``stop`` = STOP_REST). ``system`` (the scene's system code,
-    :func:`rrbody.physics.effects.system_code`) is compiled in as a constant: one specialised loop
-    per combination of effects."""
+    stop is completed analytically (``stop`` = STOP_REST). ``system`` (the scene's compiled code,
+    :func:`rrbody.physics.effects.compiled_code`: kind and friction law) is compiled in as a
+    constant: one loop per kind and law; the area method is read from ``p`` at run time."""
     literally(system)
     n = y.shape[0]
     K = np.empty((13, n))
@@ -372,13 +373,16 @@ _SPECIALISED: dict[int, Any] = {}
 
 
 def advance_for(system: int) -> Any:
-    """The loop specialised for the system code ``system``: a compiled function with the arguments of
-    :func:`advance` from ``y`` to ``u_stop`` (the DOP853 tableau is built in). Built on first use per combination of effects; numba caches
-    each on disk (its closure constant is part of the cache key), and calling it costs no dispatch
-    on the code (a direct call of :func:`advance` with a literal argument would retype per call)."""
-    if system not in _SPECIALISED:
-        _SPECIALISED[system] = _make_advance(int(system))
-    return _SPECIALISED[system]
+    """The loop for the system code ``system``: a compiled function with the arguments of
+    :func:`advance` from ``y`` to ``u_stop`` (the DOP853 tableau is built in). One per compiled code
+    (:func:`rrbody.physics.effects.compiled_code`: kind and law), whatever the area method (read
+    from ``p`` at run time), so a new combination of effects compiles nothing. numba caches each on
+    disk (its closure constant is part of the cache key), and calling it costs no dispatch on the
+    code (a direct call of :func:`advance` with a literal argument would retype per call)."""
+    key = compiled_code(system)
+    if key not in _SPECIALISED:
+        _SPECIALISED[key] = _make_advance(key)
+    return _SPECIALISED[key]
 
 
 def _make_advance(code: int) -> Any:

@@ -41,6 +41,7 @@ from rrbody.integrate.rodas import spectral_radius
 from rrbody.model.friction import LAW_CODES
 from rrbody.physics import params as P
 from rrbody.physics.dynamics import SYSTEM_DRIVEN, driven_kinematics, jacobian, rhs, system_from_params
+from rrbody.physics.effects import compiled_code
 
 __all__ = ["DrivenResult", "integrate_driven", "STOP_RULES", "STEP_METHODS"]
 
@@ -73,7 +74,8 @@ _STARTS: dict[int, Any] = {}
 
 
 def _start_for(system: int) -> Any:
-    """Compiled ``start(y, f, p, S, h0) -> bool`` for the system code ``system``: fills f = f(0, y)
+    """Compiled ``start(y, f, p, S, h0) -> bool`` for the system code ``system`` (one per compiled
+    code, :func:`rrbody.physics.effects.compiled_code`): fills f = f(0, y)
     and says whether the run starts stiff, probing with a step of h0 s (one call: the set-up is part
     of every short run's cost).
 
@@ -84,9 +86,10 @@ def _start_for(system: int) -> Any:
     the paper's units): one probe decides. Below the limit DOP853 steps through the start as cheaply
     as anywhere else (phixtpm: h |lambda| = 0.02), and more accurately than the stiff method at loose
     tolerances."""
-    if system not in _STARTS:
-        code = int(system)
-        dry = (code // 10) % 10 == LAW_CODES["dry"]
+    key = compiled_code(system)
+    if key not in _STARTS:
+        code = key
+        dry = (key // 10) % 10 == LAW_CODES["dry"]
 
         @njit(cache=True)
         def start(y, f, p, S, h0):  # noqa: ANN001
@@ -103,8 +106,8 @@ def _start_for(system: int) -> Any:
             jacobian(code, h0, yp, p, S, fp[0], J, np.empty(2))
             return h0 * spectral_radius(J) > STIFF_HLAMB
 
-        _STARTS[system] = start
-    return _STARTS[system]
+        _STARTS[key] = start
+    return _STARTS[key]
 
 
 def integrate_driven(p: np.ndarray, S: np.ndarray, y0: tuple[float, float], *, t_end: float, rtol: float,

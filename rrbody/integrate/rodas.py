@@ -89,7 +89,7 @@ def ros_step(system, t, y, f0, h, p, S, J, fx, K, ynew, ytmp, scale):  # noqa: A
     Fills ``ynew`` and K[12] = f(t + h, ynew) (the loop's first stage of the next step and the
     slope that event location uses, as for DOP853); K[0..5] hold the stage increments. Returns
     the RMS norm of the error estimate k_6 / ``scale`` (scale = rtol times the component's scale).
-    Compiled once per system code (``literally``).
+    Compiled once per compiled code (``literally``; :func:`rrbody.physics.effects.compiled_code`).
     """
     literally(system)
     n = y.shape[0]

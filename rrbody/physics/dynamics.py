@@ -1,8 +1,13 @@
 """Right-hand sides composed from a scene's effects (compiled, pure functions of (t, y, p, S)).
 
-``system`` is the scene's system code (:func:`rrbody.physics.effects.system_code`: kind, friction
-law, area method). The stepping loop is compiled with it as a compile-time constant, so the
-branches below are resolved at compile time and each combination runs its own specialised code.
+``code`` is the scene's compiled code (:func:`rrbody.physics.effects.compiled_code`: kind + 10 law;
+the kind, :data:`SYSTEM_DRIVEN` or :data:`SYSTEM_FREE`, says which state and which equations). The
+kernels are compiled once per code, with the code as a compile-time constant (the state size fixes
+the loops' trip counts; a run-time law was measured to cost the stiff runs a quarter of their
+speed). The area method is chosen at run time from ``p[BODY]``, so every area method runs in the same
+compiled code and a new combination of effects compiles nothing (docs/compile.md). The point mass,
+where an evaluation costs a few ns, is written inline; an extended body's area method is one call of
+:func:`_driven_extended` or :func:`_free`, so the loop's code does not grow with the area methods.
 
 Driven body (the impulsive start, docs/physics.md), state y = (phi, phi') with phi the angle of CM -> P (rad):
 
@@ -23,7 +28,7 @@ import numpy as np
 from numba import literally, njit
 
 from rrbody.physics import params as P
-from rrbody.physics.effects import DRIVEN, drive_circular
+from rrbody.physics.effects import DRIVEN, compiled_code, drive_circular
 from rrbody.physics.effects.areas import POINT, body_frame_wrench, body_wrench
 from rrbody.physics.effects.laws import NONE, element_perp
 
@@ -52,7 +57,7 @@ def _driven_point(law, t, y, p, d, s0, c0):  # noqa: ANN001 (numba)
     return y[1], torque * p[P.INV_IP]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, _nrt=False)
 def _driven_extended(law, area, t, y, p, S, d, s0, c0):  # noqa: ANN001 (numba)
     """(phi', phi'') of an extended body: one sine and cosine of the drive phase per evaluation, as
     for a point mass (:func:`drive_circular.sincos_psi`). The CM
@@ -73,7 +78,7 @@ def _driven_extended(law, area, t, y, p, S, d, s0, c0):  # noqa: ANN001 (numba)
     return phid, torque * p[P.INV_IP]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, _nrt=False)
 def _free(law, area, t, y, p, S):  # noqa: ANN001 (numba)
     """Accelerations (Fx, Fy, spin') of a free body: friction alone. A point mass (I_cm = 0) keeps
     its spin constant: it has no rotational inertia to decelerate."""
@@ -85,23 +90,23 @@ def _free(law, area, t, y, p, S):  # noqa: ANN001 (numba)
 
 
 @njit(cache=True, _nrt=False)
-def rhs_near(system, t, y, p, S, out, row, d, s0, c0):  # noqa: ANN001
-    """out[row, :] = y' for the equations of the system code ``system`` (module docstring), where a
+def rhs_near(code, t, y, p, S, out, row, d, s0, c0):  # noqa: ANN001
+    """out[row, :] = y' for the equations of the compiled code ``code`` and the area method of ``p`` (module docstring), where a
     driven body's drive phase psi = phi - omega t is psi0 + d with (sin, cos)(psi0) = (s0, c0): a
     Runge-Kutta stage passes its step's start (:func:`drive_circular.sincos_psi`; d = NaN: no base).
 
-    Compiled once per code (``literally``), so the branches below are resolved at compile time. The
+    Compiled once per code (``literally``); the area method is read from ``p`` (a load and a
+    predictable branch per evaluation: the price of compiling once for every area method). The
     result goes to a row of a 2-D array (a stage of the integrator's K) rather than to a row view,
     which would cost a reference-count update per evaluation. Compiled without reference counting
     (``_nrt=False``; nothing here allocates): passing ``S`` on to a method's own compiled kernel
     (the wrench table, the quadrature) would otherwise cost two atomic reference-count updates per
     evaluation (measured: an ellipse's table right-hand side 132 -> 108 ns in the benchmark's
     compiled loop, which can then inline it; its flip-time steps ~5 % cheaper)."""
-    literally(system)
-    kind = system % 10
-    law = (system // 10) % 10
-    area = system // 100
-    if kind == DRIVEN:
+    literally(code)
+    law = (code // 10) % 10
+    area = int(p[P.BODY])
+    if code % 10 == DRIVEN:
         if area == POINT:
             a, b = _driven_point(law, t, y, p, d, s0, c0)
         else:
@@ -119,15 +124,16 @@ def rhs_near(system, t, y, p, S, out, row, d, s0, c0):  # noqa: ANN001
 
 
 @njit(cache=True, _nrt=False)
-def rhs(system, t, y, p, S, out, row):  # noqa: ANN001
+def rhs(code, t, y, p, S, out, row):  # noqa: ANN001
     """out[row, :] = y' at (t, y): :func:`rhs_near` without a base angle (the library's sin and cos)."""
-    literally(system)
-    rhs_near(system, t, y, p, S, out, row, math.nan, 0.0, 0.0)
+    literally(code)
+    rhs_near(code, t, y, p, S, out, row, math.nan, 0.0, 0.0)
 
 
 def system_from_params(p: np.ndarray, kind: int) -> int:
-    """The system code of a parameter vector from :func:`rrbody.physics.bind.kernel_params`
-    (Python side, once per run: the hot loop never reads codes from ``p``)."""
+    """The system code (kind + 10 law + 100 area, :func:`rrbody.physics.effects.system_code`) of a
+    parameter vector from :func:`rrbody.physics.bind.kernel_params`; the kernels are compiled for its
+    :func:`rrbody.physics.effects.compiled_code`."""
     return int(kind) + 10 * int(p[P.LAW]) + 100 * int(p[P.BODY])
 
 
@@ -135,22 +141,24 @@ _RHS_KERNELS: dict[int, Any] = {}
 
 
 def rhs_for(system: int) -> Any:
-    """A compiled ``f(t, y, p, S, out)`` with the system code compiled in (built once per code,
-    cached on disk by numba: the closure constant is part of the cache key)."""
-    if system not in _RHS_KERNELS:
-        code = int(system)
+    """A compiled ``f(t, y, p, S, out)`` for the system code ``system`` (one per compiled code,
+    cached on disk by numba: the closure constant is part of the cache key; the area method comes
+    from ``p``)."""
+    key = compiled_code(system)
+    if key not in _RHS_KERNELS:
+        code = key
 
         @njit(cache=True)
         def kernel(t, y, p, S, out):  # noqa: ANN001
             rhs(code, t, y, p, S, out.reshape((1, out.shape[0])), 0)
 
-        _RHS_KERNELS[system] = kernel
-    return _RHS_KERNELS[system]
+        _RHS_KERNELS[key] = kernel
+    return _RHS_KERNELS[key]
 
 
 def driven_rhs(t: float, y: np.ndarray, p: np.ndarray, S: np.ndarray, out: np.ndarray) -> None:
     """out = (phi', phi'') for the driven body of ``p``, ``S`` (a convenience for tests and set-up:
-    the stepping loop calls :func:`rhs` with its system code compiled in)."""
+    the stepping loop calls :func:`rhs` with its compiled code)."""
     rhs_for(system_from_params(p, SYSTEM_DRIVEN))(t, y, p, S, out)
 
 
@@ -160,8 +168,9 @@ def free_rhs(t: float, y: np.ndarray, p: np.ndarray, S: np.ndarray, out: np.ndar
 
 
 @njit(cache=True)
-def jacobian(system, t, y, p, S, f0, J, fx):  # noqa: ANN001
-    """J = df/dy and fx = df/dt at (t, y) for the equations of ``system``; f0 = f(t, y).
+def jacobian(code, t, y, p, S, f0, J, fx):  # noqa: ANN001
+    """J = df/dy and fx = df/dt at (t, y) for the equations of the compiled code ``code`` (area method
+    from ``p``); f0 = f(t, y).
 
     Analytic for the driven point mass (where the stiffness lives): with psi = phi - w t the CM
     velocity in the frame (e, e_perp) is (v_e, v_p) = (d w sin psi, d w cos psi - l phi');
@@ -170,11 +179,10 @@ def jacobian(system, t, y, p, S, f0, J, fx):  # noqa: ANN001
     relative: a Rosenbrock method keeps its stability with an approximate J, and its order
     conditions here are met to that level, far below the tolerances it is used at).
     """
-    literally(system)
-    kind = system % 10
-    law = (system // 10) % 10
-    area = system // 100
-    if kind == DRIVEN and area == POINT:
+    literally(code)
+    law = (code // 10) % 10
+    area = int(p[P.BODY])
+    if code % 10 == DRIVEN and area == POINT:
         w = p[P.OMEGA]
         d = p[P.D]
         l = p[P.L]
@@ -196,17 +204,27 @@ def jacobian(system, t, y, p, S, f0, J, fx):  # noqa: ANN001
         fx[0] = 0.0
         fx[1] = -w * dtq_dphi / ip
         return
+    _jacobian_fd(code, t, y, p, S, f0, J, fx)
+
+
+@njit(cache=True)
+def _jacobian_fd(code, t, y, p, S, f0, J, fx):  # noqa: ANN001
+    """:func:`jacobian` by one-sided finite differences (its docstring); a call of its own, so the
+    analytic point-mass Jacobian stays free of its allocations (a run-time branch between the two
+    still costs the point mass its reference counts: the stiff runs' steps are ~7 % slower than with
+    the area method compiled in, docs/compile.md)."""
+    literally(code)
     n = y.shape[0]
     yp = y.copy()
     fp = np.empty((1, n))
     for j in range(n):
         dj = 1.5e-8 * max(abs(y[j]), 1.0)
         yp[j] = y[j] + dj
-        rhs(system, t, yp, p, S, fp, 0)
+        rhs(code, t, yp, p, S, fp, 0)
         for i in range(n):
             J[i, j] = (fp[0, i] - f0[i]) / dj
         yp[j] = y[j]
     dt = 1.5e-8 * max(abs(t), 1.0)
-    rhs(system, t + dt, y, p, S, fp, 0)
+    rhs(code, t + dt, y, p, S, fp, 0)
     for i in range(n):
         fx[i] = (fp[0, i] - f0[i]) / dt

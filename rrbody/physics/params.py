@@ -2,10 +2,9 @@
 
 Kernels take parameters as arguments (no closures) so one compiled function serves every scene.
 :func:`rrbody.physics.bind.kernel_params` fills this vector from a :class:`rrbody.model.scene.Scene`; nothing else writes it.
-The codes LAW and BODY are read once per run, in Python, to form the scene's system code
-(:func:`rrbody.physics.dynamics.system_from_params`), which the stepping loop is compiled for; the hot
-loop reads only the effects' numeric parameters from ``p``. (The engine's per-step hook,
-:func:`rrbody.physics.wrench.body_wrench`, still decodes them at run time.)
+The codes LAW and BODY form the scene's system code (:func:`rrbody.physics.dynamics.system_from_params`);
+the stepping loop is compiled for its kind and LAW, and reads BODY (the area method) at run time,
+as the engine's per-step hook (:func:`rrbody.physics.wrench.body_wrench`) reads both.
 """
 
 from rrbody.physics.effects import AREAS

@@ -2,8 +2,8 @@
 
 The effects themselves live in :mod:`rrbody.physics.effects` (one module per law and per area
 method); these wrappers decode the law and area codes of ``p`` at run time, which is right for a
-per-step engine hook and for set-up code. The ODE loop instead calls the effects with the codes as
-compile-time constants (:mod:`rrbody.physics.dynamics`).
+per-step engine hook and for set-up code. The ODE loop instead has the law compiled in
+(:mod:`rrbody.physics.dynamics`).
 
 Units (per unit mass, world frame: these wrap the body-frame area methods with one rotation,
 :func:`rrbody.physics.effects.areas.body_wrench`): forces in m/s^2, torques about the CM in m^2/s^2. Law codes:

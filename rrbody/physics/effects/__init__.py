@@ -11,21 +11,26 @@ A scene lists its effects; each contributes one term through one signature:
   wrapper): ``area_point``, ``area_sampled``, ``area_icr``, ``area_table``.
 
 Composition: the combination a scene lists is one small integer, its *system code*
-(:func:`system_code`: kind + 10 law + 100 area). The stepping loop is compiled for the code as a
-compile-time constant (``numba.literally``), so every branch on law and area is resolved when the
-kernel is compiled: each combination gets its own specialised machine code, cached on disk by numba,
-and a point mass never executes, nor pays registers for, the extended-body code. The float
-parameter vector ``p`` (:mod:`rrbody.physics.params`) carries the effects' parameters only.
+(:func:`system_code`: kind + 10 law + 100 area). The compiled kernels are specialised on part of it
+only, its *compiled code* (:func:`compiled_code`: kind + 10 law), a compile-time constant
+(``numba.literally``): the kind fixes the state and the loops' trip counts, and the law is where a
+run-time branch was measured to cost (docs/compile.md). Every other effect, the area method
+included, is chosen at run time from the codes in the float parameter vector ``p``
+(:mod:`rrbody.physics.params`), which also carries the effects' parameters; an extended body's area
+method is a call of its own, so a point mass never executes, nor pays registers for, its code. So the
+kernels form one fixed set (compiled at install: :mod:`rrbody.cli.prebuild`), and a new combination
+of effects, or a new run-time effect, compiles nothing.
 
 Adding an effect: one module with the signature of its kind plus its registration, a code here and
-one branch in :mod:`.laws` (a law) or :mod:`.areas` (an area method).
+one branch in :mod:`.laws` (a law) or :mod:`.areas` (an area method); a new law adds one compiled
+loop per kind, so it belongs in the prebuild's workload too.
 """
 
 from __future__ import annotations
 
 from rrbody.model.friction import LAW_CODES
 
-__all__ = ["KINDS", "LAWS", "AREAS", "system_code", "describe_system", "DRIVEN", "FREE"]
+__all__ = ["KINDS", "LAWS", "AREAS", "system_code", "compiled_code", "describe_system", "DRIVEN", "FREE"]
 
 DRIVEN, FREE = 0, 1
 #: kinds of system: which equations (the drive is the effect that makes a body driven)
@@ -37,11 +42,17 @@ AREAS: dict[str, int] = {"point": 0, "sampled": 1, "icr": 2, "table": 3}
 
 
 def system_code(kind: str, law: str, area: str) -> int:
-    """The system code of a combination of effects (what the compiled loop is specialised on)."""
+    """The system code of a combination of effects (kind + 10 law + 100 area)."""
     for name, value, table in (("kind", kind, KINDS), ("law", law, LAWS), ("area", area, AREAS)):
         if value not in table:
             raise ValueError(f"{name} must be one of {', '.join(repr(k) for k in table)}, got {value!r}")
     return KINDS[kind] + 10 * LAWS[law] + 100 * AREAS[area]
+
+
+def compiled_code(system: int) -> int:
+    """The part of a system code the compiled kernels are specialised on: kind + 10 law (the area
+    method and every parameter are run-time choices)."""
+    return int(system) % 100
 
 
 def describe_system(code: int) -> dict[str, str]:

@@ -1,7 +1,7 @@
 """Registration of the area-integration methods: the one place that maps a code to its module.
 
-The code is a compile-time constant in every composed right-hand side, so the branches are resolved
-when the kernel is compiled.
+The code is a run-time choice (``p[BODY]``): the composed right-hand side calls the extended-body
+code once per evaluation and this function picks the method (:mod:`rrbody.physics.effects`).
 
 Frames: every method works in the BODY frame (CM velocity in, force out, both body-frame
 components), where the body's geometry is fixed, so a method needs no trigonometric call and the

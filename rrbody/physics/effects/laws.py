@@ -1,7 +1,8 @@
 """Registration of the friction laws: the one place that maps a law's code to its module.
 
-The code is a compile-time constant in every composed right-hand side (see
-:mod:`rrbody.physics.effects`), so the branches below are resolved when the kernel is compiled.
+The code is a compile-time constant in every composed right-hand side (part of its compiled code,
+:mod:`rrbody.physics.effects`), so the branches below are resolved when the kernel is compiled; the
+plugin's kernel and :mod:`rrbody.physics.wrench` pass it at run time.
 Adding a law: a module with ``force`` and ``perp`` (see :mod:`.law_dry`), a code in
 :data:`rrbody.physics.effects.LAWS` and one branch in each function here.
 """

@@ -1,0 +1,199 @@
+"""Compile every rrbody kernel once, ahead of use: at install (the build backend runs this module,
+``setup.py``) or on demand (``rrbody cache build``). docs/compile.md explains the design.
+
+The compiled code depends only on a scene's *kind* (driven or free) and friction law, never on its
+other effects (area method, geometry, numbers: all read at run time), so a fixed workload compiles
+everything a user can reach: the driven loop and the free-body loop for each law, the area methods,
+the quadrature tables, the stiff methods, and the plugin's kernels. The workload runs the user's own
+entry points (the command line's commands, the plugin's ``step``) with tiny horizons, each in a
+process of its own, two at a time (two cores), and then each once more, one at a time: that pass
+compiles whatever a race between two processes lost (and nothing when all is well).
+
+Kernels go to numba's cache in a fresh cache folder (``RRBODY_CACHE_DIR``), and the folder
+``kernels/<version>-<sources>`` is moved to ``--into`` (the package's ``_kernels`` folder at install)
+or stays in the user's cache folder (``rrbody cache build``). :mod:`rrbody._cache` seeds the user's
+cache from the package's folder on first use; numba's own checks (its version, the CPU, each
+function's bytecode and signature) still decide whether a kernel loads.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+__all__ = ["COMMANDS", "run_extras", "build", "main"]
+
+_ROD = ["--H", "0.2", "--omega", "0.6"]
+#: the command-line workload (each a tiny horizon), heaviest first: the first run of each kind and law
+#: compiles a loop (15-30 s), the rest mostly load it
+COMMANDS: tuple[list[str], ...] = (
+    # the first run of each kind and law compiles its loop; driven and free alternate so that two
+    # workers share the long compilations
+    ["flip-time", *_ROD, "--k", "0.05", "--json"],
+    ["simulate", "--body", "disk", "--R0", "0.3", "--no-drive", "--v0", "1,0", "--spin0", "3", "--k", "1",
+     "--t-max", "0.5", "--json"],
+    ["simulate", *_ROD, "--k", "0.05", "--friction", "viscous", "--t-max", "0.5", "--json"],
+    ["simulate", "--body", "ellipse", "--R0", "0.3", "--delta", "0.3", "--no-drive", "--v0", "1,0", "--spin0", "3",
+     "--k", "1", "--friction", "viscous", "--t-max", "0.5", "--json"],
+    ["simulate", *_ROD, "--friction", "none", "--t-max", "0.5", "--json"],
+    ["simulate", "--no-drive", "--H", "0.2", "--v0", "1,0", "--friction", "none", "--t-max", "0.5", "--json"],
+    ["simulate", *_ROD, "--k", "10000", "--t-max", "0.5", "--stepper", "rodas", "--json"],
+    ["critical-h", "--k", "0.05", "--omega", "0.6", "--tol", "0.01", "--accuracy", "draft", "--json"],
+    # extended driven bodies: every area method (run time choices inside the same loop)
+    ["simulate", "--body", "ellipse", "--R0", "0.3", "--delta", "0.3", "--l", "0.2", "--omega", "0.6", "--k",
+     "0.05", "--t-max", "0.5", "--json"],
+    ["simulate", "--body", "disk", "--R0", "0.3", "--l", "0.2", "--omega", "0.6", "--k", "0.05",
+     "--friction-method", "icr", "--t-max", "0.5", "--json"],
+    ["simulate", "--body", "disk", "--R0", "0.3", "--l", "0.2", "--omega", "0.6", "--k", "0.05",
+     "--friction-method", "sampled", "--samples", "64", "--t-max", "0.5", "--json"],
+    ["simulate", "--body", "ellipse", "--R0", "0.3", "--delta", "0.3", "--omega", "0.6", "--k", "0.05",
+     "--friction", "viscous", "--t-max", "0.5", "--method", "engine", "--json"],
+)
+
+
+def _plugin_workload() -> None:
+    """The plugin's kernels: a circle, a box and a thick segment, stepped a few times."""
+    try:
+        import pymunk
+    except ImportError:  # the engine extra is absent: nothing of the plugin can run here
+        return
+    from rrbody.engine.plugin import PlaneFriction
+
+    space = pymunk.Space()
+    pf = PlaneFriction(space, g=9.81)
+    for k, make in enumerate((lambda b: pymunk.Circle(b, 0.05), lambda b: pymunk.Poly.create_box(b, (0.1, 0.06)),
+                              lambda b: pymunk.Segment(b, (-0.05, 0.0), (0.05, 0.0), 0.01))):
+        body = pymunk.Body()
+        shape = make(body)
+        shape.density = 800.0
+        body.position = (0.3 * k, 0.0)
+        space.add(body, shape)
+        body.velocity, body.angular_velocity = (1.0, 0.2), 5.0
+        pf.add(body, mu=0.3)
+    for _ in range(3):
+        pf.step(1 / 240)
+    pf.wrench(pf.bodies[0])
+    pf.remove(pf.bodies[-1])
+
+
+def _rhs_workload() -> None:
+    """The stand-alone right-hand sides (``rhs_for``: the engine path's set-up, tests, benchmarks)
+    for every kind and law: the command line reaches only some of them."""
+    import numpy as np
+
+    from rrbody.model.scene import scene_from_params
+    from rrbody.physics.bind import kernel_params
+    from rrbody.physics.dynamics import driven_rhs, free_rhs
+
+    for law in ("dry", "viscous", "none"):
+        k = None if law == "none" else 0.05
+        p, S = kernel_params(scene_from_params(H=0.2, k=k, omega=0.6, friction=law))
+        driven_rhs(0.0, np.array([3.0, 0.0]), p, S, np.empty(2))
+        p, S = kernel_params(scene_from_params(body="disk", R0=0.3, k=k, friction=law, no_drive=True, v0=(1.0, 0.0)))
+        free_rhs(0.0, np.array([0.0, 0.0, 0.0, 1.0, 0.0, 2.0]), p, S, np.empty(6))
+
+
+def run_extras() -> None:
+    """The workload outside the command line (the plugin, the stand-alone right-hand sides), in this
+    process."""
+    _plugin_workload()
+    _rhs_workload()
+
+
+def _jobs() -> list[list[str]]:
+    """Every job of the workload as a command line of its own process."""
+    cli = [sys.executable, "-m", "rrbody.cli"]
+    return [[*cli, *argv] for argv in COMMANDS] + [[sys.executable, "-m", "rrbody.cli.prebuild", "--extras"]]
+
+
+def _run_jobs(jobs: list[list[str]], env: dict[str, str], cwd: str, workers: int, bar: bool = False) -> None:
+    """Run the jobs, ``workers`` at a time; the first failure is raised with its command and error.
+    ``bar``: a progress bar (jobs done) on stderr."""
+    from concurrent.futures import ThreadPoolExecutor, as_completed
+
+    from tqdm import tqdm
+
+    def one(cmd: list[str]) -> None:
+        p = subprocess.run(cmd, env=env, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        if p.returncode != 0:
+            tail = p.stderr.strip().splitlines()[-1:] or ["(no message)"]
+            raise RuntimeError(f"prebuild: '{' '.join(cmd[2:])}' exited {p.returncode}: {tail[0]}")
+
+    with ThreadPoolExecutor(max_workers=max(1, workers)) as pool, \
+            tqdm(total=len(jobs), desc="compiling kernels", unit="job", disable=not bar, leave=False) as progress:
+        for fut in as_completed([pool.submit(one, cmd) for cmd in jobs]):
+            fut.result()
+            progress.update()
+
+
+def build(into: Path | None = None, *, jobs: int = 2, quiet: bool = False, force: bool = False) -> Path:
+    """Compile every kernel; returns the kernel folder. ``into``: move the folder
+    ``<version>-<sources>`` there (replacing the folders of other sources); None: fill the user's
+    cache. ``jobs`` processes at a time, then every job once more one at a time: that pass compiles
+    what a race between two processes lost, and nothing else. A folder ``into`` already holds for
+    these sources is complete (it is moved there only at the end, and the workload is part of the
+    sources): kept as it is unless ``force``."""
+    from rrbody._cache import ENV, cache_dir, kernels_dir
+
+    t0 = time.perf_counter()
+    name = kernels_dir().name  # these sources; the jobs must find the same (no edit during a build)
+    if into is not None and (into / name).is_dir() and not force:
+        if not quiet:
+            print(f"rrbody: the kernels of these sources are already compiled: {into / name}", file=sys.stderr)
+        return into / name
+    work = Path(tempfile.mkdtemp(prefix="rrbody-kernels-")) if into is not None else cache_dir()
+    env = dict(os.environ, **{ENV: str(work)})
+    # the jobs import rrbody from where this process did (the source tree during a build)
+    root = str(Path(__file__).resolve().parents[2])
+    env["PYTHONPATH"] = root + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+    env["MPLBACKEND"] = "Agg"
+    try:
+        with tempfile.TemporaryDirectory(prefix="rrbody-prebuild-") as cwd:  # any file a job writes
+            bar = not quiet and sys.stderr.isatty()
+            _run_jobs(_jobs(), env, cwd, jobs, bar)
+            _run_jobs(_jobs(), env, cwd, 1, bar)
+        src = work / "kernels" / name
+        if not src.is_dir():
+            raise RuntimeError(f"prebuild: no kernels were written to {src} (were the sources edited during the build?)")
+        if into is None:
+            result = src
+        else:
+            into.mkdir(parents=True, exist_ok=True)
+            result = into / src.name
+            shutil.rmtree(result, ignore_errors=True)
+            shutil.move(str(src), str(result))
+            for old in into.iterdir():  # a package carries the kernels of its own sources only
+                if old != result and old.is_dir():
+                    shutil.rmtree(old, ignore_errors=True)
+    finally:
+        if into is not None:
+            shutil.rmtree(work, ignore_errors=True)
+    if not quiet:
+        print(f"rrbody: compiled every kernel in {time.perf_counter() - t0:.0f} s -> {result}", file=sys.stderr)
+    return result
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``python -m rrbody.cli.prebuild [--into DIR] [--jobs N]`` (the build backend's call), or
+    ``--extras`` (the workload outside the command line: one job of :func:`build`)."""
+    ap = argparse.ArgumentParser(prog="python -m rrbody.cli.prebuild", description=__doc__.split("\n\n")[0])
+    ap.add_argument("--into", type=Path, default=None, help="move the kernel folder here (default: the user cache)")
+    ap.add_argument("--jobs", type=int, default=2, help="processes at a time (default 2)")
+    ap.add_argument("--force", action="store_true", help="compile again even if --into holds these sources' kernels")
+    ap.add_argument("--extras", action="store_true", help=argparse.SUPPRESS)
+    args = ap.parse_args(argv)
+    if args.extras:
+        run_extras()
+        return 0
+    build(args.into, jobs=args.jobs, force=args.force)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,108 @@
+"""Kernels compiled once, ahead of use (docs/compile.md): after the install's compilation
+(``python -m rrbody.cli.prebuild``), the commands a user runs compile nothing, whatever combination
+of effects and numbers they ask for; the compiled code depends only on the kind of system and the
+friction law. The first use copies the install's kernels into the cache folder, once, atomically.
+
+"Compiles nothing" is read from numba itself: with ``NUMBA_DEBUG_CACHE=1`` numba prints a line
+``[cache] data saved to ...`` for every function it compiles and saves; none may appear."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from rrbody import _cache
+
+ROOT = Path(__file__).resolve().parents[1]
+
+#: user commands, with other numbers and other combinations of effects than the prebuild's workload
+#: (rrbody.cli.prebuild.COMMANDS): each must find every kernel it needs
+FRESH_COMMANDS: tuple[list[str], ...] = (
+    ["flip-time", "--H", "0.35", "--k", "0.02", "--omega", "1.3", "--json"],
+    ["flip-time", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--friction", "viscous", "--json"],
+    ["flip-time", "--H", "0.2", "--k", "1e4", "--omega", "0.6", "--json"],
+    ["simulate", "--body", "ellipse", "--R0", "0.3", "--delta", "0.9", "--l", "0.2", "--k", "0.0033", "--omega",
+     "0.6", "--t-max", "3", "--json"],
+    ["simulate", "--body", "disk", "--R0", "0.2", "--l", "0.1", "--omega", "0.8", "--k", "0.3", "--friction",
+     "viscous", "--friction-method", "icr", "--t-max", "1", "--json"],
+    ["simulate", "--body", "ellipse", "--R0", "0.2", "--delta", "0.5", "--no-drive", "--v0", "0.5,0.2", "--spin0",
+     "-4", "--k", "2", "--friction-method", "sampled", "--samples", "128", "--t-max", "2", "--json"],
+    ["simulate", "--H", "0.3", "--k", "0.1", "--omega", "0.5", "--method", "engine", "--t-max", "1", "--json"],
+)
+
+
+def _kernels(tmp_path: Path) -> Path:
+    """The install's kernels for these sources; compiled here (a minute or two) if the checkout has
+    none for them (sources edited since the install)."""
+    shipped = _cache.shipped_kernels_dir()
+    if shipped.is_dir():
+        return shipped
+    out = tmp_path / "built"
+    subprocess.run([sys.executable, "-m", "rrbody.cli.prebuild", "--into", str(out)], check=True, cwd=ROOT,
+                   capture_output=True, timeout=1800)
+    return out / _cache.kernels_dir().name
+
+
+def _saved(argv: list[str], cache: Path, cwd: Path) -> list[str]:
+    """The lines in which numba reports compiling and saving a function, for one command."""
+    env = {**os.environ, _cache.ENV: str(cache), "NUMBA_DEBUG_CACHE": "1", "MPLBACKEND": "Agg"}
+    p = subprocess.run([sys.executable, "-m", "rrbody.cli", *argv], env=env, cwd=cwd, capture_output=True,
+                       text=True, timeout=900)
+    assert p.returncode == 0, (argv, p.stderr[-2000:])
+    return [line for line in p.stdout.splitlines() if "data saved" in line]
+
+
+@pytest.mark.slow
+def test_user_commands_compile_nothing_after_the_prebuild(tmp_path: Path) -> None:
+    """Every command of FRESH_COMMANDS, and a plugin program, from a cache seeded with the install's
+    kernels: not one function compiled (the area method, the numbers and the stepper are run-time
+    choices; the laws and kinds were all compiled at install)."""
+    from benchmarks.coldstart import PLUGIN_PROGRAM
+
+    cache = tmp_path / "cache"
+    shutil.copytree(_kernels(tmp_path), cache / "kernels" / _cache.kernels_dir().name)
+    for argv in FRESH_COMMANDS:
+        assert _saved(argv, cache, tmp_path) == [], argv
+    env = {**os.environ, _cache.ENV: str(cache), "NUMBA_DEBUG_CACHE": "1"}
+    p = subprocess.run([sys.executable, "-c", PLUGIN_PROGRAM], env=env, cwd=tmp_path, capture_output=True,
+                       text=True, timeout=900)
+    assert p.returncode == 0, p.stderr
+    assert [line for line in p.stdout.splitlines() if "data saved" in line] == []
+
+
+def test_first_use_seeds_the_cache_once(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """seed_kernels copies the install's folder into an absent cache folder, byte for byte, and
+    never over one that exists (numba's own, or another process's seed)."""
+    pkg = tmp_path / "pkg"
+    monkeypatch.setattr(_cache, "_PKG", pkg)
+    monkeypatch.setattr(_cache, "source_hash", lambda: "abc")
+    monkeypatch.setenv(_cache.ENV, str(tmp_path / "c"))
+    shipped = _cache.shipped_kernels_dir()
+    assert shipped == pkg / "_kernels" / f"{_cache.__version__}-abc"
+    assert _cache.seed_kernels() is False  # nothing shipped: nothing to do
+    (shipped / "physics").mkdir(parents=True)
+    (shipped / "physics" / "dynamics.rhs-90.py311.nbi").write_bytes(b"index")
+    assert _cache.seed_kernels() is True
+    target = _cache.kernels_dir()
+    assert (target / "physics" / "dynamics.rhs-90.py311.nbi").read_bytes() == b"index"
+    (target / "physics" / "dynamics.rhs-90.py311.nbi").write_bytes(b"numba's own")
+    assert _cache.seed_kernels() is False  # the folder exists: left alone
+    assert (target / "physics" / "dynamics.rhs-90.py311.nbi").read_bytes() == b"numba's own"
+    assert not list(target.parent.glob(".seed-*"))  # no temporary copy left behind
+
+
+def test_a_new_combination_of_effects_reuses_the_loop() -> None:
+    """The loop, the right-hand side and the start probe are keyed by kind and law only: an area
+    method or a number never makes another compiled function."""
+    from rrbody.integrate import loop
+    from rrbody.physics import dynamics
+
+    assert loop.advance_for(110) is loop.advance_for(10) is loop.advance_for(310)  # area 1, 0, 3; driven, dry
+    assert loop.advance_for(11) is not loop.advance_for(10)  # a free body: another kind
+    assert loop.advance_for(20) is not loop.advance_for(10)  # viscous: another law
+    assert dynamics.rhs_for(210) is dynamics.rhs_for(10)
