@@ -96,6 +96,20 @@ def test_first_use_seeds_the_cache_once(tmp_path: Path, monkeypatch: pytest.Monk
     assert not list(target.parent.glob(".seed-*"))  # no temporary copy left behind
 
 
+def test_a_failing_job_stops_the_build_and_names_itself(tmp_path: Path) -> None:
+    """The first failure is raised with its command and last line of error; the jobs not yet started
+    never run (one at a time here, so the third is never started)."""
+    from rrbody.cli.prebuild import _run_jobs
+
+    mark = tmp_path / "ran"
+    jobs = [[sys.executable, "-c", "pass"],
+            [sys.executable, "-c", "import sys; print('no kernel here', file=sys.stderr); sys.exit(3)"],
+            [sys.executable, "-c", f"open({str(mark)!r}, 'w')"]]
+    with pytest.raises(RuntimeError, match="exited 3: no kernel here"):
+        _run_jobs(jobs, dict(os.environ), str(tmp_path), 1)
+    assert not mark.exists()
+
+
 def test_a_new_combination_of_effects_reuses_the_loop() -> None:
     """The loop, the right-hand side and the start probe are keyed by kind and law only: an area
     method or a number never makes another compiled function."""

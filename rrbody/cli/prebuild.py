@@ -115,21 +115,36 @@ def _jobs() -> list[list[str]]:
 def _run_jobs(jobs: list[list[str]], env: dict[str, str], cwd: str, workers: int, bar: bool = False) -> None:
     """Run the jobs, ``workers`` at a time; the first failure is raised with its command and error.
     ``bar``: a progress bar (jobs done) on stderr."""
+    import threading
     from concurrent.futures import ThreadPoolExecutor, as_completed
 
     from tqdm import tqdm
 
+    failed = threading.Event()  # set before the failure is reported: no job starts after it
+
     def one(cmd: list[str]) -> None:
+        if failed.is_set():
+            return
         p = subprocess.run(cmd, env=env, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         if p.returncode != 0:
+            failed.set()
             tail = p.stderr.strip().splitlines()[-1:] or ["(no message)"]
             raise RuntimeError(f"prebuild: '{' '.join(cmd[2:])}' exited {p.returncode}: {tail[0]}")
 
-    with ThreadPoolExecutor(max_workers=max(1, workers)) as pool, \
-            tqdm(total=len(jobs), desc="compiling kernels", unit="job", disable=not bar, leave=False) as progress:
-        for fut in as_completed([pool.submit(one, cmd) for cmd in jobs]):
-            fut.result()
-            progress.update()
+    pool = ThreadPoolExecutor(max_workers=max(1, workers))
+    futures = [pool.submit(one, cmd) for cmd in jobs]
+    try:
+        with tqdm(total=len(jobs), desc="compiling kernels", unit="job", disable=not bar, leave=False) as progress:
+            for fut in as_completed(futures):
+                fut.result()
+                progress.update()
+    except BaseException:
+        failed.set()  # a failure (or Ctrl-C) stops the jobs not yet started
+        for fut in futures:
+            fut.cancel()
+        raise
+    finally:
+        pool.shutdown(wait=True)  # the running ones end (each is short): no process is left behind
 
 
 def build(into: Path | None = None, *, jobs: int = 2, quiet: bool = False, force: bool = False) -> Path:
