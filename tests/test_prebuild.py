@@ -111,12 +111,14 @@ def test_a_failing_job_stops_the_build_and_names_itself(tmp_path: Path) -> None:
 
 
 def test_a_new_combination_of_effects_reuses_the_loop() -> None:
-    """The loop, the right-hand side and the start probe are keyed by kind and law only: an area
-    method or a number never makes another compiled function."""
+    """The loop, the right-hand side and the start probe are keyed by the compiled code only (a
+    driven body's law, or a free body): an area method, a free body's law or a number never makes
+    another compiled function."""
     from rrbody.integrate import loop
     from rrbody.physics import dynamics
 
     assert loop.advance_for(110) is loop.advance_for(10) is loop.advance_for(310)  # area 1, 0, 3; driven, dry
     assert loop.advance_for(11) is not loop.advance_for(10)  # a free body: another kind
     assert loop.advance_for(20) is not loop.advance_for(10)  # viscous: another law
+    assert loop.advance_for(11) is loop.advance_for(21) is loop.advance_for(101)  # free: any law, any area
     assert dynamics.rhs_for(210) is dynamics.rhs_for(10)

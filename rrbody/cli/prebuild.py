@@ -1,10 +1,11 @@
 """Compile every rrbody kernel once, ahead of use: at install (the build backend runs this module,
 ``setup.py``) or on demand (``rrbody cache build``). docs/compile.md explains the design.
 
-The compiled code depends only on a scene's *kind* (driven or free) and friction law, never on its
-other effects (area method, geometry, numbers: all read at run time), so a fixed workload compiles
-everything a user can reach: the driven loop and the free-body loop for each law, the area methods,
-the quadrature tables, the stiff methods, and the plugin's kernels. The workload runs the user's own
+The compiled code depends only on a scene's *kind* (driven or free) and, for a driven body, its
+friction law, never on its other effects (area method, geometry, numbers: all read at run time;
+:func:`rrbody.physics.effects.compiled_code`), so a fixed workload compiles everything a user can
+reach: the driven loop for each law and the free-body loop, the area methods, the quadrature
+tables, the stiff methods, and the plugin's kernels. The workload runs the user's own
 entry points (the command line's commands, the plugin's ``step``) with tiny horizons, each in a
 process of its own, two at a time (two cores), and then each once more, one at a time: that pass
 compiles whatever a race between two processes lost (and nothing when all is well).
@@ -30,11 +31,11 @@ from pathlib import Path
 __all__ = ["COMMANDS", "run_extras", "build", "main"]
 
 _ROD = ["--H", "0.2", "--omega", "0.6"]
-#: the command-line workload (each a tiny horizon), heaviest first: the first run of each kind and law
-#: compiles a loop (15-30 s), the rest mostly load it
+#: the command-line workload (each a tiny horizon), heaviest first: the first driven run of each law
+#: and the first free run compile a loop (15-30 s each), the rest mostly load them
 COMMANDS: tuple[list[str], ...] = (
-    # the first run of each kind and law compiles its loop; driven and free alternate so that two
-    # workers share the long compilations
+    # driven and free alternate so that two workers share the long compilations; the free runs
+    # cover every law (run-time choices in the one free loop)
     ["flip-time", *_ROD, "--k", "0.05", "--json"],
     ["simulate", "--body", "disk", "--R0", "0.3", "--no-drive", "--v0", "1,0", "--spin0", "3", "--k", "1",
      "--t-max", "0.5", "--json"],
@@ -84,7 +85,7 @@ def _plugin_workload() -> None:
 
 def _rhs_workload() -> None:
     """The stand-alone right-hand sides (``rhs_for``: the engine path's set-up, tests, benchmarks)
-    for every kind and law: the command line reaches only some of them."""
+    for every compiled code: the command line reaches only some of them."""
     import numpy as np
 
     from rrbody.model.scene import scene_from_params

@@ -188,8 +188,8 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
     Returns a key of :data:`STATUS`. ``ev`` is the event state (:func:`rrbody.integrate.events.new_event_state`),
     ``minima`` its buffer of located minima, ``u_stop`` the speed (m/s) below which a free body's
     stop is completed analytically (``stop`` = STOP_REST). ``system`` (the scene's compiled code,
-    :func:`rrbody.physics.effects.compiled_code`: kind and friction law) is compiled in as a
-    constant: one loop per kind and law; the area method is read from ``p`` at run time."""
+    :func:`rrbody.physics.effects.compiled_code`: a driven body's friction law, or a free body) is
+    compiled in as a constant: four loops in all; the area method is read from ``p`` at run time."""
     literally(system)
     n = y.shape[0]
     K = np.empty((13, n))
@@ -375,7 +375,7 @@ _SPECIALISED: dict[int, Any] = {}
 def advance_for(system: int) -> Any:
     """The loop for the system code ``system``: a compiled function with the arguments of
     :func:`advance` from ``y`` to ``u_stop`` (the DOP853 tableau is built in). One per compiled code
-    (:func:`rrbody.physics.effects.compiled_code`: kind and law), whatever the area method (read
+    (:func:`rrbody.physics.effects.compiled_code`: driven with its law, or free), whatever the area method (read
     from ``p`` at run time), so a new combination of effects compiles nothing. numba caches each on
     disk (its closure constant is part of the cache key), and calling it costs no dispatch on the
     code (a direct call of :func:`advance` with a literal argument would retype per call)."""

@@ -78,15 +78,22 @@ def _driven_extended(law, area, t, y, p, S, d, s0, c0):  # noqa: ANN001 (numba)
     return phid, torque * p[P.INV_IP]
 
 
-@njit(cache=True, _nrt=False)
-def _free(law, area, t, y, p, S):  # noqa: ANN001 (numba)
+@njit(cache=True, inline="always")
+def _free_body(law, area, t, y, p, S):  # noqa: ANN001 (numba)
     """Accelerations (Fx, Fy, spin') of a free body: friction alone. A point mass (I_cm = 0) keeps
-    its spin constant: it has no rotational inertia to decelerate."""
+    its spin constant: it has no rotational inertia to decelerate. Inlined for a point mass; an
+    extended body calls it through :func:`_free`."""
     fx, fy, tau = 0.0, 0.0, 0.0
     if law != NONE:
         fx, fy, tau = body_wrench(area, law, S, p[P.RA], p[P.RB], int(p[P.NQ]), p[P.ICM], y[2], y[3], y[4], y[5],
                                   p[P.COEFF], p[P.VEPS])
     return fx, fy, (tau / p[P.ICM] if p[P.ICM] > 0.0 else 0.0)
+
+
+@njit(cache=True, _nrt=False)
+def _free(law, area, t, y, p, S):  # noqa: ANN001 (numba)
+    """:func:`_free_body` of an extended body, a call of its own (as :func:`_driven_extended`)."""
+    return _free_body(law, area, t, y, p, S)
 
 
 @njit(cache=True, _nrt=False)
@@ -114,7 +121,11 @@ def rhs_near(code, t, y, p, S, out, row, d, s0, c0):  # noqa: ANN001
         out[row, 0] = a
         out[row, 1] = b
     else:
-        ax, ay, aw = _free(law, area, t, y, p, S)
+        law = int(p[P.LAW])  # a free body's law: a run-time choice (compiled_code)
+        if area == POINT:
+            ax, ay, aw = _free_body(law, POINT, t, y, p, S)
+        else:
+            ax, ay, aw = _free(law, area, t, y, p, S)
         out[row, 0] = y[3]
         out[row, 1] = y[4]
         out[row, 2] = y[5]

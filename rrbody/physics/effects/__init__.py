@@ -50,9 +50,14 @@ def system_code(kind: str, law: str, area: str) -> int:
 
 
 def compiled_code(system: int) -> int:
-    """The part of a system code the compiled kernels are specialised on: kind + 10 law (the area
-    method and every parameter are run-time choices)."""
-    return int(system) % 100
+    """The part of a system code the compiled kernels are specialised on: kind + 10 law for a driven
+    body (its analytic Jacobian is where a run-time law costs), the kind alone for a free body (its
+    Jacobian is numerical, so its law is a run-time choice as well). The area method and every
+    parameter are run-time choices."""
+    system = int(system)
+    if system % 10 == FREE:
+        return FREE
+    return system % 100
 
 
 def describe_system(code: int) -> dict[str, str]:
