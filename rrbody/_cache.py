@@ -37,7 +37,7 @@ from pathlib import Path
 
 from rrbody._version import __version__
 
-__all__ = ["ENV", "cache_dir", "kernels_dir", "shipped_kernels_dir", "tables_dir", "locks_dir", "source_hash",
+__all__ = ["ENV", "BUILD_FILE", "cache_dir", "kernels_dir", "shipped_kernels_dir", "tables_dir", "locks_dir", "source_hash",
            "use_for_kernels", "prune_kernels", "seed_kernels"]
 
 #: the environment variable that moves the cache folder
@@ -84,16 +84,37 @@ def shipped_kernels_dir() -> Path:
     return _PKG / "_kernels" / kernels_dir().name
 
 
+#: the file, in a kernel folder compiled at install, that names the numba that compiled it
+BUILD_FILE = "BUILD.json"
+
+
 def seed_kernels() -> bool:
     """Copy the kernels compiled at install into the cache folder, if it has none for these sources
     yet. Atomic (a copy in a temporary folder, renamed): of two processes seeding at once, one wins
-    and the other's copy is dropped. Returns whether this call seeded."""
+    and the other's copy is dropped. Kernels compiled by another numba (pip's build environment may
+    hold a newer one than the environment it installs into) would all be refused by numba: they are
+    not copied, and a RuntimeWarning says how to compile them once (``rrbody cache build``).
+    Returns whether this call seeded."""
+    import json
     import shutil
     import tempfile
 
     target = kernels_dir()
     shipped = shipped_kernels_dir()
     if target.is_dir() or not shipped.is_dir():
+        return False
+    import numba
+
+    try:
+        built_by = json.loads((shipped / BUILD_FILE).read_text()).get("numba")
+    except (OSError, ValueError):
+        built_by = None
+    if built_by != numba.__version__:
+        import warnings
+
+        warnings.warn(f"rrbody's kernels were compiled at install by numba {built_by}, this is numba "
+                      f"{numba.__version__}: each is compiled on first use instead (15-30 s); "
+                      "'rrbody cache build' compiles them all now", RuntimeWarning, stacklevel=2)
         return False
     target.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=".seed-", dir=target.parent))

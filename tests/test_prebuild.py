@@ -76,8 +76,9 @@ def test_user_commands_compile_nothing_after_the_prebuild(tmp_path: Path) -> Non
 
 
 def test_first_use_seeds_the_cache_once(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """seed_kernels copies the install's folder into an absent cache folder, byte for byte, and
-    never over one that exists (numba's own, or another process's seed)."""
+    """seed_kernels copies the install's folder into an absent cache folder, byte for byte, if the
+    numba that compiled it is this one, and never over one that exists (numba's own, or another
+    process's seed)."""
     pkg = tmp_path / "pkg"
     monkeypatch.setattr(_cache, "_PKG", pkg)
     monkeypatch.setattr(_cache, "source_hash", lambda: "abc")
@@ -87,6 +88,15 @@ def test_first_use_seeds_the_cache_once(tmp_path: Path, monkeypatch: pytest.Monk
     assert _cache.seed_kernels() is False  # nothing shipped: nothing to do
     (shipped / "physics").mkdir(parents=True)
     (shipped / "physics" / "dynamics.rhs-90.py311.nbi").write_bytes(b"index")
+    import json
+
+    import numba
+
+    (shipped / _cache.BUILD_FILE).write_text(json.dumps({"numba": "0.0.1"}))
+    with pytest.warns(RuntimeWarning, match="compiled at install by numba 0.0.1, this is numba"):
+        assert _cache.seed_kernels() is False  # another numba's kernels: never copied, and said so
+    assert not _cache.kernels_dir().exists()
+    (shipped / _cache.BUILD_FILE).write_text(json.dumps({"numba": numba.__version__}))
     assert _cache.seed_kernels() is True
     target = _cache.kernels_dir()
     assert (target / "physics" / "dynamics.rhs-90.py311.nbi").read_bytes() == b"index"

@@ -155,7 +155,7 @@ def build(into: Path | None = None, *, jobs: int = 2, quiet: bool = False, force
     what a race between two processes lost, and nothing else. A folder ``into`` already holds for
     these sources is complete (it is moved there only at the end, and the workload is part of the
     sources): kept as it is unless ``force``."""
-    from rrbody._cache import ENV, cache_dir, kernels_dir
+    from rrbody._cache import BUILD_FILE, ENV, cache_dir, kernels_dir
 
     t0 = time.perf_counter()
     name = kernels_dir().name  # these sources; the jobs must find the same (no edit during a build)
@@ -177,6 +177,14 @@ def build(into: Path | None = None, *, jobs: int = 2, quiet: bool = False, force
         src = work / "kernels" / name
         if not src.is_dir():
             raise RuntimeError(f"prebuild: no kernels were written to {src} (were the sources edited during the build?)")
+        # which numba compiled them: a first use under another numba does not copy them (rrbody._cache)
+        import json
+        import platform
+
+        import numba
+
+        (src / BUILD_FILE).write_text(json.dumps({"numba": numba.__version__, "python": platform.python_version(),
+                                                  "machine": platform.machine()}))
         if into is None:
             result = src
         else:
