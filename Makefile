@@ -14,17 +14,28 @@ $(BIN)/python:
 	$(PY) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 
+# rrbody is built in the venv itself (--no-build-isolation): its build compiles the kernels with the
+# numba the venv runs (pip's own build environment could hold another), and numba, scipy and pymunk
+# are installed once, not twice. So pyproject's build requirements go in first.
+BUILD_REQS = $(BIN)/python -c "import subprocess, sys, tomllib; \
+	reqs = tomllib.load(open('pyproject.toml', 'rb'))['build-system']['requires']; \
+	subprocess.check_call([sys.executable, '-m', 'pip', 'install', '--quiet', *reqs])"
+INSTALL = $(BIN)/python -m pip install --quiet --no-build-isolation -e
+
 # one stamp per set of extras: reinstalled only when pyproject.toml changes
 $(VENV)/.installed-demo: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e '.[$(DEMO_EXTRAS)]'
+	$(BUILD_REQS)
+	$(INSTALL) '.[$(DEMO_EXTRAS)]'
 	touch $@
 
 $(VENV)/.installed-test: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e '.[$(TEST_EXTRAS)]'
+	$(BUILD_REQS)
+	$(INSTALL) '.[$(TEST_EXTRAS)]'
 	touch $@
 
 $(VENV)/.installed-docs: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e '.[$(DOCS_EXTRAS)]'
+	$(BUILD_REQS)
+	$(INSTALL) '.[$(DOCS_EXTRAS)]'
 	touch $@
 
 # the kernels compiled at install (setup.py) are those of the sources at install time; after an edit
