@@ -5,7 +5,8 @@ package (a wheel's build folder, or the checkout itself for an editable install)
 ``python -m rrbody.cli.prebuild --into <package>/_kernels`` from the source tree, so the first command a
 user runs loads compiled kernels instead of compiling them for 20-30 s. ``RRBODY_BUILD_KERNELS=0``
 skips it (the kernels are then compiled on first use, into the user's cache folder, as numba does).
-A failed kernel build fails the install: it would otherwise hide a broken kernel until first use.
+A failed kernel build fails a wheel build (`pip install .`); in an editable install setuptools turns
+it into a warning, and the Makefile's ``.venv/.kernels`` step, which runs the same build, then fails.
 """
 
 from __future__ import annotations
@@ -29,12 +30,10 @@ class BuildWithKernels(build_py):
         if os.environ.get("RRBODY_BUILD_KERNELS", "1") == "0":
             return
         package = ROOT / "rrbody" if getattr(self, "editable_mode", False) else Path(self.build_lib) / "rrbody"
-        # the source tree first; the rest of PYTHONPATH is how pip's isolated build environment
-        # provides numba and numpy, so it stays
-        path = os.environ.get("PYTHONPATH", "")
-        env = dict(os.environ, PYTHONPATH=str(ROOT) + (os.pathsep + path if path else ""))
+        # `python -m` from the source tree imports rrbody from it (the current folder comes first on
+        # sys.path); the environment, pip's isolated build environment included, stays as it is
         subprocess.run([sys.executable, "-m", "rrbody.cli.prebuild", "--into", str(package / "_kernels")],
-                       env=env, check=True, cwd=str(ROOT))
+                       check=True, cwd=str(ROOT))
 
 
 setup(cmdclass={"build_py": BuildWithKernels})

@@ -47,11 +47,10 @@ def loop_rhs_for(system: int):  # noqa: ANN201
     """m calls of the composed right-hand side with the compiled code in (as the ODE loop does)."""
     from rrbody.physics.effects import compiled_code
 
-    key = compiled_code(system)
-    if key not in _RHS_LOOPS:
+    code = compiled_code(system)
+    if code not in _RHS_LOOPS:
         from rrbody.physics.dynamics import rhs
 
-        code = key
 
         @njit(cache=True)
         def run(p, S, m):  # noqa: ANN001
@@ -64,5 +63,5 @@ def loop_rhs_for(system: int):  # noqa: ANN201
                 acc += out[0, 1]
             return acc
 
-        _RHS_LOOPS[key] = run
-    return _RHS_LOOPS[key]
+        _RHS_LOOPS[code] = run
+    return _RHS_LOOPS[code]

@@ -18,8 +18,8 @@ Kernels compiled at install: the build backend compiles every kernel once
 (:mod:`rrbody.cli.prebuild`) into the package's ``_kernels/<version>-<sources>/``; the first use of
 rrbody copies that folder into the cache folder (``seed_kernels``), where numba loads it like
 kernels of its own (its version, the CPU and every function's bytecode are still checked: a kernel
-that does not match is compiled again, never used). The first run of new sources removes the kernel folders of other sources beyond the
-four newest that have gone unused for an hour. ``rrbody cache clear`` empties the folder;
+that does not match is compiled again, never used). The first run of new sources removes the kernel
+folders of other sources beyond the four newest that have gone unused for an hour. ``rrbody cache clear`` empties the folder;
 ``rrbody cache info`` shows it.
 
 The package folder is never written to: an installed rrbody leaves its files as pip put them.

@@ -379,10 +379,10 @@ def advance_for(system: int) -> Any:
     from ``p`` at run time), so a new combination of effects compiles nothing. numba caches each on
     disk (its closure constant is part of the cache key), and calling it costs no dispatch on the
     code (a direct call of :func:`advance` with a literal argument would retype per call)."""
-    key = compiled_code(system)
-    if key not in _SPECIALISED:
-        _SPECIALISED[key] = _make_advance(key)
-    return _SPECIALISED[key]
+    code = compiled_code(system)
+    if code not in _SPECIALISED:
+        _SPECIALISED[code] = _make_advance(code)
+    return _SPECIALISED[code]
 
 
 def _make_advance(code: int) -> Any:

@@ -86,10 +86,9 @@ def _start_for(system: int) -> Any:
     the paper's units): one probe decides. Below the limit DOP853 steps through the start as cheaply
     as anywhere else (phixtpm: h |lambda| = 0.02), and more accurately than the stiff method at loose
     tolerances."""
-    key = compiled_code(system)
-    if key not in _STARTS:
-        code = key
-        dry = (key // 10) % 10 == LAW_CODES["dry"]
+    code = compiled_code(system)
+    if code not in _STARTS:
+        dry = (code // 10) % 10 == LAW_CODES["dry"]
 
         @njit(cache=True)
         def start(y, f, p, S, h0):  # noqa: ANN001
@@ -106,8 +105,8 @@ def _start_for(system: int) -> Any:
             jacobian(code, h0, yp, p, S, fp[0], J, np.empty(2))
             return h0 * spectral_radius(J) > STIFF_HLAMB
 
-        _STARTS[key] = start
-    return _STARTS[key]
+        _STARTS[code] = start
+    return _STARTS[code]
 
 
 def integrate_driven(p: np.ndarray, S: np.ndarray, y0: tuple[float, float], *, t_end: float, rtol: float,

@@ -1,10 +1,11 @@
 """Right-hand sides composed from a scene's effects (compiled, pure functions of (t, y, p, S)).
 
-``code`` is the scene's compiled code (:func:`rrbody.physics.effects.compiled_code`: kind + 10 law;
-the kind, :data:`SYSTEM_DRIVEN` or :data:`SYSTEM_FREE`, says which state and which equations). The
-kernels are compiled once per code, with the code as a compile-time constant (the state size fixes
-the loops' trip counts; a run-time law was measured to cost the stiff runs a quarter of their
-speed). The area method is chosen at run time from ``p[BODY]``, so every area method runs in the same
+``code`` is the scene's compiled code (:func:`rrbody.physics.effects.compiled_code`: the kind,
+:data:`SYSTEM_DRIVEN` or :data:`SYSTEM_FREE`, which says which state and which equations, plus 10
+times a driven body's friction law). The kernels are compiled once per code, with the code as a
+compile-time constant (the state size fixes the loops' trip counts; a driven body's law read at run
+time was measured to cost the stiff runs a quarter of their speed; a free body's law is read from
+``p[LAW]``, its Jacobian being numerical). The area method is chosen at run time from ``p[BODY]``, so every area method runs in the same
 compiled code and a new combination of effects compiles nothing (docs/compile.md). The point mass,
 where an evaluation costs a few ns, is written inline; an extended body's area method is one call of
 :func:`_driven_extended` or :func:`_free`, so the loop's code does not grow with the area methods.
@@ -111,9 +112,9 @@ def rhs_near(code, t, y, p, S, out, row, d, s0, c0):  # noqa: ANN001
     evaluation (measured: an ellipse's table right-hand side 132 -> 108 ns in the benchmark's
     compiled loop, which can then inline it; its flip-time steps ~5 % cheaper)."""
     literally(code)
-    law = (code // 10) % 10
     area = int(p[P.BODY])
     if code % 10 == DRIVEN:
+        law = (code // 10) % 10  # compiled in
         if area == POINT:
             a, b = _driven_point(law, t, y, p, d, s0, c0)
         else:
@@ -121,11 +122,11 @@ def rhs_near(code, t, y, p, S, out, row, d, s0, c0):  # noqa: ANN001
         out[row, 0] = a
         out[row, 1] = b
     else:
-        law = int(p[P.LAW])  # a free body's law: a run-time choice (compiled_code)
+        law_free = int(p[P.LAW])  # a free body's law: a run-time choice (compiled_code)
         if area == POINT:
-            ax, ay, aw = _free_body(law, POINT, t, y, p, S)
+            ax, ay, aw = _free_body(law_free, POINT, t, y, p, S)
         else:
-            ax, ay, aw = _free(law, area, t, y, p, S)
+            ax, ay, aw = _free(law_free, area, t, y, p, S)
         out[row, 0] = y[3]
         out[row, 1] = y[4]
         out[row, 2] = y[5]
@@ -155,16 +156,15 @@ def rhs_for(system: int) -> Any:
     """A compiled ``f(t, y, p, S, out)`` for the system code ``system`` (one per compiled code,
     cached on disk by numba: the closure constant is part of the cache key; the area method comes
     from ``p``)."""
-    key = compiled_code(system)
-    if key not in _RHS_KERNELS:
-        code = key
+    code = compiled_code(system)
+    if code not in _RHS_KERNELS:
 
         @njit(cache=True)
         def kernel(t, y, p, S, out):  # noqa: ANN001
             rhs(code, t, y, p, S, out.reshape((1, out.shape[0])), 0)
 
-        _RHS_KERNELS[key] = kernel
-    return _RHS_KERNELS[key]
+        _RHS_KERNELS[code] = kernel
+    return _RHS_KERNELS[code]
 
 
 def driven_rhs(t: float, y: np.ndarray, p: np.ndarray, S: np.ndarray, out: np.ndarray) -> None:
