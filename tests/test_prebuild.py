@@ -120,6 +120,19 @@ def test_a_failing_job_stops_the_build_and_names_itself(tmp_path: Path) -> None:
     assert not mark.exists()
 
 
+def test_jobs_is_validated_where_it_enters(tmp_path: Path) -> None:
+    """--jobs below 1 or not an integer: exit 2 naming it, nothing built; the function: a ValueError."""
+    from rrbody.cli.prebuild import build
+
+    for bad in ("0", "-1", "two"):
+        p = subprocess.run([sys.executable, "-m", "rrbody.cli.prebuild", "--jobs", bad, "--into", str(tmp_path / "k")],
+                           capture_output=True, text=True, timeout=60)
+        assert p.returncode == 2 and f"--jobs must be an integer >= 1, got '{bad}'" in p.stderr
+    assert not (tmp_path / "k").exists()
+    with pytest.raises(ValueError, match=r"jobs must be an integer >= 1 \(processes at a time\), got 0"):
+        build(tmp_path / "k", jobs=0)
+
+
 def test_a_new_combination_of_effects_reuses_the_loop() -> None:
     """The loop, the right-hand side and the start probe are keyed by the compiled code only (a
     driven body's law, or a free body): an area method, a free body's law or a number never makes

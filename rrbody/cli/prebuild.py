@@ -132,7 +132,7 @@ def _run_jobs(jobs: list[list[str]], env: dict[str, str], cwd: str, workers: int
             tail = p.stderr.strip().splitlines()[-1:] or ["(no message)"]
             raise RuntimeError(f"prebuild: '{' '.join(cmd[2:])}' exited {p.returncode}: {tail[0]}")
 
-    pool = ThreadPoolExecutor(max_workers=max(1, workers))
+    pool = ThreadPoolExecutor(max_workers=workers)
     futures = [pool.submit(one, cmd) for cmd in jobs]
     try:
         with tqdm(total=len(jobs), desc="compiling kernels", unit="job", disable=not bar, leave=False) as progress:
@@ -157,6 +157,8 @@ def build(into: Path | None = None, *, jobs: int = 2, quiet: bool = False, force
     sources): kept as it is unless ``force``."""
     from rrbody._cache import BUILD_FILE, ENV, cache_dir, kernels_dir
 
+    if not (isinstance(jobs, int) and jobs >= 1):
+        raise ValueError(f"jobs must be an integer >= 1 (processes at a time), got {jobs!r}")
     t0 = time.perf_counter()
     name = kernels_dir().name  # these sources; the jobs must find the same (no edit during a build)
     if into is not None and (into / name).is_dir() and not force:
@@ -203,12 +205,23 @@ def build(into: Path | None = None, *, jobs: int = 2, quiet: bool = False, force
     return result
 
 
+def _positive_int(text: str) -> int:
+    """``--jobs``: an integer >= 1 (argparse turns the ValueError into its usage error, exit 2)."""
+    try:
+        n = int(text)
+    except ValueError:
+        n = 0
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"--jobs must be an integer >= 1, got {text!r}")
+    return n
+
+
 def main(argv: list[str] | None = None) -> int:
     """``python -m rrbody.cli.prebuild [--into DIR] [--jobs N]`` (the build backend's call), or
     ``--extras`` (the workload outside the command line: one job of :func:`build`)."""
     ap = argparse.ArgumentParser(prog="python -m rrbody.cli.prebuild", description=__doc__.split("\n\n")[0])
     ap.add_argument("--into", type=Path, default=None, help="move the kernel folder here (default: the user cache)")
-    ap.add_argument("--jobs", type=int, default=2, help="processes at a time (default 2)")
+    ap.add_argument("--jobs", type=_positive_int, default=2, help="processes at a time, 1 or more (default 2)")
     ap.add_argument("--force", action="store_true", help="compile again even if --into holds these sources' kernels")
     ap.add_argument("--extras", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
