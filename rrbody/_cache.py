@@ -38,7 +38,8 @@ from pathlib import Path
 from rrbody._version import __version__
 
 __all__ = ["ENV", "BUILD_FILE", "cache_dir", "kernels_dir", "shipped_kernels_dir", "tables_dir", "locks_dir", "source_hash",
-           "use_for_kernels", "prune_kernels", "seed_kernels"]
+           "use_for_kernels", "prune_kernels", "seed_kernels",
+           "built_by_numba", "NO_SEED"]
 
 #: the environment variable that moves the cache folder
 ENV = "RRBODY_CACHE_DIR"
@@ -88,27 +89,38 @@ def shipped_kernels_dir() -> Path:
 BUILD_FILE = "BUILD.json"
 
 
+#: set (to anything) by ``rrbody.cli.prebuild --force`` in its jobs: compile, do not copy what an install holds
+NO_SEED = "RRBODY_NO_SEED"
+
+
+def built_by_numba(folder: Path) -> str | None:
+    """The numba version a kernel folder compiled by :mod:`rrbody.cli.prebuild` names (its
+    ``BUILD.json``), or None."""
+    import json
+
+    try:
+        return json.loads((folder / BUILD_FILE).read_text()).get("numba")
+    except (OSError, ValueError, AttributeError):
+        return None
+
+
 def seed_kernels() -> bool:
     """Copy the kernels compiled at install into the cache folder, if it has none for these sources
     yet. Atomic (a copy in a temporary folder, renamed): of two processes seeding at once, one wins
     and the other's copy is dropped. Kernels compiled by another numba (pip's build environment may
     hold a newer one than the environment it installs into) would all be refused by numba: they are
     not copied, and a RuntimeWarning says how to compile them once (``rrbody cache build``).
-    Returns whether this call seeded."""
-    import json
+    Returns whether this call seeded (never under ``RRBODY_NO_SEED``)."""
     import shutil
     import tempfile
 
     target = kernels_dir()
     shipped = shipped_kernels_dir()
-    if target.is_dir() or not shipped.is_dir():
+    if target.is_dir() or not shipped.is_dir() or os.environ.get(NO_SEED):
         return False
     import numba
 
-    try:
-        built_by = json.loads((shipped / BUILD_FILE).read_text()).get("numba")
-    except (OSError, ValueError):
-        built_by = None
+    built_by = built_by_numba(shipped)
     if built_by != numba.__version__:
         import warnings
 

@@ -106,6 +106,57 @@ def test_first_use_seeds_the_cache_once(tmp_path: Path, monkeypatch: pytest.Monk
     assert not list(target.parent.glob(".seed-*"))  # no temporary copy left behind
 
 
+def test_no_seed_under_a_forced_build(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """``prebuild --force`` must compile: its jobs run with RRBODY_NO_SEED, and seeding then copies nothing."""
+    import json
+
+    import numba
+
+    monkeypatch.setattr(_cache, "_PKG", tmp_path / "pkg")
+    monkeypatch.setattr(_cache, "source_hash", lambda: "abc")
+    monkeypatch.setenv(_cache.ENV, str(tmp_path / "c"))
+    shipped = _cache.shipped_kernels_dir()
+    shipped.mkdir(parents=True)
+    (shipped / _cache.BUILD_FILE).write_text(json.dumps({"numba": numba.__version__}))
+    monkeypatch.setenv(_cache.NO_SEED, "1")
+    assert _cache.seed_kernels() is False and not _cache.kernels_dir().exists()
+    monkeypatch.delenv(_cache.NO_SEED)
+    assert _cache.seed_kernels() is True
+
+
+def test_a_wheel_build_copies_the_source_trees_kernels(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Building into another folder (a wheel's) when the source tree already holds these sources'
+    kernels, compiled by this numba, copies them (no job runs) and replaces other sources' folders
+    there; kernels of another numba are not copied (the build would compile: not run here)."""
+    import json
+
+    import numba
+
+    from rrbody.cli import prebuild
+
+    monkeypatch.setattr(_cache, "_PKG", tmp_path / "tree")
+    monkeypatch.setattr(_cache, "source_hash", lambda: "abc")
+    mine = _cache.shipped_kernels_dir()
+    (mine / "physics").mkdir(parents=True)
+    (mine / "physics" / "f.nbi").write_bytes(b"index")
+    (mine / _cache.BUILD_FILE).write_text(json.dumps({"numba": numba.__version__}))
+    into = tmp_path / "wheel" / "_kernels"
+    (into / "0.0.0-old").mkdir(parents=True)
+
+    def no_jobs(*args: object, **kwargs: object) -> None:
+        raise AssertionError("a job ran: the kernels were compiled, not copied")
+
+    monkeypatch.setattr(prebuild, "_run_jobs", no_jobs)
+    got = prebuild.build(into, quiet=True)
+    assert got == into / mine.name and (got / "physics" / "f.nbi").read_bytes() == b"index"
+    assert sorted(p.name for p in into.iterdir()) == [mine.name]
+    assert (mine / "physics" / "f.nbi").exists()  # a copy: the tree keeps its own
+    (mine / _cache.BUILD_FILE).write_text(json.dumps({"numba": "0.0.1"}))
+    shutil.rmtree(into)
+    with pytest.raises(AssertionError, match="a job ran"):
+        prebuild.build(into, quiet=True)
+
+
 def test_a_failing_job_stops_the_build_and_names_itself(tmp_path: Path) -> None:
     """The first failure is raised with its command and last line of error; the jobs not yet started
     never run (one at a time here, so the third is never started)."""

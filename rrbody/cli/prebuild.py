@@ -6,9 +6,11 @@ friction law, never on its other effects (area method, geometry, numbers: all re
 :func:`rrbody.physics.effects.compiled_code`), so a fixed workload compiles everything a user can
 reach: the driven loop for each law and the free-body loop, the area methods, the quadrature
 tables, the stiff methods, and the plugin's kernels. The workload runs the user's own
-entry points (the command line's commands, the plugin's ``step``) with tiny horizons, each in a
-process of its own, two at a time (two cores), and then each once more, one at a time: that pass
-compiles whatever a race between two processes lost (and nothing when all is well).
+entry points (the command line's commands, the plugin's ``step``) with tiny horizons: first the
+jobs that compile a stepping loop and the plugin, each in a process of its own, two at a time (two
+cores); then all of the workload in one process, which compiles what those left out and whatever
+a race between two processes lost (two processes adding overloads to one index file: the last
+save wins).
 
 Kernels go to numba's cache in a fresh cache folder (``RRBODY_CACHE_DIR``), and the folder
 ``kernels/<version>-<sources>`` is moved to ``--into`` (the package's ``_kernels`` folder at install)
@@ -28,21 +30,22 @@ import tempfile
 import time
 from pathlib import Path
 
-__all__ = ["COMMANDS", "run_extras", "build", "main"]
+__all__ = ["COMMANDS", "run_extras", "run_all", "build", "main"]
 
 _ROD = ["--H", "0.2", "--omega", "0.6"]
 #: the command-line workload (each a tiny horizon), heaviest first: the first driven run of each law
 #: and the first free run compile a loop (15-30 s each), the rest mostly load them
 COMMANDS: tuple[list[str], ...] = (
-    # driven and free alternate so that two workers share the long compilations; the free runs
+    # the four jobs that compile a stepping loop (15-30 s each) first, ordered so that two workers
+    # finish them together (measured: dry 27 s, free 27 s, viscous 20 s, none 16 s); the free runs
     # cover every law (run-time choices in the one free loop)
     ["flip-time", *_ROD, "--k", "0.05", "--json"],
     ["simulate", "--body", "disk", "--R0", "0.3", "--no-drive", "--v0", "1,0", "--spin0", "3", "--k", "1",
      "--t-max", "0.5", "--json"],
     ["simulate", *_ROD, "--k", "0.05", "--friction", "viscous", "--t-max", "0.5", "--json"],
+    ["simulate", *_ROD, "--friction", "none", "--t-max", "0.5", "--json"],
     ["simulate", "--body", "ellipse", "--R0", "0.3", "--delta", "0.3", "--no-drive", "--v0", "1,0", "--spin0", "3",
      "--k", "1", "--friction", "viscous", "--t-max", "0.5", "--json"],
-    ["simulate", *_ROD, "--friction", "none", "--t-max", "0.5", "--json"],
     ["simulate", "--no-drive", "--H", "0.2", "--v0", "1,0", "--friction", "none", "--t-max", "0.5", "--json"],
     ["simulate", *_ROD, "--k", "10000", "--t-max", "0.5", "--stepper", "rodas", "--json"],
     ["critical-h", "--k", "0.05", "--omega", "0.6", "--tol", "0.01", "--accuracy", "draft", "--json"],
@@ -56,6 +59,9 @@ COMMANDS: tuple[list[str], ...] = (
     ["simulate", "--body", "ellipse", "--R0", "0.3", "--delta", "0.3", "--omega", "0.6", "--k", "0.05",
      "--friction", "viscous", "--t-max", "0.5", "--method", "engine", "--json"],
 )
+
+#: the first N_LOOPS commands each compile a stepping loop (one per driven law, and the free loop)
+N_LOOPS = 4
 
 
 def _plugin_workload() -> None:
@@ -110,7 +116,27 @@ def run_extras() -> None:
 def _jobs() -> list[list[str]]:
     """Every job of the workload as a command line of its own process."""
     cli = [sys.executable, "-m", "rrbody.cli"]
-    return [[*cli, *argv] for argv in COMMANDS] + [[sys.executable, "-m", "rrbody.cli.prebuild", "--extras"]]
+    # the four that compile a stepping loop, and the plugin's kernels (~6 s) while the other worker
+    # finishes the last loop; the rest mostly load those (0.7 s each, nearly all of it a process's
+    # start-up): they run in the one process of the second pass (run_all)
+    return [*([*cli, *argv] for argv in COMMANDS[:N_LOOPS]), [sys.executable, "-m", "rrbody.cli.prebuild", "--extras"]]
+
+
+def run_all() -> None:
+    """Every job of the workload, one after the other in this process (the check pass of
+    :func:`build`): one start-up instead of one per job, and a kernel a race lost is compiled here."""
+    import contextlib
+    import io
+
+    from rrbody.cli.main import main as cli_main
+
+    for argv in COMMANDS:
+        out = io.StringIO()
+        with contextlib.redirect_stdout(out):
+            code = cli_main(list(argv))
+        if code != 0:
+            raise RuntimeError(f"prebuild: '{' '.join(argv)}' exited {code}")
+    run_extras()
 
 
 def _run_jobs(jobs: list[list[str]], env: dict[str, str], cwd: str, workers: int, bar: bool = False) -> None:
@@ -151,11 +177,15 @@ def _run_jobs(jobs: list[list[str]], env: dict[str, str], cwd: str, workers: int
 def build(into: Path | None = None, *, jobs: int = 2, quiet: bool = False, force: bool = False) -> Path:
     """Compile every kernel; returns the kernel folder. ``into``: move the folder
     ``<version>-<sources>`` there (replacing the folders of other sources); None: fill the user's
-    cache. ``jobs`` processes at a time, then every job once more one at a time: that pass compiles
-    what a race between two processes lost, and nothing else. A folder ``into`` already holds for
-    these sources is complete (it is moved there only at the end, and the workload is part of the
-    sources): kept as it is unless ``force``."""
-    from rrbody._cache import BUILD_FILE, ENV, cache_dir, kernels_dir
+    cache. ``jobs`` processes at a time, then the whole workload once more in one process: that pass
+    compiles what a race between two processes lost, and nothing else. A folder ``into`` already
+    holds for these sources is complete (it is moved there only at the end, and the workload is part
+    of the sources): kept as it is unless ``force``. Unless ``force``, a wheel built from a source
+    tree whose own ``rrbody/_kernels`` holds these sources' kernels, compiled by this numba (an
+    editable install, ``make test``), gets a copy of them instead of a second compilation."""
+    import numba
+
+    from rrbody._cache import BUILD_FILE, ENV, NO_SEED, built_by_numba, cache_dir, kernels_dir, shipped_kernels_dir
 
     if not (isinstance(jobs, int) and jobs >= 1):
         raise ValueError(f"jobs must be an integer >= 1 (processes at a time), got {jobs!r}")
@@ -165,8 +195,17 @@ def build(into: Path | None = None, *, jobs: int = 2, quiet: bool = False, force
         if not quiet:
             print(f"rrbody: the kernels of these sources are already compiled: {into / name}", file=sys.stderr)
         return into / name
+    mine = shipped_kernels_dir()  # this source tree's own kernels (the tree this module runs from)
+    if into is not None and not force and mine.is_dir() and built_by_numba(mine) == numba.__version__ \
+            and mine.resolve() != (into / name).resolve():
+        result = _place(mine, into, copy=True)
+        if not quiet:
+            print(f"rrbody: copied the kernels this source tree compiled for these sources: {result}", file=sys.stderr)
+        return result
     work = Path(tempfile.mkdtemp(prefix="rrbody-kernels-")) if into is not None else cache_dir()
     env = dict(os.environ, **{ENV: str(work)})
+    if force:
+        env[NO_SEED] = "1"  # compile: the jobs must not copy what an install already holds
     # the jobs import rrbody from where this process did (the source tree during a build)
     root = str(Path(__file__).resolve().parents[2])
     env["PYTHONPATH"] = root + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
@@ -175,7 +214,7 @@ def build(into: Path | None = None, *, jobs: int = 2, quiet: bool = False, force
         with tempfile.TemporaryDirectory(prefix="rrbody-prebuild-") as cwd:  # any file a job writes
             bar = not quiet and sys.stderr.isatty()
             _run_jobs(_jobs(), env, cwd, jobs, bar)
-            _run_jobs(_jobs(), env, cwd, 1, bar)
+            _run_jobs([[sys.executable, "-m", "rrbody.cli.prebuild", "--all"]], env, cwd, 1, bar)
         src = work / "kernels" / name
         if not src.is_dir():
             raise RuntimeError(f"prebuild: no kernels were written to {src} (were the sources edited during the build?)")
@@ -183,25 +222,30 @@ def build(into: Path | None = None, *, jobs: int = 2, quiet: bool = False, force
         import json
         import platform
 
-        import numba
-
         (src / BUILD_FILE).write_text(json.dumps({"numba": numba.__version__, "python": platform.python_version(),
                                                   "machine": platform.machine()}))
-        if into is None:
-            result = src
-        else:
-            into.mkdir(parents=True, exist_ok=True)
-            result = into / src.name
-            shutil.rmtree(result, ignore_errors=True)
-            shutil.move(str(src), str(result))
-            for old in into.iterdir():  # a package carries the kernels of its own sources only
-                if old != result and old.is_dir():
-                    shutil.rmtree(old, ignore_errors=True)
+        result = src if into is None else _place(src, into, copy=False)
     finally:
         if into is not None:
             shutil.rmtree(work, ignore_errors=True)
     if not quiet:
         print(f"rrbody: compiled every kernel in {time.perf_counter() - t0:.0f} s -> {result}", file=sys.stderr)
+    return result
+
+
+def _place(src: Path, into: Path, *, copy: bool) -> Path:
+    """Move (or copy) the kernel folder ``src`` into ``into`` under its own name, replacing the
+    folders of other sources there (a package carries the kernels of its own sources only)."""
+    into.mkdir(parents=True, exist_ok=True)
+    result = into / src.name
+    shutil.rmtree(result, ignore_errors=True)
+    if copy:
+        shutil.copytree(src, result)
+    else:
+        shutil.move(str(src), str(result))
+    for old in into.iterdir():
+        if old != result and old.is_dir():
+            shutil.rmtree(old, ignore_errors=True)
     return result
 
 
@@ -224,9 +268,13 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--jobs", type=_positive_int, default=2, help="processes at a time, 1 or more (default 2)")
     ap.add_argument("--force", action="store_true", help="compile again even if --into holds these sources' kernels")
     ap.add_argument("--extras", action="store_true", help=argparse.SUPPRESS)
+    ap.add_argument("--all", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.extras:
         run_extras()
+        return 0
+    if args.all:
+        run_all()
         return 0
     build(args.into, jobs=args.jobs, force=args.force)
     return 0
