@@ -23,12 +23,17 @@ _LAZY = {
     "PlaneFriction": "rrbody.engine.plugin",
 }
 
-__all__ = ["__version__", *_LAZY]
+#: sub-modules reachable as attributes (``rrbody.pressure.ring(0.05)``)
+_MODULES = {"pressure": "rrbody.model.pressure"}
+
+__all__ = ["__version__", *_LAZY, *_MODULES]
 
 
 def __getattr__(name: str) -> Any:
     if name in _LAZY:
         return getattr(import_module(_LAZY[name]), name)
+    if name in _MODULES:
+        return import_module(_MODULES[name])
     raise AttributeError(f"module 'rrbody' has no attribute {name!r}")
 
 

@@ -243,11 +243,11 @@ def test_add_remove_and_bodies() -> None:
 
 def test_segment_footprint_and_mass_from_density() -> None:
     space, pf, b = _space_with(lambda b: [pymunk.Segment(b, (-0.5, 0.0), (0.5, 0.0), 0.1)], v=(1.0, 0.0))
-    from rrbody.engine import kernel as K
+    from rrbody.physics import contact as C
 
     shapes = pf._geo[0][0]
     stadium = 1.0 * 0.2 + math.pi * 0.01
-    assert shapes[0, K.AREA] == pytest.approx(stadium, rel=7e-3)  # polygonal caps: 16 edges each
+    assert shapes[0, C.AREA] == pytest.approx(stadium, rel=7e-3)  # polygonal caps: 16 edges each
     fx, fy, tq = pf.wrench(b)
     assert fx == pytest.approx(-0.5 * G * b.mass, rel=1e-14) and abs(tq) < 1e-14
 
@@ -278,7 +278,7 @@ def test_bad_input() -> None:
     space.add(b, s)
     with pytest.raises(ValueError, match=r"mu must be 0 or in"):
         pf.add(b, mu=-1.0)
-    with pytest.raises(ValueError, match="pressure must be one of 'uniform'"):
+    with pytest.raises(ValueError, match="pressure must be one of uniform, ring:R, annulus:RIN,ROUT, hertz:A or points"):
         pf.add(b, mu=0.5, pressure="parabolic")
     with pytest.raises(ValueError, match="body must be a pymunk.Body"):
         pf.add("body", mu=0.5)

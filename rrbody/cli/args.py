@@ -84,7 +84,8 @@ _PARAM_OPTIONS: dict[str, str] = {**{p: o for o, p in OPTION_PARAMS.items()}, "R
                                   "friction": "--friction", "friction_method": "--friction-method",
                                   "orientation": "--orientation", "accuracy": "--accuracy", "method": "--method",
                                   "quantity": "--quantity", "batch": "--batch", "resume": "--resume",
-                                  "n_scan": "--n-scan", "stepper": "--stepper", "scheduler": "--scheduler"}
+                                  "n_scan": "--n-scan", "stepper": "--stepper", "scheduler": "--scheduler",
+                                  "pressure": "--pressure"}
 
 
 def option_help(param: str, text: str, default: object = None) -> str:

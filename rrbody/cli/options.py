@@ -61,6 +61,10 @@ def add_scene_options(p: argparse.ArgumentParser, *, free_bodies: bool = True) -
                         "once per aspect ratio, seconds for an ellipse)")
     g.add_argument("--samples", type=integer("--samples"), default=4096,
                    help=option_help("samples", "area elements for --friction-method sampled", 4096))
+    g.add_argument("--pressure", default=None, metavar="PROFILE",
+                   help="how the weight presses on the plane (disk, ellipse; m, from the centre): uniform "
+                        "(default), ring:R, annulus:RIN,ROUT, hertz:A (p ~ sqrt(1 - r^2/A^2)) or "
+                        "points:X,Y,SHARE;X,Y,SHARE;... (feet); exact (docs: Contacts)")
     if free_bodies:
         g.add_argument("--no-drive", action="store_true", help="a free body: no drive, launched with --v0 and --spin0")
         g.add_argument("--v0", type=float_list("--v0", 2), default=(0.0, 0.0),
@@ -163,7 +167,7 @@ def check_contradictions(a: argparse.Namespace) -> None:
 def scene_params(a: argparse.Namespace) -> dict[str, Any]:
     """The parsed scene options as keyword arguments of scene_from_params (None: not given)."""
     keys = ("body", "H", "l", "R0", "delta", "orientation", "omega", "d", "k", "mu", "g", "friction", "phi0",
-            "phi_dot0", "t_max", "friction_method", "samples", "no_drive", "v0", "spin0")
+            "phi_dot0", "t_max", "friction_method", "samples", "no_drive", "v0", "spin0", "pressure")
     kw = {k: getattr(a, k) for k in keys if getattr(a, k, None) is not None}
     if "v0" in kw:
         kw["v0"] = tuple(kw["v0"])

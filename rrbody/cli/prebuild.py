@@ -30,113 +30,20 @@ import tempfile
 import time
 from pathlib import Path
 
-__all__ = ["COMMANDS", "run_extras", "run_all", "build", "main"]
+__all__ = ["N_LOOPS", "build", "main"]
 
-_ROD = ["--H", "0.2", "--omega", "0.6"]
-#: the command-line workload (each a tiny horizon), heaviest first: the first driven run of each law
-#: and the first free run compile a loop (15-30 s each), the rest mostly load them
-COMMANDS: tuple[list[str], ...] = (
-    # the four jobs that compile a stepping loop (15-30 s each) first, ordered so that two workers
-    # finish them together (measured: dry 27 s, free 27 s, viscous 20 s, none 16 s); the free runs
-    # cover every law (run-time choices in the one free loop)
-    ["flip-time", *_ROD, "--k", "0.05", "--json"],
-    ["simulate", "--body", "disk", "--R0", "0.3", "--no-drive", "--v0", "1,0", "--spin0", "3", "--k", "1",
-     "--t-max", "0.5", "--json"],
-    ["simulate", *_ROD, "--k", "0.05", "--friction", "viscous", "--t-max", "0.5", "--json"],
-    ["simulate", *_ROD, "--friction", "none", "--t-max", "0.5", "--json"],
-    ["simulate", "--body", "ellipse", "--R0", "0.3", "--delta", "0.3", "--no-drive", "--v0", "1,0", "--spin0", "3",
-     "--k", "1", "--friction", "viscous", "--t-max", "0.5", "--json"],
-    ["simulate", "--no-drive", "--H", "0.2", "--v0", "1,0", "--friction", "none", "--t-max", "0.5", "--json"],
-    ["simulate", *_ROD, "--k", "10000", "--t-max", "0.5", "--stepper", "rodas", "--json"],
-    ["critical-h", "--k", "0.05", "--omega", "0.6", "--tol", "0.01", "--accuracy", "draft", "--json"],
-    # extended driven bodies: every area method (run time choices inside the same loop)
-    ["simulate", "--body", "ellipse", "--R0", "0.3", "--delta", "0.3", "--l", "0.2", "--omega", "0.6", "--k",
-     "0.05", "--t-max", "0.5", "--json"],
-    ["simulate", "--body", "disk", "--R0", "0.3", "--l", "0.2", "--omega", "0.6", "--k", "0.05",
-     "--friction-method", "icr", "--t-max", "0.5", "--json"],
-    ["simulate", "--body", "disk", "--R0", "0.3", "--l", "0.2", "--omega", "0.6", "--k", "0.05",
-     "--friction-method", "sampled", "--samples", "64", "--t-max", "0.5", "--json"],
-    ["simulate", "--body", "ellipse", "--R0", "0.3", "--delta", "0.3", "--omega", "0.6", "--k", "0.05",
-     "--friction", "viscous", "--t-max", "0.5", "--method", "engine", "--json"],
-)
-
-#: the first N_LOOPS commands each compile a stepping loop (one per driven law, and the free loop)
+#: the workload's jobs that each compile a stepping loop (one per driven law, and the free loop):
+#: the first N_LOOPS commands of :data:`rrbody.cli.workload.COMMANDS`
 N_LOOPS = 4
 
 
-def _plugin_workload() -> None:
-    """The plugin's kernels: a circle, a box and a thick segment, stepped a few times."""
-    try:
-        import pymunk
-    except ImportError:  # the engine extra is absent: nothing of the plugin can run here
-        return
-    from rrbody.engine.plugin import PlaneFriction
-
-    space = pymunk.Space()
-    pf = PlaneFriction(space, g=9.81)
-    for k, make in enumerate((lambda b: pymunk.Circle(b, 0.05), lambda b: pymunk.Poly.create_box(b, (0.1, 0.06)),
-                              lambda b: pymunk.Segment(b, (-0.05, 0.0), (0.05, 0.0), 0.01))):
-        body = pymunk.Body()
-        shape = make(body)
-        shape.density = 800.0
-        body.position = (0.3 * k, 0.0)
-        space.add(body, shape)
-        body.velocity, body.angular_velocity = (1.0, 0.2), 5.0
-        pf.add(body, mu=0.3)
-    for _ in range(3):
-        pf.step(1 / 240)
-    pf.wrench(pf.bodies[0])
-    pf.remove(pf.bodies[-1])
-
-
-def _rhs_workload() -> None:
-    """The stand-alone right-hand sides (``rhs_for``: the engine path's set-up, tests, benchmarks)
-    for every compiled code: the command line reaches only some of them."""
-    import numpy as np
-
-    from rrbody.model.scene import scene_from_params
-    from rrbody.physics.bind import kernel_params
-    from rrbody.physics.dynamics import driven_rhs, free_rhs
-
-    for law in ("dry", "viscous", "none"):
-        k = None if law == "none" else 0.05
-        p, S = kernel_params(scene_from_params(H=0.2, k=k, omega=0.6, friction=law))
-        driven_rhs(0.0, np.array([3.0, 0.0]), p, S, np.empty(2))
-        p, S = kernel_params(scene_from_params(body="disk", R0=0.3, k=k, friction=law, no_drive=True, v0=(1.0, 0.0)))
-        free_rhs(0.0, np.array([0.0, 0.0, 0.0, 1.0, 0.0, 2.0]), p, S, np.empty(6))
-
-
-def run_extras() -> None:
-    """The workload outside the command line (the plugin, the stand-alone right-hand sides), in this
-    process."""
-    _plugin_workload()
-    _rhs_workload()
-
-
 def _jobs() -> list[list[str]]:
-    """Every job of the workload as a command line of its own process."""
-    cli = [sys.executable, "-m", "rrbody.cli"]
-    # the four that compile a stepping loop, and the plugin's kernels (~6 s) while the other worker
-    # finishes the last loop; the rest mostly load those (0.7 s each, nearly all of it a process's
-    # start-up): they run in the one process of the second pass (run_all)
-    return [*([*cli, *argv] for argv in COMMANDS[:N_LOOPS]), [sys.executable, "-m", "rrbody.cli.prebuild", "--extras"]]
-
-
-def run_all() -> None:
-    """Every job of the workload, one after the other in this process (the check pass of
-    :func:`build`): one start-up instead of one per job, and a kernel a race lost is compiled here."""
-    import contextlib
-    import io
-
-    from rrbody.cli.main import main as cli_main
-
-    for argv in COMMANDS:
-        out = io.StringIO()
-        with contextlib.redirect_stdout(out):
-            code = cli_main(list(argv))
-        if code != 0:
-            raise RuntimeError(f"prebuild: '{' '.join(argv)}' exited {code}")
-    run_extras()
+    """The first pass's jobs, each a process of its own (:mod:`rrbody.cli.workload`): the four that
+    compile a stepping loop, and the plugin's kernels (~6 s) while the other worker finishes the last
+    loop. The rest of the workload mostly loads those (0.7 s a process, nearly all of it start-up):
+    it runs in the one process of the second pass."""
+    run = [sys.executable, "-m", "rrbody.cli.workload"]
+    return [*([*run, "--job", str(i)] for i in range(N_LOOPS)), [*run, "--extras"]]
 
 
 def _run_jobs(jobs: list[list[str]], env: dict[str, str], cwd: str, workers: int, bar: bool = False) -> None:
@@ -214,7 +121,7 @@ def build(into: Path | None = None, *, jobs: int = 2, quiet: bool = False, force
         with tempfile.TemporaryDirectory(prefix="rrbody-prebuild-") as cwd:  # any file a job writes
             bar = not quiet and sys.stderr.isatty()
             _run_jobs(_jobs(), env, cwd, jobs, bar)
-            _run_jobs([[sys.executable, "-m", "rrbody.cli.prebuild", "--all"]], env, cwd, 1, bar)
+            _run_jobs([[sys.executable, "-m", "rrbody.cli.workload", "--all"]], env, cwd, 1, bar)
         src = work / "kernels" / name
         if not src.is_dir():
             raise RuntimeError(f"prebuild: no kernels were written to {src} (were the sources edited during the build?)")
@@ -261,21 +168,12 @@ def _positive_int(text: str) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m rrbody.cli.prebuild [--into DIR] [--jobs N]`` (the build backend's call), or
-    ``--extras`` (the workload outside the command line: one job of :func:`build`)."""
+    """``python -m rrbody.cli.prebuild [--into DIR] [--jobs N] [--force]`` (the build backend's call)."""
     ap = argparse.ArgumentParser(prog="python -m rrbody.cli.prebuild", description=__doc__.split("\n\n")[0])
     ap.add_argument("--into", type=Path, default=None, help="move the kernel folder here (default: the user cache)")
     ap.add_argument("--jobs", type=_positive_int, default=2, help="processes at a time, 1 or more (default 2)")
     ap.add_argument("--force", action="store_true", help="compile again even if --into holds these sources' kernels")
-    ap.add_argument("--extras", action="store_true", help=argparse.SUPPRESS)
-    ap.add_argument("--all", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
-    if args.extras:
-        run_extras()
-        return 0
-    if args.all:
-        run_all()
-        return 0
     build(args.into, jobs=args.jobs, force=args.force)
     return 0
 

@@ -35,7 +35,7 @@ import numpy as np
 from rrbody.engine import kernel as K
 from rrbody.engine.plugin import PlaneFriction
 from rrbody.engine.settings import EngineSettings, check_dt
-from rrbody.engine.shapes import combine, ellipse_part, point_part, sampled_part
+from rrbody.physics.footprint import apply_pressure, body_parts, combine, sampled_part
 from rrbody.model.scene import Scene
 from rrbody.physics.bind import area_model, kernel_params
 from rrbody.physics import params as P
@@ -60,14 +60,10 @@ def _footprint(scene: Scene) -> tuple[float, float, tuple]:
     law = K.LAW_VISCOUS if fr.law == "viscous" else K.LAW_DRY
     coeff = fr.coeff if fr.active else 0.0
     model = area_model(scene)
-    if body.is_point:
-        return law, coeff, combine([point_part(0.0, 0.0)])
     if model == P.BODY_SAMPLED:
         return law, coeff, combine([sampled_part(kernel_params(scene)[1])])
-    ra, rb = body.semi_axes
-    from rrbody.physics.area import icr_nodes
-
-    return law, coeff, combine([ellipse_part(0.0, 0.0, ra, rb, 0.0, icr_nodes(body))])
+    # the ODE path's contact method packs the same footprint (one description, both paths)
+    return law, coeff, apply_pressure(body_parts(body), scene.pressure)
 
 
 class EngineHandle:

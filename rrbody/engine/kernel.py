@@ -17,14 +17,7 @@ second-order reading of velocities; 0.0: plain symplectic Euler), then the state
 friction was evaluated at); for a body held at P by rrbody's circular driver (DRV = 1): OMG, DD
 (omega, rad/s, and d, m), ANX, ANY (P in the body frame, m), T0 (the plugin's time at attach, s), and
 the driver's state for this step DPX, DPY, DVX, DVY (m, m/s), computed with the friction.
-``shapes`` (float, per footprint part): KIND, WEIGHT (its share of the load), CX, CY (centre or
-centroid, body frame from the centre of gravity, m), then per kind: ELLIPSE: RA, RB (semi-axes, m),
-ORI (angle of the RA axis in the body frame, rad), NQ (nodes per panel of the instantaneous-centre
-quadrature: 24 for a circle, ~5e-12 against the closed form; rrbody.physics.area.icr_nodes);
-POLYGON: RAD (largest vertex distance from the centroid, m), AREA (m^2), MXX, MXY, MYY (second moment
-about the centre of gravity / area, m^2), V0, V1 (vertex rows of ``geo``), Q0, Q1 (far-field rule
-rows); POINT: the load at (CX, CY); SAMPLED: Q0, Q1 (rows (x, y, weight) of ``geo``, weights sum 1).
-``geo``: polygon vertices (x, y, 0), far-field rules and samples (x, y, w).
+``shapes`` (float, per footprint part) and ``geo``: the footprint rows of :mod:`rrbody.physics.contact`.
 ``lookup``: row 0 the plugin bodies' ids (int64 view of pymunk's uintptr ids) sorted, row 1 their rows.
 ``cache`` (int64, rows ROWMAP, ROW_ID, STATUS): the plugin row of each row of the space's bulk read,
 the id it was found for, and what the last check found (see :func:`plane_check`).
@@ -38,18 +31,13 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from rrbody.physics.icr import icr_wrench
-from rrbody.physics.polygon import polygon_wrench
-from rrbody.physics.wrench import point_force, sampled_wrench
+from rrbody.physics.contact import footprint_wrench
 
 (MASS, IPM, LAW, COEFF, REACH, SNAP, S0, S1, VEPS, VGX, VGY, VJ, STAG, PVX, PVY, PW, GAP, STOP, EA,
  EW, DRV, OMG, DD, ANX, ANY, T0, DPX, DPY, DVX, DVY) = range(30)
 N_BODY = 30
 #: STOP values: the rest rule cancels the velocity in this step, or (the step after) sets it exactly zero
 STOPPING, ZEROED = 1.0, 2.0
-KIND, WEIGHT, CX, CY, RA, RB, ORI, NQ, RAD, AREA, MXX, MXY, MYY, V0, V1, Q0, Q1 = range(17)
-N_SHAPE = 17
-ELLIPSE, POLYGON, POINT, SAMPLED = 0.0, 1.0, 2.0, 3.0
 LAW_DRY, LAW_VISCOUS = 1.0, 2.0
 
 
@@ -74,35 +62,7 @@ def body_accel(j: int, alpha: float, vx: float, vy: float, w: float, bodies: np.
         fy = -c * (vby + w * gx)
         tq = -c * (gx * vby - gy * vbx + w * bodies[j, VJ])
         return ca * fx - sa * fy, sa * fx + ca * fy, tq / bodies[j, IPM]
-    v_eps = bodies[j, VEPS]
-    fx = 0.0
-    fy = 0.0
-    tq = 0.0
-    for k in range(int(bodies[j, S0]), int(bodies[j, S1])):
-        ox = shapes[k, CX]
-        oy = shapes[k, CY]
-        kind = shapes[k, KIND]
-        # velocity of the part's own centre: v + w z x o
-        ux = vbx - w * oy
-        uy = vby + w * ox
-        if kind == ELLIPSE:
-            gx, gy, gt = icr_wrench(shapes[k, RA], shapes[k, RB], int(shapes[k, NQ]), shapes[k, ORI], ux, uy, w,
-                                    1, 1.0, v_eps, 0.0)
-            gt += ox * gy - oy * gx  # the kernel's torque is about the part's centre
-        elif kind == POLYGON:
-            gx, gy, gt = polygon_wrench(geo, int(shapes[k, V0]), int(shapes[k, V1]), shapes[k, AREA], ox, oy,
-                                        shapes[k, RAD], shapes[k, MXX], shapes[k, MXY], shapes[k, MYY], geo,
-                                        int(shapes[k, Q0]), int(shapes[k, Q1]), vbx, vby, w, v_eps)
-        elif kind == POINT:
-            gx, gy = point_force(ux, uy, 1, 1.0, v_eps)
-            gt = ox * gy - oy * gx
-        else:
-            gx, gy, gt = sampled_wrench(geo[int(shapes[k, Q0]):int(shapes[k, Q1])], 0.0, ux, uy, w, 1, 1.0, v_eps)
-            gt += ox * gy - oy * gx
-        wt = shapes[k, WEIGHT]
-        fx += wt * gx
-        fy += wt * gy
-        tq += wt * gt
+    fx, fy, tq = footprint_wrench(shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), vbx, vby, w, bodies[j, VEPS])
     return c * (ca * fx - sa * fy), c * (sa * fx + ca * fy), c * tq / bodies[j, IPM]
 
 

@@ -10,7 +10,9 @@
 
 The friction of each body is integrated over the area of its own shapes (circles, polygons,
 segments with a radius, several per body) under a uniform normal pressure m g / A: exact for
-circles (instantaneous-centre quadrature) and convex polygons (:mod:`rrbody.physics.polygon`).
+circles (instantaneous-centre quadrature) and convex polygons (:mod:`rrbody.physics.polygon`), or
+under a pressure distribution you choose (``pf.add(body, mu=0.4, pressure=rrbody.pressure.ring(0.05))``:
+a rim, an annulus, a Hertz patch, feet, any p(x, y); :mod:`rrbody.physics.contact`).
 One compiled call per step reads every body through ``pymunk.batch``, computes all wrenches and
 writes the forces back; then ``space.step`` runs. The contract (what is read, when it acts, what is
 guaranteed at rest) is in docs/plugin.md.
@@ -25,13 +27,16 @@ import numpy as np
 
 from rrbody.engine import kernel as K
 from rrbody.engine.batchio import BatchIO
-from rrbody.engine.shapes import Footprint, body_footprint
-from rrbody.model.checks import check, check_choice
+from rrbody.engine.shapes import body_footprint
+from rrbody.model.checks import check
+from rrbody.model.pressure import PRESSURE_KINDS, Pressure, as_pressure
+from rrbody.physics import contact as C
+from rrbody.physics.footprint import Footprint
 
 __all__ = ["PlaneFriction", "PRESSURES"]
 
-#: normal-pressure profiles PlaneFriction.add accepts
-PRESSURES: tuple[str, ...] = ("uniform",)
+#: normal-pressure profiles PlaneFriction.add accepts (rrbody.pressure; or their text form, "ring:0.05")
+PRESSURES: tuple[str, ...] = PRESSURE_KINDS
 
 
 def _not_finite(position: tuple[float, float] | None, angle: float, velocity: tuple[float, float],
@@ -113,7 +118,7 @@ class PlaneFriction:
         self._list: list[Any] = []  # row -> body
         self._rows = _Rows(K.N_BODY)  # the kernel's ``bodies`` rows
         self._idrows = _Rows(None, np.int64)  # row -> the body's id (int64 view of pymunk's uintptr)
-        self._shrows = _Rows(K.N_SHAPE)  # every body's footprint rows, ranges shifted into ``_georows``
+        self._shrows = _Rows(C.N_SHAPE)  # every body's footprint rows, ranges shifted into ``_georows``
         self._georows = _Rows(3)
         self._dead = [0, 0]  # rows of _shrows, _georows no body points to any more (compacted when many)
         self._geo: list[tuple[np.ndarray, np.ndarray]] = []  # row -> its footprint rows and geo block
@@ -135,9 +140,12 @@ class PlaneFriction:
         """The bodies that feel the plane's friction, in the order they were added."""
         return tuple(self._slots)
 
-    def add(self, body: Any, *, mu: float, pressure: str = "uniform") -> None:
+    def add(self, body: Any, *, mu: float, pressure: Pressure | str = "uniform") -> None:
         """Give ``body`` (dynamic, already in the space, with at least one shape of positive area)
-        friction coefficient ``mu`` (>= 0) against the plane. Its mass is ``body.mass`` (from the
+        friction coefficient ``mu`` (>= 0) against the plane, its weight pressing on it as
+        ``pressure`` says (:mod:`rrbody.pressure`: uniform over its shapes, the default; a ring, an
+        annulus, a Hertz patch, feet, or your own p(x, y); positions in the body frame from its centre
+        of gravity, m; also the text form, e.g. ``"ring:0.05"``). Its mass is ``body.mass`` (from the
         shapes' density or mass, or set by you), its shapes' geometry is read now: call ``add``
         again after changing either. The body's current velocity is its velocity at the next step's
         start time (the first step gives it the half kick of the staggered scheme).
@@ -147,8 +155,8 @@ class PlaneFriction:
         other bodies' data."""
         self._check_body(body)
         mu = float(check("mu", mu))
-        check_choice("pressure", pressure, PRESSURES)
-        self._add(body, law=K.LAW_DRY, coeff=mu * self.g, footprint=body_footprint(body), snap=True, history=None)
+        footprint = body_footprint(body, as_pressure(pressure))
+        self._add(body, law=K.LAW_DRY, coeff=mu * self.g, footprint=footprint, snap=True, history=None)
 
     def _name(self, body: Any) -> str:
         """``pf.bodies[k] (repr)`` for messages (O(n): error paths only)."""
@@ -245,9 +253,9 @@ class PlaneFriction:
             ng = self._georows.append(geo)
             if ng:
                 rows = self._shrows.buf[s0:s0 + sh.shape[0]]
-                kind = rows[:, K.KIND]
-                rows[kind == K.POLYGON, K.V0:K.Q1 + 1] += ng  # V0, V1, Q0, Q1: consecutive columns
-                rows[kind == K.SAMPLED, K.Q0:K.Q1 + 1] += ng
+                kind = rows[:, C.KIND]
+                rows[kind == C.POLYGON, C.V0:C.Q1 + 1] += ng  # V0, V1, Q0, Q1: consecutive columns
+                rows[kind == C.SAMPLED, C.Q0:C.Q1 + 1] += ng
         buf = self._rows.buf
         buf[j, K.S0] = s0
         buf[j, K.S1] = s0 + sh.shape[0]

@@ -17,10 +17,11 @@ from rrbody.model.checks import LIMITS, MissingParameters, check, check_choice
 from rrbody.model.bodies import BODY_KINDS, Body, RodMass
 from rrbody.model.drive import CircularDrive
 from rrbody.model.friction import LAWS, Friction
+from rrbody.model.pressure import Pressure, as_pressure, pressure_from_description, uniform
 
 __all__ = ["Scene", "rod_mass_scene", "scene_from_params", "SCENE_PARAMS", "NUMERIC_SCENE_PARAMS", "FRICTION_METHODS"]
 
-FRICTION_METHODS: tuple[str, ...] = ("auto", "sampled", "icr", "table")
+FRICTION_METHODS: tuple[str, ...] = ("auto", "sampled", "icr", "table", "contact")
 
 
 @dataclass(frozen=True)
@@ -43,14 +44,20 @@ class Scene:
         phi'(0) = (omega / H) cos(phi0).
     t_max : float or None
         Horizon (s). ``None``: analyses choose (the flip-time rule stops by itself).
-    friction_method : {"auto", "sampled", "icr", "table"}
+    friction_method : {"auto", "sampled", "icr", "table", "contact"}
         Area integration for extended bodies ("auto": the instantaneous-centre method where it
         applies, its table for a disk under dry friction, else sampled elements; "table": a precomputed table of the instantaneous-centre
         wrench for disks and ellipses, built once per aspect ratio, <= 1e-10 from "icr" and several
-        times cheaper per evaluation; docs/extended.md).
+        times cheaper per evaluation; docs/extended.md; "contact": the plugin's exact footprint kernel,
+        which any pressure other than uniform uses).
     samples : int
         Resolution of the sampled-element quadrature (elements, approximately).
     v0, spin0 : free-body initial CM velocity (m/s, world frame) and spin (rad/s).
+    pressure : Pressure or str
+        How the weight presses on the plane (:mod:`rrbody.model.pressure`; default uniform over the
+        body's area; a ring, an annulus, a Hertz patch, feet, a p(x, y); or the text form such as
+        ``"ring:0.05"``). Anything but uniform is integrated exactly by the contact method
+        (:mod:`rrbody.physics.contact`), the plugin's own kernel.
     """
 
     body: Body
@@ -63,6 +70,7 @@ class Scene:
     samples: int = 4096
     v0: tuple[float, float] = (0.0, 0.0)
     spin0: float = 0.0
+    pressure: Pressure = field(default_factory=uniform)
 
     def __post_init__(self) -> None:
         if not isinstance(self.body, Body):
@@ -83,6 +91,13 @@ class Scene:
             raise ValueError(f"v0 must be a pair (vx, vy) of numbers in {LIMITS['v0'].text()}, got {self.v0!r}")
         object.__setattr__(self, "v0", (check("v0", v0[0], label="v0[0]"), check("v0", v0[1], label="v0[1]")))
         object.__setattr__(self, "spin0", check("spin0", self.spin0))
+        object.__setattr__(self, "pressure", as_pressure(self.pressure))
+        if not self.pressure.is_uniform and self.body.is_point:
+            raise ValueError(f"pressure {self.pressure.kind!r} needs an extended body (disk or ellipse): a "
+                             f"{self.body.kind} body is a point mass, got body {self.body.kind!r}")
+        if not self.pressure.is_uniform and self.friction_method not in ("auto", "contact"):
+            raise ValueError(f"friction_method must be 'auto' or 'contact' with pressure {self.pressure.kind!r} "
+                             f"(the exact contact method), got {self.friction_method!r}")
         if self.drive is not None and isinstance(self.body, RodMass) and self.body.l == 0.0:
             raise ValueError(f"l must be {LIMITS['l'].text()[5:]} for a driven rod-mass body, got 0.0")
         if self.drive is not None and self.body.l > 0.0:
@@ -155,6 +170,8 @@ class Scene:
             "samples": self.samples,
             "v0": list(self.v0),
             "spin0": self.spin0,
+            # only a non-uniform pressure is written: descriptions of earlier runs stay the same
+            **({} if self.pressure.is_uniform else {"pressure": self.pressure.describe()}),
         }
 
     @classmethod
@@ -175,7 +192,8 @@ class Scene:
         return cls(body=body, drive=drive, friction=Friction(**desc["friction"]), phi0=desc["phi0"],
                    phi_dot0=desc.get("phi_dot0"), t_max=desc.get("t_max"),
                    friction_method=desc.get("friction_method", "auto"), samples=desc.get("samples", 4096),
-                   v0=tuple(desc.get("v0", (0.0, 0.0))), spin0=desc.get("spin0", 0.0))
+                   v0=tuple(desc.get("v0", (0.0, 0.0))), spin0=desc.get("spin0", 0.0),
+                   pressure=pressure_from_description(desc.get("pressure")))
 
 
 def rod_mass_scene(H: float, k: float, omega: float, phi0: float = math.pi, *, friction: str = "dry",
@@ -193,7 +211,7 @@ def rod_mass_scene(H: float, k: float, omega: float, phi0: float = math.pi, *, f
 #: axes use these names); the numeric ones can be sweep axes.
 SCENE_PARAMS: tuple[str, ...] = ("body", "H", "l", "R0", "delta", "orientation", "omega", "d", "k", "mu", "g",
                                  "friction", "phi0", "phi_dot0", "t_max", "friction_method", "samples", "no_drive",
-                                 "v0", "spin0")
+                                 "v0", "spin0", "pressure")
 NUMERIC_SCENE_PARAMS: tuple[str, ...] = ("H", "l", "R0", "delta", "omega", "d", "k", "mu", "g", "phi0", "phi_dot0",
                                          "t_max", "samples", "spin0")
 
@@ -203,13 +221,15 @@ def scene_from_params(*, body: str = "rod", H: float | None = None, l: float | N
                       omega: float | None = None, d: float = 1.0, k: float | None = None, mu: float | None = None,
                       g: float = 9.81, friction: str = "dry", phi0: float = math.pi, phi_dot0: float | None = None,
                       t_max: float | None = None, friction_method: str = "auto", samples: int = 4096,
-                      no_drive: bool = False, v0: tuple[float, float] = (0.0, 0.0), spin0: float = 0.0) -> Scene:
+                      no_drive: bool = False, v0: tuple[float, float] = (0.0, 0.0), spin0: float = 0.0,
+                      pressure: Pressure | str = "uniform") -> Scene:
     """A Scene from flat parameters (the one mapping the CLI, batch mode and sweeps use).
 
     ``body``: ``rod`` (H = l/d, give ``H`` or ``l``), ``disk`` (radius ``R0``) or ``ellipse``
     (``R0``, ``delta``); ``l`` (m) is the CM -> P distance (default 0 for extended bodies). Friction:
     ``k`` (1/s^2; gamma in 1/s for viscous) or ``mu`` with ``g`` (m/s^2) and ``d`` (m), or
     ``friction="none"``. ``no_drive``: a free body launched with ``v0`` (m/s) and ``spin0`` (rad/s).
+    ``pressure``: a :class:`rrbody.model.pressure.Pressure` or its text form (``"ring:0.05"``).
     Every parameter missing for the chosen body is named in one ValueError.
     """
     check_choice("body", body, tuple(BODY_KINDS))
@@ -261,4 +281,5 @@ def scene_from_params(*, body: str = "rod", H: float | None = None, l: float | N
         else:
             b = BODY_KINDS["ellipse"](R0=R0, delta=delta, l=ll, orientation=orientation)  # type: ignore[call-arg,arg-type]
     return Scene(body=b, drive=drive, friction=fric, phi0=phi0, phi_dot0=phi_dot0, t_max=t_max,
-                 friction_method=friction_method, samples=samples, v0=tuple(v0), spin0=spin0)  # type: ignore[arg-type]
+                 friction_method=friction_method, samples=samples, v0=tuple(v0), spin0=spin0,  # type: ignore[arg-type]
+                 pressure=as_pressure(pressure))

@@ -12,6 +12,7 @@ import numpy as np
 from rrbody.model.scene import Scene
 from rrbody.physics import params as P
 from rrbody.physics.area import area_samples, icr_nodes, icr_supported
+from rrbody.physics.footprint import packed
 from rrbody.physics.icr_table import build_table
 
 __all__ = ["area_model", "kernel_params", "DRIVEN_DEAD_BAND", "FREE_DEAD_BAND"]
@@ -31,13 +32,15 @@ FREE_DEAD_BAND: float = 1e-12
 
 def area_model(scene: Scene) -> int:
     """Which friction integration the kernels use for ``scene``: P.BODY_POINT, P.BODY_SAMPLED,
-    P.BODY_ICR or P.BODY_TABLE."""
+    P.BODY_ICR, P.BODY_TABLE or P.BODY_CONTACT (any pressure but uniform)."""
     method = scene.friction_method
-    if scene.body.is_point and method in ("icr", "table"):
+    if scene.body.is_point and method in ("icr", "table", "contact"):
         raise ValueError(f"friction_method {method!r} needs an extended body (disk or ellipse), got body "
                          f"{scene.body.kind!r}; a point mass feels friction at its CM ('auto')")
     if scene.body.is_point or not scene.friction.active:
         return P.BODY_POINT
+    if method == "contact" or not scene.pressure.is_uniform:
+        return P.BODY_CONTACT
     if method == "sampled":
         return P.BODY_SAMPLED
     supported = icr_supported(scene.body, scene.friction.law)
@@ -60,7 +63,8 @@ def area_model(scene: Scene) -> int:
 def kernel_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
     """The parameter vector ``p`` and area-sample array ``S`` for the compiled kernels: ``S`` holds the
     area samples (rows x_b, y_b, w) for the sampled method, the wrench table
-    (:mod:`rrbody.physics.icr_table`, cached per aspect ratio) for the table method, else nothing."""
+    (:mod:`rrbody.physics.icr_table`, cached per aspect ratio) for the table method, the packed
+    footprint (:func:`rrbody.physics.footprint.packed`) for the contact method, else nothing."""
     p = np.zeros(P.SIZE)
     p[P.OMEGA] = scene.omega
     p[P.D] = scene.d
@@ -84,6 +88,8 @@ def kernel_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
         S = area_samples(scene.body, scene.samples)
     elif model == P.BODY_ICR:
         p[P.NQ] = float(icr_nodes(scene.body))
+    elif model == P.BODY_CONTACT:
+        S = packed(scene.body, scene.pressure)
     elif model == P.BODY_TABLE:
         p[P.NQ] = float(icr_nodes(scene.body))
         if scene.friction.law == "dry":

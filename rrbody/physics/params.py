@@ -17,7 +17,8 @@ CBETA = 4      # cos beta, beta = phi - alpha the angle of CM->P in the body fra
                # body turns its rod frame into the body frame by beta
 LAW = 5        # friction law code (0 none, 1 dry, 2 viscous)
 COEFF = 6      # mu*g (m/s^2, dry) or gamma (1/s, viscous)
-BODY = 7       # area model: 0 point, 1 sampled elements, 2 instantaneous-centre quadrature, 3 its table
+BODY = 7       # area model: 0 point, 1 sampled elements, 2 instantaneous-centre quadrature, 3 its table,
+               # 4 the contact (any pressure distribution, the plugin's footprint kernel)
 VEPS = 8       # speed below which a dry element's direction counts as undefined (m/s)
 RA = 9         # semi-axis along body x (m)
 RB = 10        # semi-axis along body y (m)
@@ -32,3 +33,4 @@ BODY_POINT = AREAS["point"]
 BODY_SAMPLED = AREAS["sampled"]
 BODY_ICR = AREAS["icr"]
 BODY_TABLE = AREAS["table"]
+BODY_CONTACT = AREAS["contact"]

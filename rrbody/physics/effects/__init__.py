@@ -38,7 +38,7 @@ KINDS: dict[str, int] = {"driven": DRIVEN, "free": FREE}
 #: friction laws -> code (modules law_<name>; "none" lists no friction effect)
 LAWS: dict[str, int] = LAW_CODES  # the model's table: one code per law everywhere
 #: area-integration methods -> code (modules area_<name>)
-AREAS: dict[str, int] = {"point": 0, "sampled": 1, "icr": 2, "table": 3}
+AREAS: dict[str, int] = {"point": 0, "sampled": 1, "icr": 2, "table": 3, "contact": 4}
 
 
 def system_code(kind: str, law: str, area: str) -> int:

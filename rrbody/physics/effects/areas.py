@@ -21,11 +21,11 @@ import math
 
 from numba import njit
 
-from rrbody.physics.effects import AREAS, area_icr, area_point, area_sampled, area_table
+from rrbody.physics.effects import AREAS, area_contact, area_icr, area_point, area_sampled, area_table
 
-__all__ = ["body_frame_wrench", "body_wrench", "POINT", "SAMPLED", "ICR", "TABLE"]
+__all__ = ["body_frame_wrench", "body_wrench", "POINT", "SAMPLED", "ICR", "TABLE", "CONTACT"]
 
-POINT, SAMPLED, ICR, TABLE = AREAS["point"], AREAS["sampled"], AREAS["icr"], AREAS["table"]
+POINT, SAMPLED, ICR, TABLE, CONTACT = AREAS["point"], AREAS["sampled"], AREAS["icr"], AREAS["table"], AREAS["contact"]
 
 
 @njit(cache=True, inline="always")
@@ -39,6 +39,8 @@ def body_frame_wrench(area, law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_ep
         return area_icr.wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps)
     if area == SAMPLED:
         return area_sampled.wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps)
+    if area == CONTACT:
+        return area_contact.wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps)
     return area_point.wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps)
 
 

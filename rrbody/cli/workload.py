@@ -1,0 +1,132 @@
+"""The prebuild's workload (:mod:`rrbody.cli.prebuild`): rrbody's own entry points on tiny problems,
+which between them reach every compiled kernel.
+
+``python -m rrbody.cli.workload --job I`` runs command I of :data:`COMMANDS` (as ``rrbody`` would,
+its output discarded), ``--extras`` the workload outside the command line (the plugin, the
+stand-alone right-hand sides), ``--all`` everything, one after the other in one process. Nothing in
+rrbody imports this module (it imports the command line, which imports the prebuild).
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import io
+import sys
+
+__all__ = ["COMMANDS", "run_command", "run_extras", "run_all", "main"]
+
+_ROD = ["--H", "0.2", "--omega", "0.6"]
+#: the command-line workload (each a tiny horizon), heaviest first: the first driven run of each law
+#: and the first free run compile a loop (15-30 s each), the rest mostly load them
+COMMANDS: tuple[list[str], ...] = (
+    # the four jobs that compile a stepping loop (15-30 s each) first, ordered so that two workers
+    # finish them together (measured: dry 27 s, free 27 s, viscous 20 s, none 16 s); the free runs
+    # cover every law (run-time choices in the one free loop)
+    ["flip-time", *_ROD, "--k", "0.05", "--json"],
+    ["simulate", "--body", "disk", "--R0", "0.3", "--no-drive", "--v0", "1,0", "--spin0", "3", "--k", "1",
+     "--t-max", "0.5", "--json"],
+    ["simulate", *_ROD, "--k", "0.05", "--friction", "viscous", "--t-max", "0.5", "--json"],
+    ["simulate", *_ROD, "--friction", "none", "--t-max", "0.5", "--json"],
+    ["simulate", "--body", "ellipse", "--R0", "0.3", "--delta", "0.3", "--no-drive", "--v0", "1,0", "--spin0", "3",
+     "--k", "1", "--friction", "viscous", "--t-max", "0.5", "--json"],
+    ["simulate", "--no-drive", "--H", "0.2", "--v0", "1,0", "--friction", "none", "--t-max", "0.5", "--json"],
+    ["simulate", *_ROD, "--k", "10000", "--t-max", "0.5", "--stepper", "rodas", "--json"],
+    ["critical-h", "--k", "0.05", "--omega", "0.6", "--tol", "0.01", "--accuracy", "draft", "--json"],
+    # extended driven bodies: every area method (run time choices inside the same loop)
+    ["simulate", "--body", "ellipse", "--R0", "0.3", "--delta", "0.3", "--l", "0.2", "--omega", "0.6", "--k",
+     "0.05", "--t-max", "0.5", "--json"],
+    ["simulate", "--body", "disk", "--R0", "0.3", "--l", "0.2", "--omega", "0.6", "--k", "0.05",
+     "--friction-method", "icr", "--t-max", "0.5", "--json"],
+    ["simulate", "--body", "disk", "--R0", "0.3", "--l", "0.2", "--omega", "0.6", "--k", "0.05",
+     "--friction-method", "sampled", "--samples", "64", "--t-max", "0.5", "--json"],
+    ["simulate", "--body", "ellipse", "--R0", "0.3", "--delta", "0.3", "--omega", "0.6", "--k", "0.05",
+     "--friction", "viscous", "--t-max", "0.5", "--method", "engine", "--json"],
+)
+
+
+def _plugin_workload() -> None:
+    """The plugin's kernels: a circle, a box and a thick segment, stepped a few times."""
+    try:
+        import pymunk
+    except ImportError:  # the engine extra is absent: nothing of the plugin can run here
+        return
+    from rrbody.engine.plugin import PlaneFriction
+
+    space = pymunk.Space()
+    pf = PlaneFriction(space, g=9.81)
+    for k, make in enumerate((lambda b: pymunk.Circle(b, 0.05), lambda b: pymunk.Poly.create_box(b, (0.1, 0.06)),
+                              lambda b: pymunk.Segment(b, (-0.05, 0.0), (0.05, 0.0), 0.01))):
+        body = pymunk.Body()
+        shape = make(body)
+        shape.density = 800.0
+        body.position = (0.3 * k, 0.0)
+        space.add(body, shape)
+        body.velocity, body.angular_velocity = (1.0, 0.2), 5.0
+        pf.add(body, mu=0.3)
+    for _ in range(3):
+        pf.step(1 / 240)
+    pf.wrench(pf.bodies[0])
+    pf.remove(pf.bodies[-1])
+
+
+def _rhs_workload() -> None:
+    """The stand-alone right-hand sides (``rhs_for``: the engine path's set-up, tests, benchmarks)
+    for every compiled code: the command line reaches only some of them."""
+    import numpy as np
+
+    from rrbody.model.scene import scene_from_params
+    from rrbody.physics.bind import kernel_params
+    from rrbody.physics.dynamics import driven_rhs, free_rhs
+
+    for law in ("dry", "viscous", "none"):
+        k = None if law == "none" else 0.05
+        p, S = kernel_params(scene_from_params(H=0.2, k=k, omega=0.6, friction=law))
+        driven_rhs(0.0, np.array([3.0, 0.0]), p, S, np.empty(2))
+        p, S = kernel_params(scene_from_params(body="disk", R0=0.3, k=k, friction=law, no_drive=True, v0=(1.0, 0.0)))
+        free_rhs(0.0, np.array([0.0, 0.0, 0.0, 1.0, 0.0, 2.0]), p, S, np.empty(6))
+
+
+def run_extras() -> None:
+    """The workload outside the command line (the plugin, the stand-alone right-hand sides), in this
+    process."""
+    _plugin_workload()
+    _rhs_workload()
+
+
+def run_command(argv: list[str]) -> None:
+    """One command of the workload in this process, its output discarded; a failure raises."""
+    from rrbody.cli.main import main as cli_main
+
+    with contextlib.redirect_stdout(io.StringIO()):
+        code = cli_main(list(argv))
+    if code != 0:
+        raise RuntimeError(f"prebuild: 'rrbody {' '.join(argv)}' exited {code}")
+
+
+def run_all() -> None:
+    """Every job of the workload, one after the other in this process (the prebuild's check pass):
+    one start-up instead of one per job, and a kernel a race lost is compiled here."""
+    for argv in COMMANDS:
+        run_command(argv)
+    run_extras()
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m rrbody.cli.workload", description=__doc__.split("\n\n")[0])
+    group = ap.add_mutually_exclusive_group(required=True)
+    group.add_argument("--job", type=int, choices=range(len(COMMANDS)), help="run command I of COMMANDS")
+    group.add_argument("--extras", action="store_true", help="the plugin and the stand-alone right-hand sides")
+    group.add_argument("--all", action="store_true", help="everything, in this process")
+    args = ap.parse_args(argv)
+    if args.job is not None:
+        run_command(COMMANDS[args.job])
+    elif args.extras:
+        run_extras()
+    else:
+        run_all()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

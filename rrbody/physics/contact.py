@@ -1,0 +1,119 @@
+"""A body's contact with the plane, and the dry-friction wrench of the whole: the one kernel that the
+pymunk plugin (:mod:`rrbody.engine.kernel`), the ODE path (the area method ``contact``,
+:mod:`rrbody.physics.effects.area_contact`) and the batched API call.
+
+A *footprint* is a list of parts, each a row of ``shapes`` carrying its share of the normal load
+(WEIGHT: the shares sum to 1; an annulus is a disk minus a disk, so a share may be negative):
+
+- ELLIPSE (a circle if RA = RB): uniform pressure, the instantaneous-centre quadrature (NQ nodes per
+  panel; 24 give a circle to ~5e-12), semi-axes RA, RB (m), the RA axis at angle ORI (rad);
+- POLYGON: uniform pressure on a convex polygon, exact (:mod:`rrbody.physics.polygon`): RAD, AREA,
+  MXX, MXY, MYY, its vertices ``geo[V0:V1]`` and far-field rule ``geo[Q0:Q1]``;
+- POINT: the load at one point (a foot, a point mass);
+- SAMPLED: area elements ``geo[Q0:Q1]`` (rows x, y, weight; weights sum to 1): any pressure p(x, y);
+- RING: the load spread evenly on a circle of radius RA (a rim, a running band), exact
+  (:mod:`rrbody.physics.radial`, complete elliptic integrals);
+- HERTZ: p proportional to sqrt(1 - rho^2 / RA^2) on a disk of radius RA (a sphere or a rounded
+  foot on the plane), exact (:mod:`rrbody.physics.radial`).
+
+CX, CY is the part's centre (ellipse, ring, Hertz patch, point) or centroid (polygon), in the body
+frame from the body's centre of gravity (m). ``geo`` rows have at least three columns (x, y, w);
+the ODE path packs parts and geo rows into one array (:func:`pack`).
+
+Units: per unit normal load and per unit mu g, so the force is dimensionless and the torque about
+the centre of gravity is in m (the caller multiplies by mu g, and by the mass for newtons).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from rrbody.physics.effects import law_dry
+from rrbody.physics.icr import icr_wrench
+from rrbody.physics.polygon import polygon_wrench
+from rrbody.physics.radial import hertz_wrench, ring_wrench
+
+__all__ = ["footprint_wrench", "pack", "KIND", "WEIGHT", "CX", "CY", "RA", "RB", "ORI", "NQ", "RAD", "AREA",
+           "MXX", "MXY", "MYY", "V0", "V1", "Q0", "Q1", "N_SHAPE", "ELLIPSE", "POLYGON", "POINT", "SAMPLED",
+           "RING", "HERTZ", "KIND_NAMES", "HEADER", "H_PARTS", "H_GX", "H_GY", "H_J", "H_REACH"]
+
+KIND, WEIGHT, CX, CY, RA, RB, ORI, NQ, RAD, AREA, MXX, MXY, MYY, V0, V1, Q0, Q1 = range(17)
+N_SHAPE = 17
+ELLIPSE, POLYGON, POINT, SAMPLED, RING, HERTZ = 0.0, 1.0, 2.0, 3.0, 4.0, 5.0
+KIND_NAMES = {ELLIPSE: "ellipse", POLYGON: "polygon", POINT: "point", SAMPLED: "sampled", RING: "ring",
+              HERTZ: "hertz"}
+
+#: the packed array's first row (:func:`pack`): the number of parts, the load-weighted mean position
+#: (m) and mean squared distance (m^2) from the centre of gravity (all the viscous law needs), and
+#: the footprint's reach (m: its largest distance from the centre of gravity)
+HEADER = 1
+H_PARTS, H_GX, H_GY, H_J, H_REACH = range(5)
+
+
+@njit(cache=True)
+def footprint_wrench(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int, vbx: float, vby: float, w: float,
+                     v_eps: float) -> tuple[float, float, float]:
+    """(fx, fy, tq): dry friction of the parts ``shapes[s0:s1]`` per unit load and mu g, at the
+    centre-of-gravity velocity (vbx, vby) (m/s, body frame) and spin w (rad/s): the force in the
+    body frame, the torque about the centre of gravity (m). Elements slower than ``v_eps`` (m/s)
+    feel none."""
+    fx = 0.0
+    fy = 0.0
+    tq = 0.0
+    for k in range(s0, s1):
+        ox = shapes[k, CX]
+        oy = shapes[k, CY]
+        kind = shapes[k, KIND]
+        # velocity of the part's own centre: v + w z x o
+        ux = vbx - w * oy
+        uy = vby + w * ox
+        if kind == ELLIPSE:
+            gx, gy, gt = icr_wrench(shapes[k, RA], shapes[k, RB], int(shapes[k, NQ]), shapes[k, ORI], ux, uy, w,
+                                    1, 1.0, v_eps, 0.0)
+            gt += ox * gy - oy * gx  # the kernels' torques are about the part's centre
+        elif kind == POLYGON:
+            gx, gy, gt = polygon_wrench(geo, int(shapes[k, V0]), int(shapes[k, V1]), shapes[k, AREA], ox, oy,
+                                        shapes[k, RAD], shapes[k, MXX], shapes[k, MXY], shapes[k, MYY], geo,
+                                        int(shapes[k, Q0]), int(shapes[k, Q1]), vbx, vby, w, v_eps)
+        elif kind == POINT:
+            gx, gy = law_dry.force(ux, uy, 1.0, v_eps)
+            gt = ox * gy - oy * gx
+        elif kind == RING:
+            gx, gy, gt = ring_wrench(shapes[k, RA], ux, uy, w, v_eps)
+            gt += ox * gy - oy * gx
+        elif kind == HERTZ:
+            gx, gy, gt = hertz_wrench(shapes[k, RA], ux, uy, w, v_eps)
+            gt += ox * gy - oy * gx
+        else:  # SAMPLED: rows (x, y, weight) from the centre of gravity
+            gx = 0.0
+            gy = 0.0
+            gt = 0.0
+            for i in range(int(shapes[k, Q0]), int(shapes[k, Q1])):
+                rx = geo[i, 0]
+                ry = geo[i, 1]
+                ex, ey = law_dry.force(vbx - w * ry, vby + w * rx, 1.0, v_eps)
+                gx += geo[i, 2] * ex
+                gy += geo[i, 2] * ey
+                gt += geo[i, 2] * (rx * ey - ry * ex)
+        wt = shapes[k, WEIGHT]
+        fx += wt * gx
+        fy += wt * gy
+        tq += wt * gt
+    return fx, fy, tq
+
+
+def pack(shapes: np.ndarray, geo: np.ndarray, reach: float, mean: tuple[float, float], spread: float) -> np.ndarray:
+    """One float array for the ODE path's kernels (their ``S``): a header row (:data:`HEADER`), the
+    parts' rows, then the geo rows (x, y, w in the first columns), every range shifted to index this
+    array; :func:`footprint_wrench` takes it as both ``shapes`` and ``geo``."""
+    n = shapes.shape[0]
+    S = np.zeros((HEADER + n + geo.shape[0], N_SHAPE))
+    S[0, [H_PARTS, H_GX, H_GY, H_J, H_REACH]] = n, mean[0], mean[1], spread, reach
+    rows = shapes.copy()
+    shift = HEADER + n
+    rows[rows[:, KIND] == POLYGON, V0:Q1 + 1] += shift  # V0, V1, Q0, Q1: consecutive columns
+    rows[rows[:, KIND] == SAMPLED, Q0:Q1 + 1] += shift
+    S[HEADER:shift] = rows
+    S[shift:, :geo.shape[1]] = geo
+    return S

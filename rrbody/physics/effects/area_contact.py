@@ -1,0 +1,35 @@
+"""Effect ``contact``: friction of a footprint under any pressure distribution, exactly as the
+plugin computes it (:func:`rrbody.physics.contact.footprint_wrench`: rings, annuli, Hertz patches,
+feet, sampled p(x, y), convex polygons, ellipses).
+
+``S`` is the packed footprint (:func:`rrbody.physics.contact.pack`): a header row (parts, the
+load-weighted mean position and mean squared distance from the CM), the parts' rows, then their
+geo rows. Every element feels the law at its own velocity, weighted by its load: dry friction
+through the footprint kernel, viscous friction in closed form from the header's load moments.
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+from rrbody.physics.contact import H_GX, H_GY, H_J, H_PARTS, HEADER, footprint_wrench
+from rrbody.physics.effects.laws import DRY, VISCOUS
+
+__all__ = ["wrench"]
+
+NAME = "contact"
+
+
+@njit(cache=True)
+def wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps):  # noqa: ANN001 (numba)
+    """(Fbx, Fby, tau_cm) per unit mass (m/s^2 body frame, m^2/s^2) at CM velocity (vbx, vby) (m/s, body frame)."""
+    if law == DRY:
+        fx, fy, tq = footprint_wrench(S, S, HEADER, HEADER + int(S[0, H_PARTS]), vbx, vby, spin, v_eps)
+        return coeff * fx, coeff * fy, coeff * tq
+    if law == VISCOUS:
+        # -gamma v(s) weighted by the load: linear, so its mean position and spread suffice
+        gx = S[0, H_GX]
+        gy = S[0, H_GY]
+        return (-coeff * (vbx - spin * gy), -coeff * (vby + spin * gx),
+                -coeff * (gx * vby - gy * vbx + spin * S[0, H_J]))
+    return 0.0, 0.0, 0.0
