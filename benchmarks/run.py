@@ -31,6 +31,7 @@ STUDIES: dict[str, str] = {
     "scaling": "benchmarks.scaling",
     "area": "benchmarks.area",
     "engine": "benchmarks.engine",
+    "contacts": "benchmarks.contacts",
     "sweeps": "benchmarks.sweeps",
     "render": "benchmarks.render",
     "startup": "benchmarks.startup",

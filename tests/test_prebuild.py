@@ -23,6 +23,8 @@ ROOT = Path(__file__).resolve().parents[1]
 #: user commands, with other numbers and other combinations of effects than the prebuild's workload
 #: (rrbody.cli.prebuild.COMMANDS): each must find every kernel it needs
 FRESH_COMMANDS: tuple[list[str], ...] = (
+    ["simulate", "--body", "ellipse", "--R0", "0.2", "--delta", "0.3", "--no-drive", "--v0", "0.5,0.2", "--mu", "0.4",
+     "--pressure", "hertz:0.1", "--tilt", "20deg", "--downhill", "1", "--t-max", "0.3", "--json"],
     ["flip-time", "--H", "0.35", "--k", "0.02", "--omega", "1.3", "--json"],
     ["flip-time", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--friction", "viscous", "--json"],
     ["flip-time", "--H", "0.2", "--k", "1e4", "--omega", "0.6", "--json"],

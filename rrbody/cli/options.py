@@ -65,6 +65,14 @@ def add_scene_options(p: argparse.ArgumentParser, *, free_bodies: bool = True) -
                    help="how the weight presses on the plane (disk, ellipse; m, from the centre): uniform "
                         "(default), ring:R, annulus:RIN,ROUT, hertz:A (p ~ sqrt(1 - r^2/A^2)) or "
                         "points:X,Y,SHARE;X,Y,SHARE;... (feet); exact (docs: Contacts)")
+    g.add_argument("--tilt", type=angle("--tilt"), default=0.0,
+                   help=option_help("tilt", "the plane's angle from the horizontal (rad, or e.g. '10deg'): "
+                                            "normal load m g cos(tilt), gravity pulls at the CM along it", 0))
+    g.add_argument("--downhill", type=angle("--downhill"), default=0.0,
+                   help=option_help("downhill", "direction of steepest descent, from the x axis", 0))
+    g.add_argument("--mu-static", type=number("--mu-static"), default=None,
+                   help=option_help("mu_static", "static friction (dry; default mu): a free body at rest stays "
+                                                 "there while it holds the tilt's pull"))
     if free_bodies:
         g.add_argument("--no-drive", action="store_true", help="a free body: no drive, launched with --v0 and --spin0")
         g.add_argument("--v0", type=float_list("--v0", 2), default=(0.0, 0.0),
@@ -167,7 +175,8 @@ def check_contradictions(a: argparse.Namespace) -> None:
 def scene_params(a: argparse.Namespace) -> dict[str, Any]:
     """The parsed scene options as keyword arguments of scene_from_params (None: not given)."""
     keys = ("body", "H", "l", "R0", "delta", "orientation", "omega", "d", "k", "mu", "g", "friction", "phi0",
-            "phi_dot0", "t_max", "friction_method", "samples", "no_drive", "v0", "spin0", "pressure")
+            "phi_dot0", "t_max", "friction_method", "samples", "no_drive", "v0", "spin0", "pressure", "tilt",
+            "downhill", "mu_static")
     kw = {k: getattr(a, k) for k in keys if getattr(a, k, None) is not None}
     if "v0" in kw:
         kw["v0"] = tuple(kw["v0"])

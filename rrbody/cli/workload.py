@@ -42,6 +42,10 @@ COMMANDS: tuple[list[str], ...] = (
      "--friction-method", "sampled", "--samples", "64", "--t-max", "0.5", "--json"],
     ["simulate", "--body", "ellipse", "--R0", "0.3", "--delta", "0.3", "--omega", "0.6", "--k", "0.05",
      "--friction", "viscous", "--t-max", "0.5", "--method", "engine", "--json"],
+    # real contacts: a pressure profile (the contact method), a tilt and static friction (issue 24)
+    ["simulate", "--body", "disk", "--R0", "0.3", "--no-drive", "--v0", "1,0", "--spin0", "3", "--mu", "0.3",
+     "--pressure", "ring:0.3", "--tilt", "0.3", "--mu-static", "0.5", "--t-max", "0.5", "--json"],
+    ["simulate", *_ROD, "--k", "0.05", "--tilt", "0.2", "--t-max", "0.5", "--json"],
 )
 
 
@@ -64,8 +68,19 @@ def _plugin_workload() -> None:
         space.add(body, shape)
         body.velocity, body.angular_velocity = (1.0, 0.2), 5.0
         pf.add(body, mu=0.3)
+    from rrbody.model import pressure as rp
+
+    tilted = PlaneFriction(pymunk.Space(), g=9.81, tilt=0.3)  # static friction and the tilt's pull
+    for k, pr in enumerate((rp.hertz(0.04), rp.points([(0.02, 0.0, 1.0), (-0.02, 0.0, 1.0)]))):
+        body = pymunk.Body()
+        shape = pymunk.Circle(body, 0.05)
+        shape.density = 800.0
+        body.position = (0.3 * k, 0.0)
+        tilted.space.add(body, shape)
+        tilted.add(body, mu=0.2, mu_static=0.5, pressure=pr)
     for _ in range(3):
         pf.step(1 / 240)
+        tilted.step(1 / 240)
     pf.wrench(pf.bodies[0])
     pf.remove(pf.bodies[-1])
 

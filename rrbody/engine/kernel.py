@@ -16,7 +16,11 @@ second-order reading of velocities; 0.0: plain symplectic Euler), then the state
 (STOPPING or ZEROED if the rest rule acted in the last step, else 0), EA, EW (the angle and spin
 friction was evaluated at); for a body held at P by rrbody's circular driver (DRV = 1): OMG, DD
 (omega, rad/s, and d, m), ANX, ANY (P in the body frame, m), T0 (the plugin's time at attach, s), and
-the driver's state for this step DPX, DPY, DVX, DVY (m, m/s), computed with the friction.
+the driver's state for this step DPX, DPY, DVX, DVY (m, m/s), computed with the friction; MUS
+(mu_static g cos(tilt), m/s^2: the static friction per unit mass; 0: none), GTX, GTY (gravity's
+in-plane part on a tilted plane, m/s^2, world frame), and the last load static friction held: HX,
+HY, HT (per unit mass, world frame) at the angle HA, HELD = 1.0 (the next step with the same load
+and angle needs no new test).
 ``shapes`` (float, per footprint part) and ``geo``: the footprint rows of :mod:`rrbody.physics.contact`.
 ``lookup``: row 0 the plugin bodies' ids (int64 view of pymunk's uintptr ids) sorted, row 1 their rows.
 ``cache`` (int64, rows ROWMAP, ROW_ID, STATUS): the plugin row of each row of the space's bulk read,
@@ -32,10 +36,11 @@ import numpy as np
 from numba import njit
 
 from rrbody.physics.contact import footprint_wrench
+from rrbody.physics.limit import at_rest
 
 (MASS, IPM, LAW, COEFF, REACH, SNAP, S0, S1, VEPS, VGX, VGY, VJ, STAG, PVX, PVY, PW, GAP, STOP, EA,
- EW, DRV, OMG, DD, ANX, ANY, T0, DPX, DPY, DVX, DVY) = range(30)
-N_BODY = 30
+ EW, DRV, OMG, DD, ANX, ANY, T0, DPX, DPY, DVX, DVY, MUS, GTX, GTY, HX, HY, HT, HA, HELD) = range(38)
+N_BODY = 38
 #: STOP values: the rest rule cancels the velocity in this step, or (the step after) sets it exactly zero
 STOPPING, ZEROED = 1.0, 2.0
 LAW_DRY, LAW_VISCOUS = 1.0, 2.0
@@ -68,18 +73,24 @@ def body_accel(j: int, alpha: float, vx: float, vy: float, w: float, bodies: np.
 
 @njit(cache=True)
 def limited(j: int, alpha: float, vx: float, vy: float, w: float, ex: float, ey: float, ew: float, dt: float,
-            bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray) -> tuple[float, float, float, float]:
+            bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray, lx: float, ly: float,
+            lw: float) -> tuple[float, float, float, float]:
     """Friction (ax, ay, alpha_dot) at the velocity (ex, ey, ew) and the factor s in [0, 1] that keeps
-    the impulse dt s (ax, ay, alpha_dot) from carrying the kinetic energy of the current velocity
-    (vx, vy, w) past its minimum along the impulse: no chatter, and never a gain in energy."""
+    the impulse dt s (ax, ay, alpha_dot) from carrying the kinetic energy of the velocity after the
+    load's impulse, (vx, vy, w) + dt (lx, ly, lw) (the other forces per unit mass, m/s^2, and their
+    angular acceleration, rad/s^2), past its minimum along the friction impulse: no chatter, and
+    friction never gains energy."""
     ax, ay, aw = body_accel(j, alpha, ex, ey, ew, bodies, shapes, geo)
     ipm = bodies[j, IPM]
-    num = -(vx * ax + vy * ay + ipm * w * aw)
+    ux = vx + dt * lx
+    uy = vy + dt * ly
+    uw = w + dt * lw
+    num = -(ux * ax + uy * ay + ipm * uw * aw)
     den = dt * (ax * ax + ay * ay + ipm * aw * aw)
     if den > 0.0 and num < den:
         if ex != vx or ey != vy or ew != w:
             # near a stop the extrapolated velocity is unreliable: use the current one
-            return limited(j, alpha, vx, vy, w, vx, vy, w, dt, bodies, shapes, geo)
+            return limited(j, alpha, vx, vy, w, vx, vy, w, dt, bodies, shapes, geo, lx, ly, lw)
         return ax, ay, aw, max(num / den, 0.0)
     return ax, ay, aw, 1.0
 
@@ -170,6 +181,55 @@ def _driver(j: int, bodies: np.ndarray, t: float, dt: float) -> None:
 
 
 @njit(cache=True)
+def _held(i: int, j: int, alpha: float, bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray,
+          out: np.ndarray) -> bool:
+    """Whether static friction holds the load in ``out[i]`` (every force but friction: the user's,
+    the tilt's) on dry body j at rest at angle alpha: it lies in the contact's limit surface
+    (:func:`rrbody.physics.limit.at_rest`). The answer for the last load is kept: the same load at
+    the same angle needs no new test."""
+    m = bodies[j, MASS]
+    lx = out[i, 0] / m
+    ly = out[i, 1] / m
+    lt = out[i, 2] / m
+    if lx == bodies[j, HX] and ly == bodies[j, HY] and lt == bodies[j, HT] and alpha == bodies[j, HA] \
+            and bodies[j, HELD] >= 0.0:
+        return bodies[j, HELD] > 0.0
+    ca = math.cos(alpha)
+    sa = math.sin(alpha)
+    _, _, _, held = at_rest(shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), ca * lx + sa * ly,
+                            -sa * lx + ca * ly, lt, bodies[j, IPM], bodies[j, MUS], 0.0)
+    bodies[j, HELD] = 1.0 if held else 0.0
+    bodies[j, HX] = lx
+    bodies[j, HY] = ly
+    bodies[j, HT] = lt
+    bodies[j, HA] = alpha
+    return held
+
+
+@njit(cache=True)
+def _hold_or_break(i: int, j: int, alpha: float, bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray,
+                   out: np.ndarray) -> None:
+    """Dry body j at rest under the load in ``out[i]``: static friction cancels it while it is held
+    (the body stays exactly at rest), else ``out[i]`` becomes the break-away wrench of the
+    maximum-dissipation rule (:func:`rrbody.physics.limit.at_rest`, kinetic friction)."""
+    if _held(i, j, alpha, bodies, shapes, geo, out):
+        out[i, 0] = 0.0
+        out[i, 1] = 0.0
+        out[i, 2] = 0.0
+        return
+    m = bodies[j, MASS]
+    ca = math.cos(alpha)
+    sa = math.sin(alpha)
+    lx = out[i, 0] / m
+    ly = out[i, 1] / m
+    ax, ay, aw, _ = at_rest(shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), ca * lx + sa * ly,
+                            -sa * lx + ca * ly, out[i, 2] / m, bodies[j, IPM], 0.0, bodies[j, COEFF])
+    out[i, 0] = m * (ca * ax - sa * ay)
+    out[i, 1] = m * (sa * ax + ca * ay)
+    out[i, 2] = m * bodies[j, IPM] * aw
+
+
+@njit(cache=True)
 def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.ndarray, bodies: np.ndarray,
                shapes: np.ndarray, geo: np.ndarray, t: float, dt: float, out: np.ndarray) -> int:
     """One step of plane friction for every plugin body in a space, from the plugin's time t (s).
@@ -196,6 +256,11 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.n
         j = rowmap[i]
         if j < 0:
             continue
+        # a tilted plane: gravity's in-plane part acts at the centre of gravity in every step
+        out[i, 0] += bodies[j, MASS] * bodies[j, GTX]
+        out[i, 1] += bodies[j, MASS] * bodies[j, GTY]
+        # static friction acts on dry bodies the rest rule governs (not a driven body: its joint holds it)
+        static = bodies[j, MUS] > 0.0 and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY
         was = bodies[j, STOP]
         bodies[j, STOP] = 0.0
         vx = got[i, 1]
@@ -221,11 +286,24 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.n
         if bodies[j, DRV] > 0.0:
             _driver(j, bodies, t, dt)
         if vx == 0.0 and vy == 0.0 and w == 0.0:
-            continue  # at rest: zero friction (kinetic friction has no direction at zero speed)
-        ax, ay, aw, s = limited(j, alpha, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo)
+            # at rest: kinetic friction has no direction; static friction holds the load or lets go
+            if static:
+                _hold_or_break(i, j, got[i, 0], bodies, shapes, geo, out)
+            continue
+        m0 = bodies[j, MASS]
+        ax, ay, aw, s = limited(j, alpha, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo, out[i, 0] / m0,
+                                out[i, 1] / m0, out[i, 2] / (m0 * bodies[j, IPM]))
+        speed = math.hypot(vx, vy)
+        # the deceleration friction leaves along the motion: mu g less the load's pull along it
+        # (gravity on a tilt, the user's force); mu g on a level plane without forces
+        decel = bodies[j, COEFF]
+        if speed > 0.0:
+            decel -= (out[i, 0] * vx + out[i, 1] * vy) / (bodies[j, MASS] * speed)
         if s < 1.0 and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY \
-                and math.hypot(vx, vy) + abs(w) * bodies[j, REACH] <= bodies[j, COEFF] * dt:
-            # every point slower than mu g dt: friction stops the body within this step. The positions
+                and speed + abs(w) * bodies[j, REACH] <= decel * dt \
+                and (not static or _held(i, j, got[i, 0], bodies, shapes, geo, out)):
+            # every point slower than decel dt: friction stops the body within this step (if a load
+            # acts, only where static friction then holds it; else it slides on). The positions
             # still move with this step's velocity (as the exact motion would, to O(mu g dt^2)); the
             # impulse cancels it, and the next step sets the rounding residue exactly to zero.
             n_stop += 1
@@ -234,8 +312,16 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.n
                 bodies[j, PVX] = 0.0
                 bodies[j, PVY] = 0.0
                 bodies[j, PW] = 0.0
+                if static:  # its velocity is set to zero before this step: at rest, its load held
+                    out[i, 0] = 0.0
+                    out[i, 1] = 0.0
+                    out[i, 2] = 0.0
                 continue
             bodies[j, STOP] = STOPPING
+            if static:  # the body comes to rest in this step, its load held
+                out[i, 0] = 0.0
+                out[i, 1] = 0.0
+                out[i, 2] = 0.0
             out[i, 0] -= bodies[j, MASS] * vx / dt
             out[i, 1] -= bodies[j, MASS] * vy / dt
             out[i, 2] -= bodies[j, MASS] * bodies[j, IPM] * w / dt

@@ -97,7 +97,14 @@ class PlaneFriction:
         The user's space. Its gravity and damping stay the user's business (a top-down space has
         neither); the plane's weight enters only through ``g``.
     g : float
-        Gravitational acceleration pressing bodies on the plane, m/s^2, > 0.
+        Gravitational acceleration, m/s^2, > 0.
+    tilt : float
+        The plane's angle from the horizontal, rad, in [0, pi/2) (default 0). On a tilted plane the
+        bodies press with m g cos(tilt), and gravity's in-plane part m g sin(tilt) pulls each one at
+        its centre of gravity toward ``downhill``. Bodies are taken as thin and flat: the in-plane pull
+        tips nothing and leaves the pressure distribution as it is.
+    downhill : float
+        Direction of steepest descent in the space's coordinates, rad from the x axis (default 0).
 
     ``add`` and ``remove`` cost O(1) amortised whatever the number of bodies (arrays that double their
     capacity; a removed body's row is replaced by the last one), so bodies can come and go one by one
@@ -106,13 +113,19 @@ class PlaneFriction:
     and one whose angle, velocity or spin is not finite, before it changes anything.
     """
 
-    def __init__(self, space: Any, g: float = 9.81) -> None:
+    def __init__(self, space: Any, g: float = 9.81, *, tilt: float = 0.0, downhill: float = 0.0) -> None:
         import pymunk
 
         if not isinstance(space, pymunk.Space):
             raise ValueError(f"space must be a pymunk.Space, got {space!r}")
         self.space = space
         self.g = float(check("g", g))
+        self.tilt = float(check("tilt", tilt))
+        self.downhill = float(check("downhill", downhill))
+        # the normal load per unit mass, and gravity's pull along the plane (m/s^2, world frame)
+        self._g_normal = self.g * math.cos(self.tilt)
+        pull = self.g * math.sin(self.tilt)
+        self._g_plane = (pull * math.cos(self.downhill), pull * math.sin(self.downhill))
         self._io = BatchIO(space)
         self._slots: dict[Any, int] = {}  # body -> row; its keys keep the order bodies were added in
         self._list: list[Any] = []  # row -> body
@@ -140,12 +153,16 @@ class PlaneFriction:
         """The bodies that feel the plane's friction, in the order they were added."""
         return tuple(self._slots)
 
-    def add(self, body: Any, *, mu: float, pressure: Pressure | str = "uniform") -> None:
+    def add(self, body: Any, *, mu: float, pressure: Pressure | str = "uniform", mu_static: float | None = None) -> None:
         """Give ``body`` (dynamic, already in the space, with at least one shape of positive area)
         friction coefficient ``mu`` (>= 0) against the plane, its weight pressing on it as
         ``pressure`` says (:mod:`rrbody.pressure`: uniform over its shapes, the default; a ring, an
         annulus, a Hertz patch, feet, or your own p(x, y); positions in the body frame from its centre
-        of gravity, m; also the text form, e.g. ``"ring:0.05"``). Its mass is ``body.mass`` (from the
+        of gravity, m; also the text form, e.g. ``"ring:0.05"``). ``mu_static`` (>= mu, default mu):
+        a body at rest stays exactly at rest while the load on it (your forces and torques, gravity
+        on a tilted plane) lies inside its contact's limit surface for mu_static, and breaks away in
+        the step it leaves it, sliding as the maximum-dissipation rule says (docs: Contacts).
+        Its mass is ``body.mass`` (from the
         shapes' density or mass, or set by you), its shapes' geometry is read now: call ``add``
         again after changing either. The body's current velocity is its velocity at the next step's
         start time (the first step gives it the half kick of the staggered scheme).
@@ -155,8 +172,12 @@ class PlaneFriction:
         other bodies' data."""
         self._check_body(body)
         mu = float(check("mu", mu))
+        mu_s = mu if mu_static is None else float(check("mu_static", mu_static))
+        if mu_s < mu:
+            raise ValueError(f"mu_static must be >= mu ({mu:g}: static friction is never below kinetic), got {mu_static!r}")
         footprint = body_footprint(body, as_pressure(pressure))
-        self._add(body, law=K.LAW_DRY, coeff=mu * self.g, footprint=footprint, snap=True, history=None)
+        self._add(body, law=K.LAW_DRY, coeff=mu * self._g_normal, footprint=footprint, snap=True, history=None,
+                  static=mu_s * self._g_normal)
 
     def _name(self, body: Any) -> str:
         """``pf.bodies[k] (repr)`` for messages (O(n): error paths only)."""
@@ -186,15 +207,19 @@ class PlaneFriction:
                 raise ValueError(f"body {self._name(body)}: {bad}")
 
     def _add(self, body: Any, *, law: float, coeff: float, footprint: Footprint, snap: bool,
-             history: tuple[float, float, float, float] | None, v_eps: float = 0.0, staggered: bool = True) -> None:
+             history: tuple[float, float, float, float] | None, v_eps: float = 0.0, staggered: bool = True,
+             static: float | None = None) -> None:
         """``add`` for rrbody's builder too: any law (K.LAW_DRY with coeff mu g, K.LAW_VISCOUS with gamma)
         and footprint (point mass, sampled elements); ``snap`` False leaves the rest rule to the joint
-        that holds a driven body; ``history`` = (vx, vy, w, gap) when the builder has made the half kick."""
+        that holds a driven body; ``history`` = (vx, vy, w, gap) when the builder has made the half kick;
+        ``static`` mu_static g cos(tilt) (m/s^2; default: coeff for dry friction, none for viscous)."""
         shapes, geo, reach, (gx, gy), jj = footprint
         m, moment = float(body.mass), float(body.moment)
         row = np.zeros(K.N_BODY)
         row[[K.MASS, K.IPM, K.LAW, K.COEFF, K.REACH, K.SNAP, K.VEPS, K.VGX, K.VGY, K.VJ, K.STAG]] = \
             m, moment / m, law, coeff, reach, 1.0 if snap else 0.0, v_eps, gx, gy, jj, 1.0 if staggered else 0.0
+        row[[K.MUS, K.GTX, K.GTY]] = (coeff if law == K.LAW_DRY else 0.0) if static is None else static, *self._g_plane
+        row[K.HELD] = -1.0  # no load tested yet
         if history is not None:
             row[[K.PVX, K.PVY, K.PW, K.GAP]] = history
         j = self._slots.get(body)
@@ -300,10 +325,11 @@ class PlaneFriction:
             v = body.velocity
             vx, vy, w = float(v.x), float(v.y), float(body.angular_velocity)
             if (vx, vy, w) != (0.0, 0.0, 0.0):
+                gx, gy = self._g_plane  # gravity along a tilted plane: half a kick of it too
                 ax, ay, aw, s = K.limited(j, float(body.angle), vx, vy, w, vx, vy, w, 0.5 * dt, self._bodies,
-                                          self._k_shapes, self._k_geo)
+                                          self._k_shapes, self._k_geo, gx, gy, 0.0)
                 h = 0.5 * dt * s
-                body.velocity = (vx + h * ax, vy + h * ay)
+                body.velocity = (vx + h * ax + 0.5 * dt * gx, vy + h * ay + 0.5 * dt * gy)
                 body.angular_velocity = w + h * aw
             self._bodies[j, [K.PVX, K.PVY, K.PW, K.GAP]] = vx, vy, w, 0.5 * dt
         self._fresh.clear()

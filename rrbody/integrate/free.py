@@ -22,6 +22,13 @@ stops it exactly and cleanly:
 
 A point mass has no rotational inertia: its spin is kinematic only (kept as given while it slides)
 and set to zero when it stops. Viscous friction decays exponentially and never stops: t_stop is None.
+
+On a tilted plane gravity pulls along it and the stop rule weighs the mechanical energy (kinetic
+less gravity's work). A body at rest (launched from rest, or come to rest) stays at rest if static
+friction holds the pull (:func:`rrbody.physics.limit.at_rest`, the contact's limit surface); one
+launched from rest that it cannot hold starts to slide in the maximum-dissipation direction. After
+a stop that static friction cannot hold the ODE path does not go on yet: the trajectory ends at the
+stop with a warning in its metadata (the plugin, :class:`rrbody.engine.PlaneFriction`, goes on).
 """
 
 from __future__ import annotations
@@ -39,7 +46,10 @@ from rrbody.model.scene import Scene
 from rrbody.model.trajectory import Trajectory
 from rrbody.physics import params as P
 from rrbody.physics.bind import kernel_params
+from rrbody.physics.contact import H_PARTS, HEADER
 from rrbody.physics.dynamics import SYSTEM_FREE, free_rhs, system_from_params
+from rrbody.physics.footprint import packed
+from rrbody.physics.limit import at_rest
 
 __all__ = ["simulate_free", "FREE_STEPPERS", "STEP_FRACTION", "STOP_SPEED_FRACTION"]
 
@@ -75,8 +85,27 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     f = np.empty(6)
     free_rhs(0.0, y, p, S, f)
     dry = scene.friction.active and scene.friction.law == "dry"
-    # speed scale: translation plus rotation (gyration radius for bodies with inertia)
+    pull = math.hypot(p[P.GTX], p[P.GTY])  # gravity along a tilted plane (m/s^2)
+    t_start = 0.0
+    held = _held_at_rest(scene, p) if dry and pull > 0.0 else None
+    if held is not None and not held[3] and v0[0] == v0[1] == w0 == 0.0:
+        # released at rest and not held: it starts with the break-away acceleration a, constant at
+        # first (its direction sets the friction's): the run starts at tau0 from the motion under a,
+        # exact to O(tau0^2 da/dt), where dry friction has a direction again
+        c, s_ = math.cos(body.alpha0), math.sin(body.alpha0)
+        ax, ay = c * held[0] - s_ * held[1], s_ * held[0] + c * held[1]
+        aw = held[2] if icm > 0.0 else 0.0
+        t_start = 1e-6 * t_max
+        y[:] = [0.5 * ax * t_start ** 2, 0.5 * ay * t_start ** 2, body.alpha0 + 0.5 * aw * t_start ** 2,
+                ax * t_start, ay * t_start, aw * t_start]
+        v0 = y[3:5].copy()
+        w0 = y[5]
+        free_rhs(t_start, y, p, S, f)
+    # speed scale: translation plus rotation (gyration radius for bodies with inertia), and what the
+    # tilt's pull adds over the run
     u0 = math.hypot(v0[0], v0[1]) + math.sqrt(icm) * abs(w0)
+    if pull > (p[P.COEFF] if dry else 0.0):  # kinetic friction cannot stop it: it speeds up downhill
+        u0 = max(u0, (pull - (p[P.COEFF] if dry else 0.0)) * t_max)
     decel = scene.friction.coeff if dry else (scene.friction.coeff * max(u0, 1e-300) if scene.friction.active else 0.0)
     t_scale = min(t_max, u0 / decel) if decel > 0.0 and u0 > 0.0 else t_max
     length = max(rmax, u0 * t_scale, 1e-300)
@@ -85,6 +114,7 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     scale = rtol * np.array([length, length, math.pi, uscale, uscale, wscale])
     rates = [r for r in (abs(w0), decel / max(u0, 1e-300) if decel > 0 else 0.0) if r > 0.0]
     st = new_loop_state(1e-3 / max(rates) if rates else t_max, STEP_METHODS[stepper])
+    st[L_T] = t_start
     ev = new_event_state(scene.phi0, 0.0)
     n_out = int(math.floor(t_max / dt_out + 1e-9)) + 1
     out = np.empty((n_out, 7))
@@ -106,8 +136,15 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
                           math.inf, n, minima, out, dt_out, STEP_METHODS[stepper], u_stop),
             st, max_steps, progress=progress, total=t_max, desc="free body")
     wall = time.perf_counter() - t0
+    broke = False
+    if status == 1 and dry and pull > 0.0 and not _held_at_rest(scene, p, y[2])[3]:
+        # came to rest where static friction cannot hold it: the ODE path stops here (module docstring)
+        broke = True
+        keep = out[:int(st[L_NOUT]), 0] <= ev[E_TSTOP]
+        st[L_NOUT] = int(np.count_nonzero(keep))
+        t_max = float(ev[E_TSTOP])
     n_done = int(st[L_NOUT])
-    if status == 1 and n_done < n_out:
+    if status == 1 and n_done < n_out and not broke:
         # at rest: the remaining samples repeat the final state exactly (no drift)
         rest = np.empty((n_out - n_done, 7))
         rest[:, 0] = np.arange(n_done, n_out) * dt_out
@@ -139,4 +176,24 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     if status in (3, 4):
         traj.meta["warning"] = (f"integration stopped early: {statuses[status]} at t={st[L_T]:.6g} s "
                                 f"after {wall:.3g} s of computing")
+    if broke:
+        traj.meta["status"] = "break-away"
+        traj.meta["warning"] = (f"the body came to rest at t={t_max:.6g} s where static friction cannot hold "
+                                "gravity's pull: it breaks away there, and the ODE path does not go on after a "
+                                "break-away yet (the plugin does); the trajectory ends at the stop")
+        traj.events["t_stop"] = None
     return traj
+
+
+def _held_at_rest(scene: Scene, p: np.ndarray, alpha: float | None = None) -> tuple[float, float, float, bool]:
+    """(ax, ay, spin', held) of the scene's body at rest at angle ``alpha`` (default its start) under
+    gravity's pull along the tilted plane: held by static friction (then zeros), or the break-away
+    acceleration (m/s^2, body frame; rad/s^2)."""
+    F = packed(scene.body, scene.pressure)
+    a = scene.body.alpha0 if alpha is None else float(alpha)
+    c, s = math.cos(a), math.sin(a)
+    gx, gy = p[P.GTX], p[P.GTY]
+    icm = scene.body.inertia_per_mass
+    # a point mass's spin is kinematic: any positive j serves its (torque-free) metric
+    return at_rest(F, F, HEADER, HEADER + int(F[0, H_PARTS]), c * gx + s * gy, -s * gx + c * gy, 0.0,
+                   icm if icm > 0.0 else 1.0, p[P.MUS], p[P.COEFF])

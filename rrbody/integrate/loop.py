@@ -259,7 +259,7 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
             err = _step(meth, system, t, y, f, hh, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost, rtol)
         if not math.isfinite(err):
             err = 1e10
-        bad = rest and not rest_admissible(y, ynew, icm)
+        bad = rest and not rest_admissible(y, ynew, icm, p[P.GTX], p[P.GTY])
         if bad or err >= 1.0:
             if bad:
                 h = 0.5 * hh

@@ -85,6 +85,9 @@ LIMITS: dict[str, Limit] = {
     "k": Limit(MIN_FRICTION, MAX_FRICTION, "1/s^2", zero_ok=True, help="friction k = mu g / d"),
     "mu": Limit(MIN_FRICTION, 1e3, DIMENSIONLESS, zero_ok=True, help="friction coefficient"),
     "g": Limit(1e-6, 1e6, "m/s^2", help="gravity"),
+    "mu_static": Limit(MIN_FRICTION, 1e3, DIMENSIONLESS, zero_ok=True, help="static friction coefficient (>= mu)"),
+    "tilt": Limit(0.0, 0.5 * math.pi, "rad", hi_open=True, help="angle of the plane from the horizontal"),
+    "downhill": Limit(-1e6, 1e6, "rad", help="direction of steepest descent in the plane, from the x axis"),
     "friction coefficient": Limit(MIN_FRICTION, MAX_FRICTION, "m/s^2 (dry) or 1/s (viscous)", zero_ok=True),
     # initial state
     "phi0": Limit(-1e6, 1e6, "rad", help="initial angle of CM -> P"),

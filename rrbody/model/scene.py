@@ -58,6 +58,17 @@ class Scene:
         body's area; a ring, an annulus, a Hertz patch, feet, a p(x, y); or the text form such as
         ``"ring:0.05"``). Anything but uniform is integrated exactly by the contact method
         (:mod:`rrbody.physics.contact`), the plugin's own kernel.
+    tilt, downhill : float
+        The plane's angle from the horizontal (rad, [0, pi/2)) and its direction of steepest descent
+        (rad from the world x axis). On a tilt the normal load is m g cos(tilt) (dry friction's
+        coefficient is scaled by it) and gravity's in-plane part m g sin(tilt) pulls at the CM; a
+        thin flat body is assumed (nothing tips). For a driven rod-mass body this is the paper's
+        circularly forced double pendulum.
+    g : float
+        Gravity (m/s^2) for the tilt's pull (dry friction's coefficient is already mu g).
+    mu_static : float or None
+        Static friction coefficient (>= mu = coeff / g; None: equal to mu). A free body that comes to
+        rest stays at rest while static friction holds gravity's pull (docs: Contacts).
     """
 
     body: Body
@@ -71,6 +82,10 @@ class Scene:
     v0: tuple[float, float] = (0.0, 0.0)
     spin0: float = 0.0
     pressure: Pressure = field(default_factory=uniform)
+    tilt: float = 0.0
+    downhill: float = 0.0
+    g: float = 9.81
+    mu_static: float | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.body, Body):
@@ -92,6 +107,17 @@ class Scene:
         object.__setattr__(self, "v0", (check("v0", v0[0], label="v0[0]"), check("v0", v0[1], label="v0[1]")))
         object.__setattr__(self, "spin0", check("spin0", self.spin0))
         object.__setattr__(self, "pressure", as_pressure(self.pressure))
+        object.__setattr__(self, "tilt", check("tilt", self.tilt))
+        object.__setattr__(self, "downhill", check("downhill", self.downhill))
+        object.__setattr__(self, "g", check("g", self.g))
+        if self.mu_static is not None:
+            object.__setattr__(self, "mu_static", check("mu_static", self.mu_static))
+            mu = self.friction.coeff / self.g if self.friction.law == "dry" else 0.0
+            if self.friction.law != "dry":
+                raise ValueError(f"mu_static applies to dry friction only, got friction {self.friction.law!r}")
+            if self.mu_static < mu * (1.0 - 1e-12):
+                raise ValueError(f"mu_static must be >= mu ({mu:g}: static friction is never below kinetic), "
+                                 f"got {self.mu_static!r}")
         if not self.pressure.is_uniform and self.body.is_point:
             raise ValueError(f"pressure {self.pressure.kind!r} needs an extended body (disk or ellipse): a "
                              f"{self.body.kind} body is a point mass, got body {self.body.kind!r}")
@@ -170,8 +196,11 @@ class Scene:
             "samples": self.samples,
             "v0": list(self.v0),
             "spin0": self.spin0,
-            # only a non-uniform pressure is written: descriptions of earlier runs stay the same
+            # only what differs from a level plane with uniform pressure is written: descriptions of
+            # earlier runs stay the same
             **({} if self.pressure.is_uniform else {"pressure": self.pressure.describe()}),
+            **({} if self.tilt == 0.0 else {"tilt": self.tilt, "downhill": self.downhill, "g": self.g}),
+            **({} if self.mu_static is None else {"mu_static": self.mu_static, "g": self.g}),
         }
 
     @classmethod
@@ -193,7 +222,8 @@ class Scene:
                    phi_dot0=desc.get("phi_dot0"), t_max=desc.get("t_max"),
                    friction_method=desc.get("friction_method", "auto"), samples=desc.get("samples", 4096),
                    v0=tuple(desc.get("v0", (0.0, 0.0))), spin0=desc.get("spin0", 0.0),
-                   pressure=pressure_from_description(desc.get("pressure")))
+                   pressure=pressure_from_description(desc.get("pressure")), tilt=desc.get("tilt", 0.0),
+                   downhill=desc.get("downhill", 0.0), g=desc.get("g", 9.81), mu_static=desc.get("mu_static"))
 
 
 def rod_mass_scene(H: float, k: float, omega: float, phi0: float = math.pi, *, friction: str = "dry",
@@ -211,9 +241,9 @@ def rod_mass_scene(H: float, k: float, omega: float, phi0: float = math.pi, *, f
 #: axes use these names); the numeric ones can be sweep axes.
 SCENE_PARAMS: tuple[str, ...] = ("body", "H", "l", "R0", "delta", "orientation", "omega", "d", "k", "mu", "g",
                                  "friction", "phi0", "phi_dot0", "t_max", "friction_method", "samples", "no_drive",
-                                 "v0", "spin0", "pressure")
+                                 "v0", "spin0", "pressure", "tilt", "downhill", "mu_static")
 NUMERIC_SCENE_PARAMS: tuple[str, ...] = ("H", "l", "R0", "delta", "omega", "d", "k", "mu", "g", "phi0", "phi_dot0",
-                                         "t_max", "samples", "spin0")
+                                         "t_max", "samples", "spin0", "tilt", "downhill", "mu_static")
 
 
 def scene_from_params(*, body: str = "rod", H: float | None = None, l: float | None = None,
@@ -222,14 +252,16 @@ def scene_from_params(*, body: str = "rod", H: float | None = None, l: float | N
                       g: float = 9.81, friction: str = "dry", phi0: float = math.pi, phi_dot0: float | None = None,
                       t_max: float | None = None, friction_method: str = "auto", samples: int = 4096,
                       no_drive: bool = False, v0: tuple[float, float] = (0.0, 0.0), spin0: float = 0.0,
-                      pressure: Pressure | str = "uniform") -> Scene:
+                      pressure: Pressure | str = "uniform", tilt: float = 0.0, downhill: float = 0.0,
+                      mu_static: float | None = None) -> Scene:
     """A Scene from flat parameters (the one mapping the CLI, batch mode and sweeps use).
 
     ``body``: ``rod`` (H = l/d, give ``H`` or ``l``), ``disk`` (radius ``R0``) or ``ellipse``
     (``R0``, ``delta``); ``l`` (m) is the CM -> P distance (default 0 for extended bodies). Friction:
     ``k`` (1/s^2; gamma in 1/s for viscous) or ``mu`` with ``g`` (m/s^2) and ``d`` (m), or
     ``friction="none"``. ``no_drive``: a free body launched with ``v0`` (m/s) and ``spin0`` (rad/s).
-    ``pressure``: a :class:`rrbody.model.pressure.Pressure` or its text form (``"ring:0.05"``).
+    ``pressure``: a :class:`rrbody.model.pressure.Pressure` or its text form (``"ring:0.05"``);
+    ``tilt``, ``downhill`` (rad) and ``mu_static``: a tilted plane and static friction (``g`` is the tilt's gravity).
     Every parameter missing for the chosen body is named in one ValueError.
     """
     check_choice("body", body, tuple(BODY_KINDS))
@@ -282,4 +314,4 @@ def scene_from_params(*, body: str = "rod", H: float | None = None, l: float | N
             b = BODY_KINDS["ellipse"](R0=R0, delta=delta, l=ll, orientation=orientation)  # type: ignore[call-arg,arg-type]
     return Scene(body=b, drive=drive, friction=fric, phi0=phi0, phi_dot0=phi_dot0, t_max=t_max,
                  friction_method=friction_method, samples=samples, v0=tuple(v0), spin0=spin0,  # type: ignore[arg-type]
-                 pressure=as_pressure(pressure))
+                 pressure=as_pressure(pressure), tilt=tilt, downhill=downhill, g=g, mu_static=mu_static)

@@ -76,7 +76,17 @@ def kernel_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
     p[P.CBETA] = math.cos(beta)
     p[P.SBETA] = math.sin(beta)
     p[P.LAW] = float(scene.friction.code if scene.friction.active else 0)
-    p[P.COEFF] = scene.friction.coeff
+    # a tilted plane: the normal load m g cos(tilt) scales dry friction; gravity pulls along it
+    dry = scene.friction.active and scene.friction.law == "dry"
+    p[P.COEFF] = scene.friction.coeff * (math.cos(scene.tilt) if dry else 1.0)
+    if scene.tilt != 0.0:
+        pull = scene.g * math.sin(scene.tilt)
+        p[P.TILTED] = 1.0
+        p[P.GTX] = pull * math.cos(scene.downhill)
+        p[P.GTY] = pull * math.sin(scene.downhill)
+    if dry:
+        mu_s = scene.friction.coeff / scene.g if scene.mu_static is None else scene.mu_static
+        p[P.MUS] = mu_s * scene.g * math.cos(scene.tilt)
     p[P.VEPS] = (DRIVEN_DEAD_BAND if scene.driven else FREE_DEAD_BAND) * scene.velocity_scale()
     ra, rb = scene.body.semi_axes
     p[P.RA] = ra

@@ -17,7 +17,9 @@ Driven body (the impulsive start, docs/physics.md), state y = (phi, phi') with p
 The body angle is alpha = phi - beta, so the same state serves l = 0 (P at the CM), where phi is
 simply the body angle shifted by beta. tau_P is the friction torque about P (world frame).
 
-Free body, y = (x, y, alpha, vx, vy, spin) (m, rad, m/s, rad/s): friction alone.
+Free body, y = (x, y, alpha, vx, vy, spin) (m, rad, m/s, rad/s): friction, and on a tilted plane
+gravity's pull along it (:mod:`rrbody.physics.effects.tilt`, which adds its torque about P to a
+driven body's phi'').
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ import numpy as np
 from numba import literally, njit
 
 from rrbody.physics import params as P
-from rrbody.physics.effects import DRIVEN, compiled_code, drive_circular
+from rrbody.physics.effects import DRIVEN, compiled_code, drive_circular, tilt
 from rrbody.physics.effects.areas import POINT, body_frame_wrench, body_wrench
 from rrbody.physics.effects.laws import NONE, element_perp
 
@@ -50,6 +52,8 @@ def _driven_point(law, t, y, p, d, s0, c0):  # noqa: ANN001 (numba)
     (no cancelling square root at the phi0 = pi start)."""
     s, c = drive_circular.sincos_psi(t, y[0], p, d, s0, c0)
     torque = drive_circular.torque(s, p)
+    if p[P.TILTED] != 0.0:
+        torque += tilt.pivot_torque(y[0], p)
     if law != NONE:
         ve, vp = drive_circular.rod_velocity(s, c, y[1], p)
         f_perp, _, _ = element_perp(law, ve, vp, p[P.COEFF], p[P.VEPS])
@@ -68,6 +72,8 @@ def _driven_extended(law, area, t, y, p, S, d, s0, c0):  # noqa: ANN001 (numba)
     phid = y[1]
     s, c = drive_circular.sincos_psi(t, y[0], p, d, s0, c0)
     torque = drive_circular.torque(s, p)
+    if p[P.TILTED] != 0.0:
+        torque += tilt.pivot_torque(y[0], p)
     if law != NONE:
         ve, vp = drive_circular.rod_velocity(s, c, phid, p)
         cb = p[P.CBETA]
@@ -84,10 +90,13 @@ def _free_body(law, area, t, y, p, S):  # noqa: ANN001 (numba)
     """Accelerations (Fx, Fy, spin') of a free body: friction alone. A point mass (I_cm = 0) keeps
     its spin constant: it has no rotational inertia to decelerate. Inlined for a point mass; an
     extended body calls it through :func:`_free`."""
-    fx, fy, tau = 0.0, 0.0, 0.0
+    fx, fy = tilt.pull(p)  # gravity along a tilted plane (0 on a level one)
+    tau = 0.0
     if law != NONE:
-        fx, fy, tau = body_wrench(area, law, S, p[P.RA], p[P.RB], int(p[P.NQ]), p[P.ICM], y[2], y[3], y[4], y[5],
+        gx, gy, tau = body_wrench(area, law, S, p[P.RA], p[P.RB], int(p[P.NQ]), p[P.ICM], y[2], y[3], y[4], y[5],
                                   p[P.COEFF], p[P.VEPS])
+        fx += gx
+        fy += gy
     return fx, fy, (tau / p[P.ICM] if p[P.ICM] > 0.0 else 0.0)
 
 
@@ -208,12 +217,14 @@ def jacobian(code, t, y, p, S, f0, J, fx):  # noqa: ANN001
             # torque -= l f_p; dv_e/dphi = d w c, dv_p/dphi = -d w s, dv_p/dphi' = -l
             dtq_dphi -= l * (dfe * d * w * c - dfp * d * w * s)
             dtq_dphid -= l * (-l * dfp)
+        fx[0] = 0.0
+        fx[1] = -w * dtq_dphi / ip  # everything above depends on t through psi = phi - w t only
+        if p[P.TILTED] != 0.0:
+            dtq_dphi += tilt.pivot_torque_dphi(y[0], p)  # gravity depends on phi alone
         J[0, 0] = 0.0
         J[0, 1] = 1.0
         J[1, 0] = dtq_dphi / ip
         J[1, 1] = dtq_dphid / ip
-        fx[0] = 0.0
-        fx[1] = -w * dtq_dphi / ip
         return
     _jacobian_fd(code, t, y, p, S, f0, J, fx)
 

@@ -26,7 +26,11 @@ NQ = 11        # quadrature nodes of the instantaneous-centre method
 ICM = 12       # I_cm / m (m^2)
 SBETA = 13     # sin beta
 INV_IP = 14    # 1 / IP (1/m^2; 0 where IP is 0: a free body): kernels multiply, as a division is slower
-SIZE = 16
+TILTED = 15    # 1.0 on a tilted plane (the tilt effect's terms are evaluated), else 0.0
+GTX = 16       # gravity's in-plane pull on a tilted plane (m/s^2, world frame), x
+GTY = 17       # ... and y
+MUS = 18       # static friction per unit mass, mu_static g cos(tilt) (m/s^2; 0: none)
+SIZE = 20
 
 # area models: the effects registry's codes (one table; the system code carries the same number)
 BODY_POINT = AREAS["point"]
