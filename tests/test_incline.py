@@ -194,3 +194,46 @@ def test_mu_static_below_mu_is_refused_everywhere() -> None:
     (r,) = run_many([["simulate", "--body", "disk", "--R0", "0.1", "--no-drive", "--mu", "0.4", "--mu-static", "0.3",
                       "--tilt", "10deg", "--t-max", "1", "--json"]])
     assert r.code == 2 and r.err.count("\n") == 1 and "--mu-static must be >= mu (0.4" in r.err
+
+
+def test_driven_rod_mass_on_a_tilt_is_the_forced_double_pendulum() -> None:
+    """Frictionless, the driven rod-mass body on a tilt obeys l^2 phi'' = omega^2 l d sin(phi - omega t)
+    + l (sin phi g_x - cos phi g_y) (I_cm = 0): rrbody's phi(t) against scipy's DOP853 at rtol 1e-12
+    on that equation (agreement to 1e-8 asked over 20 s; both integrators' tolerances are far below)."""
+    from scipy.integrate import solve_ivp
+
+    H, w, tilt, dh = 0.5, 1.3, 0.3, 0.4
+    scene = scene_from_params(H=H, omega=w, friction="none", tilt=tilt, downhill=dh, phi0=2.0, phi_dot0=0.5, t_max=20.0)
+    tr = simulate(scene)
+    l, d = H, 1.0
+    gx, gy = G * math.sin(tilt) * math.cos(dh), G * math.sin(tilt) * math.sin(dh)
+
+    def f(t: float, y: np.ndarray) -> list[float]:
+        return [y[1], (w * w * l * d * math.sin(y[0] - w * t) + l * (math.sin(y[0]) * gx - math.cos(y[0]) * gy)) / l ** 2]
+
+    ref = solve_ivp(f, (0.0, 20.0), [2.0, 0.5], method="DOP853", rtol=1e-12, atol=1e-12, t_eval=tr.t, dense_output=False)
+    assert np.max(np.abs(ref.y[0] - tr.phi)) < 1e-8
+
+
+def test_plugin_and_ode_agree_on_a_tilt_at_second_order() -> None:
+    """A disk on its rim (ring pressure) launched across a slope with spin, on both paths: the plugin's
+    end state approaches the ODE path's 4x closer per halving of dt."""
+    R, mu, tilt, dh, v0, w0, T = 0.1, 0.2, 0.15, 0.0, (0.0, 1.0), 8.0, 0.6
+    ode = simulate(scene_from_params(body="disk", R0=R, no_drive=True, v0=v0, spin0=w0, mu=mu, g=G, tilt=tilt,
+                                     downhill=dh, pressure=f"ring:{R}", t_max=T))
+    want = np.array([ode.x_cm[-1], ode.y_cm[-1], ode.body_angle[-1]])
+    errs = []
+    for dt in (4e-3, 2e-3, 1e-3):
+        space = pymunk.Space()
+        pf = PlaneFriction(space, g=G, tilt=tilt, downhill=dh)
+        b = pymunk.Body()
+        s = pymunk.Circle(b, R)
+        s.density = 2.0
+        space.add(b, s)
+        b.velocity, b.angular_velocity = v0, w0
+        pf.add(b, mu=mu, pressure=rp.ring(R))
+        for _ in range(round(T / dt)):
+            pf.step(dt)
+        errs.append(float(np.max(np.abs(np.array([b.position.x, b.position.y, b.angle]) - want))))
+    rates = [math.log2(errs[i] / errs[i + 1]) for i in range(2)]
+    assert all(1.7 < r < 2.3 for r in rates), (errs, rates)

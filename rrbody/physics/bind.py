@@ -37,6 +37,10 @@ def area_model(scene: Scene) -> int:
     if scene.body.is_point and method in ("icr", "table", "contact"):
         raise ValueError(f"friction_method {method!r} needs an extended body (disk or ellipse), got body "
                          f"{scene.body.kind!r}; a point mass feels friction at its CM ('auto')")
+    if scene.body.is_point and scene.tilt != 0.0:
+        # one element at the CM: exactly a point mass's friction, through the extended bodies' call,
+        # which carries the tilt's terms (the inline point mass, every level run's, stays without them)
+        return P.BODY_SAMPLED
     if scene.body.is_point or not scene.friction.active:
         return P.BODY_POINT
     if method == "contact" or not scene.pressure.is_uniform:
@@ -95,7 +99,7 @@ def kernel_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
     p[P.BODY] = float(model)
     S = np.zeros((0, 3))
     if model == P.BODY_SAMPLED:
-        S = area_samples(scene.body, scene.samples)
+        S = np.array([[0.0, 0.0, 1.0]]) if scene.body.is_point else area_samples(scene.body, scene.samples)
     elif model == P.BODY_ICR:
         p[P.NQ] = float(icr_nodes(scene.body))
     elif model == P.BODY_CONTACT:

@@ -52,8 +52,6 @@ def _driven_point(law, t, y, p, d, s0, c0):  # noqa: ANN001 (numba)
     (no cancelling square root at the phi0 = pi start)."""
     s, c = drive_circular.sincos_psi(t, y[0], p, d, s0, c0)
     torque = drive_circular.torque(s, p)
-    if p[P.TILTED] != 0.0:
-        torque += tilt.pivot_torque(y[0], p)
     if law != NONE:
         ve, vp = drive_circular.rod_velocity(s, c, y[1], p)
         f_perp, _, _ = element_perp(law, ve, vp, p[P.COEFF], p[P.VEPS])
@@ -64,7 +62,8 @@ def _driven_point(law, t, y, p, d, s0, c0):  # noqa: ANN001 (numba)
 
 @njit(cache=True, _nrt=False)
 def _driven_extended(law, area, t, y, p, S, d, s0, c0):  # noqa: ANN001 (numba)
-    """(phi', phi'') of an extended body: one sine and cosine of the drive phase per evaluation, as
+    """(phi', phi'') of an extended body, or of a point mass on a tilted plane (one sampled element
+    at its CM: :func:`rrbody.physics.bind.area_model`): one sine and cosine of the drive phase per evaluation, as
     for a point mass (:func:`drive_circular.sincos_psi`). The CM
     velocity in the rod frame (e, e_perp) of CM -> P is (d w sin psi, d w cos psi - l phi'),
     psi = phi - w t; the body frame is the rod frame turned by the constant beta = phi - alpha, so
@@ -218,9 +217,7 @@ def jacobian(code, t, y, p, S, f0, J, fx):  # noqa: ANN001
             dtq_dphi -= l * (dfe * d * w * c - dfp * d * w * s)
             dtq_dphid -= l * (-l * dfp)
         fx[0] = 0.0
-        fx[1] = -w * dtq_dphi / ip  # everything above depends on t through psi = phi - w t only
-        if p[P.TILTED] != 0.0:
-            dtq_dphi += tilt.pivot_torque_dphi(y[0], p)  # gravity depends on phi alone
+        fx[1] = -w * dtq_dphi / ip
         J[0, 0] = 0.0
         J[0, 1] = 1.0
         J[1, 0] = dtq_dphi / ip
