@@ -76,7 +76,7 @@ OPTION_PARAMS: dict[str, str] = {
     "--samples": "samples", "--rtol": "rtol", "--dt": "dt", "--iterations": "iterations",
     "--max-steps": "max_steps", "--t-max": "t_max", "--dt-out": "dt_out", "--tol": "tol", "--fps": "fps",
     "--movie-speed": "movie_speed", "--workers": "workers", "--batch-size": "batch_size",
-    "--tilt": "tilt", "--downhill": "downhill", "--mu-static": "mu_static",
+    "--tilt": "tilt", "--downhill": "downhill", "--mu-static": "mu_static", "--sides": "sides",
 }
 #: parameter names in library messages -> the option a user typed
 _PARAM_OPTIONS: dict[str, str] = {**{p: o for o, p in OPTION_PARAMS.items()}, "R": "--R0", "v0[0]": "--v0",
@@ -86,7 +86,7 @@ _PARAM_OPTIONS: dict[str, str] = {**{p: o for o, p in OPTION_PARAMS.items()}, "R
                                   "orientation": "--orientation", "accuracy": "--accuracy", "method": "--method",
                                   "quantity": "--quantity", "batch": "--batch", "resume": "--resume",
                                   "n_scan": "--n-scan", "stepper": "--stepper", "scheduler": "--scheduler",
-                                  "pressure": "--pressure"}
+                                  "pressure": "--pressure", "vertices": "--vertices", "polygon": "--body polygon"}
 
 
 def option_help(param: str, text: str, default: object = None) -> str:

@@ -30,8 +30,13 @@ INTEGRATOR_OPTIONS = ("--rtol", "--dt", "--iterations", "--max-steps", "--t-max"
 def add_scene_options(p: argparse.ArgumentParser, *, free_bodies: bool = True) -> None:
     """Body, drive, friction and initial state (every option with its unit and range)."""
     g = p.add_argument_group("scene")
-    g.add_argument("--body", choices=("rod", "disk", "ellipse"), default="rod",
-                   help="rod: point mass on a massless rod (default); disk; ellipse")
+    g.add_argument("--body", choices=("rod", "disk", "ellipse", "box", "polygon"), default="rod",
+                   help="rod: point mass on a massless rod (default); disk; ellipse; box (half-sides R0 (1 + delta) "
+                        "and R0 (1 - delta)); polygon (--sides with circumradius --R0, or --vertices): exact friction")
+    g.add_argument("--sides", type=integer("--sides"), default=None,
+                   help=option_help("sides", "--body polygon: a regular polygon inscribed in the circle of radius --R0"))
+    g.add_argument("--vertices", default=None, metavar="X,Y;X,Y;...",
+                   help="--body polygon: the vertices of a convex polygon (m; the centroid becomes the CM)")
     g.add_argument("--H", type=number("--H"), help=option_help("H", "rod-mass geometry H = l/d (required for "
                                                                 "--body rod unless --l); extended bodies derive H"))
     g.add_argument("--l", type=number("--l"), help=option_help("l", "distance CM -> P (rod: the rod length; "
@@ -157,7 +162,8 @@ def check_contradictions(a: argparse.Namespace) -> None:
                 raise both(opt, "--method engine", "the engine steps with a fixed --dt",
                            f"drop {opt} or use --method ode")
     body = _value(a, "body")
-    for opt, kinds in (("--R0", ("disk", "ellipse")), ("--delta", ("ellipse",))):
+    for opt, kinds in (("--R0", ("disk", "box", "polygon", "ellipse")), ("--delta", ("box", "ellipse")),
+                       ("--sides", ("polygon",)), ("--vertices", ("polygon",))):
         if body is not None and body not in kinds and given(a, opt):
             raise both(opt, f"--body {body}" + ("" if given(a, "--body") else " (the default)"),
                        f"{opt} applies to --body {' or '.join(kinds)} only", f"drop {opt} or choose --body {kinds[-1]}")
@@ -176,8 +182,13 @@ def scene_params(a: argparse.Namespace) -> dict[str, Any]:
     """The parsed scene options as keyword arguments of scene_from_params (None: not given)."""
     keys = ("body", "H", "l", "R0", "delta", "orientation", "omega", "d", "k", "mu", "g", "friction", "phi0",
             "phi_dot0", "t_max", "friction_method", "samples", "no_drive", "v0", "spin0", "pressure", "tilt",
-            "downhill", "mu_static")
+            "downhill", "mu_static", "sides", "vertices")
     kw = {k: getattr(a, k) for k in keys if getattr(a, k, None) is not None}
+    if "vertices" in kw:
+        try:
+            kw["vertices"] = tuple(tuple(float(c) for c in v.split(",")) for v in kw["vertices"].split(";") if v.strip())
+        except ValueError:
+            raise CliError(f"--vertices must be X,Y;X,Y;... (numbers, m), got {kw['vertices']!r}") from None
     if "v0" in kw:
         kw["v0"] = tuple(kw["v0"])
     return kw

@@ -19,7 +19,7 @@ import numpy as np
 
 from rrbody.model.checks import LIMITS, check, check_choice
 
-__all__ = ["Body", "RodMass", "Disk", "Ellipse", "BODY_KINDS"]
+__all__ = ["Body", "RodMass", "Disk", "Ellipse", "Polygon", "BODY_KINDS"]
 
 Orientation = Literal["x", "y"]
 
@@ -156,4 +156,100 @@ class Ellipse(Body):
         return math.pi * ra * rb
 
 
-BODY_KINDS: dict[str, type[Body]] = {"rod": RodMass, "disk": Disk, "ellipse": Ellipse}
+def _polygon_props(v: np.ndarray) -> tuple[float, float, float, float]:
+    """(signed area, centroid x, centroid y, polar second moment about the origin / area) of a polygon."""
+    x, y = v[:, 0], v[:, 1]
+    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    cr = x * yn - xn * y
+    a = 0.5 * float(cr.sum())
+    if a == 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    cx = float(((x + xn) * cr).sum()) / (6.0 * a)
+    cy = float(((y + yn) * cr).sum()) / (6.0 * a)
+    j = float(((x * x + x * xn + xn * xn + y * y + y * yn + yn * yn) * cr).sum()) / 12.0
+    return a, cx, cy, j / a
+
+
+@dataclass(frozen=True)
+class Polygon(Body):
+    """A homogeneous convex polygon: ``vertices`` (m, in order, either orientation). They are stored
+    counter-clockwise in the body frame, shifted so that the centroid (the CM) is the origin; the body
+    x axis is the vertices' x axis. Build common ones with :meth:`box` and :meth:`regular`."""
+
+    kind: ClassVar[str] = "polygon"
+    vertices: tuple[tuple[float, float], ...] = ((0.1, 0.0), (0.0, 0.1), (-0.1, 0.0), (0.0, -0.1))
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        try:
+            v = np.array(self.vertices, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"vertices must be a list of (x, y) pairs in m, got {self.vertices!r}") from None
+        if v.ndim != 2 or v.shape[1] != 2 or v.shape[0] < 3 or not np.all(np.isfinite(v)):
+            raise ValueError(f"vertices must be at least 3 finite (x, y) pairs in m, got {self.vertices!r}")
+        if np.max(np.abs(v)) > 1e6:
+            raise ValueError(f"vertices must lie within 1e6 m of the origin, got {self.vertices!r}")
+        a, cx, cy, _ = _polygon_props(v)
+        if a < 0.0:
+            v = v[::-1]
+            a = -a
+        size = float(np.max(np.hypot(v[:, 0] - cx, v[:, 1] - cy)))
+        if not a > 1e-9 * size * size or size < 1e-9:
+            raise ValueError(f"vertices must enclose a positive area (a convex polygon), got {self.vertices!r}")
+        e = np.roll(v, -1, axis=0) - v
+        turn = e[:, 0] * np.roll(e[:, 1], -1) - e[:, 1] * np.roll(e[:, 0], -1)
+        if np.any(turn < -1e-12 * size * size):
+            raise ValueError(f"vertices must make a convex polygon (every turn counter-clockwise), got {self.vertices!r}")
+        if math.hypot(cx, cy) <= 1e-13 * size:
+            cx = cy = 0.0  # centred already (to rounding): kept as given, so a description round-trips
+        object.__setattr__(self, "vertices", tuple((float(x - cx), float(y - cy)) for x, y in v))
+
+    @classmethod
+    def box(cls, width: float, height: float, **kw: object) -> "Polygon":
+        """A rectangle of ``width`` along the body x axis and ``height`` (m)."""
+        w, h = 0.5 * check("width", width), 0.5 * check("height", height)
+        return cls(vertices=((w, -h), (w, h), (-w, h), (-w, -h)), **kw)  # type: ignore[arg-type]
+
+    @classmethod
+    def regular(cls, sides: int, R: float, **kw: object) -> "Polygon":
+        """A regular polygon of ``sides`` (>= 3) inscribed in the circle of radius ``R`` (m), a vertex on +x."""
+        n = int(check("sides", sides))
+        r = check("R", R)
+        return cls(vertices=tuple((r * math.cos(2 * math.pi * k / n), r * math.sin(2 * math.pi * k / n))
+                                  for k in range(n)), **kw)  # type: ignore[arg-type]
+
+    @property
+    def _array(self) -> np.ndarray:
+        return np.array(self.vertices)
+
+    @property
+    def area(self) -> float:
+        return _polygon_props(self._array)[0]
+
+    @property
+    def inertia_per_mass(self) -> float:
+        return _polygon_props(self._array)[3]
+
+    @property
+    def semi_axes(self) -> tuple[float, float]:
+        """(largest |x|, largest |y|) of the vertices (m): the extents along the body axes."""
+        v = self._array
+        return float(np.max(np.abs(v[:, 0]))), float(np.max(np.abs(v[:, 1])))
+
+    @property
+    def pivot_inside(self) -> bool:
+        """Whether P (at distance l from the CM, any direction) lies inside: l below the inradius."""
+        v = self._array
+        e = np.roll(v, -1, axis=0) - v
+        dist = (e[:, 0] * v[:, 1] - e[:, 1] * v[:, 0]) / np.hypot(e[:, 0], e[:, 1])
+        return self.l <= float(np.min(np.abs(dist)))
+
+    def outline(self, n: int = 128) -> np.ndarray:
+        """The vertices (counter-clockwise, body frame, m): the exact outline (``n`` is ignored)."""
+        return self._array.copy()
+
+    def describe(self) -> dict[str, object]:
+        return {**super().describe(), "vertices": [list(v) for v in self.vertices]}
+
+
+BODY_KINDS: dict[str, type[Body]] = {"rod": RodMass, "disk": Disk, "ellipse": Ellipse, "polygon": Polygon}

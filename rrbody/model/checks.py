@@ -75,6 +75,9 @@ LIMITS: dict[str, Limit] = {
     # bodies (m, kg)
     "l": Limit(MIN_LENGTH, MAX_LENGTH, "m", zero_ok=True, help="distance CM -> P"),
     "R": Limit(MIN_LENGTH, MAX_LENGTH, "m", help="disk radius"),
+    "width": Limit(MIN_LENGTH, MAX_LENGTH, "m", help="box width"),
+    "height": Limit(MIN_LENGTH, MAX_LENGTH, "m", help="box height"),
+    "sides": Limit(3, 1000, DIMENSIONLESS, integer=True, help="sides of a regular polygon"),
     "R0": Limit(MIN_LENGTH, MAX_LENGTH, "m", help="ellipse mean semi-axis (disk radius)"),
     "delta": Limit(-1.0, 1.0, DIMENSIONLESS, lo_open=True, hi_open=True, help="ellipse eccentricity parameter"),
     "mass": Limit(1e-12, 1e12, "kg", help="mass (cancels from every result)"),

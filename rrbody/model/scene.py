@@ -14,7 +14,7 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 from rrbody.model.checks import LIMITS, MissingParameters, check, check_choice
-from rrbody.model.bodies import BODY_KINDS, Body, RodMass
+from rrbody.model.bodies import BODY_KINDS, Body, Polygon, RodMass
 from rrbody.model.drive import CircularDrive
 from rrbody.model.friction import LAWS, Friction
 from rrbody.model.pressure import Pressure, as_pressure, pressure_from_description, uniform
@@ -212,6 +212,8 @@ class Scene:
         common = {"l": desc["l"], "mass": desc.get("mass", 1.0), "orientation": desc.get("orientation", "x")}
         if kind == "rod":
             body: Body = RodMass(**common)
+        elif kind == "polygon":
+            body = Polygon(vertices=tuple(tuple(v) for v in desc["vertices"]), **common)  # type: ignore[arg-type]
         elif kind == "disk":
             body = BODY_KINDS["disk"](R=desc["R_A"], **common)  # type: ignore[call-arg]
         else:
@@ -241,9 +243,11 @@ def rod_mass_scene(H: float, k: float, omega: float, phi0: float = math.pi, *, f
 #: axes use these names); the numeric ones can be sweep axes.
 SCENE_PARAMS: tuple[str, ...] = ("body", "H", "l", "R0", "delta", "orientation", "omega", "d", "k", "mu", "g",
                                  "friction", "phi0", "phi_dot0", "t_max", "friction_method", "samples", "no_drive",
-                                 "v0", "spin0", "pressure", "tilt", "downhill", "mu_static")
+                                 "v0", "spin0", "pressure", "tilt", "downhill", "mu_static", "sides", "vertices")
+#: the body names scene_from_params takes (a box and a regular polygon are Polygon bodies)
+BODY_CHOICES: tuple[str, ...] = ("rod", "disk", "ellipse", "box", "polygon")
 NUMERIC_SCENE_PARAMS: tuple[str, ...] = ("H", "l", "R0", "delta", "omega", "d", "k", "mu", "g", "phi0", "phi_dot0",
-                                         "t_max", "samples", "spin0", "tilt", "downhill", "mu_static")
+                                         "t_max", "samples", "spin0", "tilt", "downhill", "mu_static", "sides")
 
 
 def scene_from_params(*, body: str = "rod", H: float | None = None, l: float | None = None,
@@ -253,23 +257,31 @@ def scene_from_params(*, body: str = "rod", H: float | None = None, l: float | N
                       t_max: float | None = None, friction_method: str = "auto", samples: int = 4096,
                       no_drive: bool = False, v0: tuple[float, float] = (0.0, 0.0), spin0: float = 0.0,
                       pressure: Pressure | str = "uniform", tilt: float = 0.0, downhill: float = 0.0,
-                      mu_static: float | None = None) -> Scene:
+                      mu_static: float | None = None, sides: int | None = None,
+                      vertices: object = None) -> Scene:
     """A Scene from flat parameters (the one mapping the CLI, batch mode and sweeps use).
 
-    ``body``: ``rod`` (H = l/d, give ``H`` or ``l``), ``disk`` (radius ``R0``) or ``ellipse``
-    (``R0``, ``delta``); ``l`` (m) is the CM -> P distance (default 0 for extended bodies). Friction:
+    ``body``: ``rod`` (H = l/d, give ``H`` or ``l``), ``disk`` (radius ``R0``), ``ellipse``
+    (``R0``, ``delta``), ``box`` (half-sides R0 (1 + delta) along x and R0 (1 - delta) along y, as
+    an ellipse's semi-axes) or ``polygon`` (``sides`` of a regular polygon inscribed in a circle of
+    radius ``R0``, or ``vertices`` [(x, y), ...] in m); ``l`` (m) is the CM -> P distance (default 0 for extended bodies). Friction:
     ``k`` (1/s^2; gamma in 1/s for viscous) or ``mu`` with ``g`` (m/s^2) and ``d`` (m), or
     ``friction="none"``. ``no_drive``: a free body launched with ``v0`` (m/s) and ``spin0`` (rad/s).
     ``pressure``: a :class:`rrbody.model.pressure.Pressure` or its text form (``"ring:0.05"``);
     ``tilt``, ``downhill`` (rad) and ``mu_static``: a tilted plane and static friction (``g`` is the tilt's gravity).
     Every parameter missing for the chosen body is named in one ValueError.
     """
-    check_choice("body", body, tuple(BODY_KINDS))
+    check_choice("body", body, BODY_CHOICES)
+    if body == "polygon" and (sides is None) == (vertices is None):
+        raise ValueError("polygon needs sides (with R0) or vertices, one of them: got "
+                         + ("both" if sides is not None else "neither"))
+    if body != "polygon" and (sides is not None or vertices is not None):
+        raise ValueError(f"sides and vertices apply to body='polygon', got body={body!r}")
     check_choice("friction", friction, LAWS)
     missing = []
     if body == "rod" and H is None and l is None:
         missing.append("H")
-    if body != "rod" and R0 is None:
+    if body != "rod" and R0 is None and vertices is None:
         missing.append("R0")
     if not no_drive and omega is None:
         missing.append("omega")
@@ -308,7 +320,14 @@ def scene_from_params(*, body: str = "rod", H: float | None = None, l: float | N
             raise ValueError(f"H must not be given for a {body} (it is derived from l, d and the body's size), "
                              f"got H={H!r}; give l (m) instead")
         ll = 0.0 if l is None else l
-        if body == "disk":
+        if body == "box":
+            r0 = float(check("R0", R0))
+            dl = float(check("delta", delta))
+            b = Polygon.box(2 * r0 * (1 + dl), 2 * r0 * (1 - dl), l=ll, orientation=orientation)
+        elif body == "polygon":
+            b = (Polygon.regular(sides, R0, l=ll, orientation=orientation) if vertices is None  # type: ignore[arg-type]
+                 else Polygon(vertices=vertices, l=ll, orientation=orientation))  # type: ignore[arg-type]
+        elif body == "disk":
             b = BODY_KINDS["disk"](R=R0, l=ll, orientation=orientation)  # type: ignore[call-arg,arg-type]
         else:
             b = BODY_KINDS["ellipse"](R0=R0, delta=delta, l=ll, orientation=orientation)  # type: ignore[call-arg,arg-type]

@@ -9,6 +9,7 @@ import math
 
 import numpy as np
 
+from rrbody.model.bodies import Polygon
 from rrbody.model.scene import Scene
 from rrbody.physics import params as P
 from rrbody.physics.area import area_samples, icr_nodes, icr_supported
@@ -43,6 +44,10 @@ def area_model(scene: Scene) -> int:
         return P.BODY_SAMPLED
     if scene.body.is_point or not scene.friction.active:
         return P.BODY_POINT
+    if isinstance(scene.body, Polygon):
+        if method not in ("auto", "contact"):
+            raise ValueError(f"friction_method must be 'auto' or 'contact' for a polygon (its exact wrench), got {method!r}")
+        return P.BODY_CONTACT
     if method == "contact" or not scene.pressure.is_uniform:
         return P.BODY_CONTACT
     if method == "sampled":

@@ -238,11 +238,14 @@ def apply_pressure(parts: list[Part], pressure: Pressure) -> Footprint:
 
 def body_parts(body: Body) -> list[Part]:
     """The footprint geometry of one of rrbody's bodies (body frame: R_A along x, origin at the CM):
-    an ellipse (a disk), with the quadrature nodes the ODE path uses for it."""
+    an ellipse (a disk), with the quadrature nodes the ODE path uses for it, or a convex polygon."""
+    from rrbody.model.bodies import Polygon
     from rrbody.physics.area import icr_nodes
 
     if body.is_point:
         return [point_part(0.0, 0.0)]
+    if isinstance(body, Polygon):
+        return [polygon_part(np.array(body.vertices))]
     ra, rb = body.semi_axes
     return [ellipse_part(0.0, 0.0, ra, rb, 0.0, icr_nodes(body))]
 
