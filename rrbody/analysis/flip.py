@@ -17,6 +17,7 @@ Definitions
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -27,7 +28,7 @@ from rrbody.model.checks import check, check_positive
 from rrbody.model.scene import Scene, rod_mass_scene
 from rrbody.analysis.simulate import resolve_rtol
 
-__all__ = ["flip_time", "reverse_rotation_exists", "critical_h", "frictionless_T1",
+__all__ = ["flip_time", "reverse_rotation_exists", "critical_h", "critical_h_of", "frictionless_T1",
            "frictionless_critical_h"]
 
 
@@ -94,6 +95,16 @@ def critical_h(k: float, omega: float, *, phi0: float = math.pi, friction: str =
     The scan over ``n_scan`` log-spaced H in [H_lo, H_hi] brackets the boundary; bisection then
     narrows it to ``tol`` (absolute, in H). Raises ValueError if no boundary lies in the range.
     """
+    return critical_h_of(lambda H: rod_mass_scene(H, k, omega, phi0, friction=friction), tol=tol, rtol=rtol,
+                         accuracy=accuracy, H_lo=H_lo, H_hi=H_hi, n_scan=n_scan, what=f"k={k:g}, omega={omega:g}")
+
+
+def critical_h_of(scene_at: Callable[[float], Scene], *, tol: float = 1e-9, rtol: float | None = None,
+                  accuracy: str = "default", H_lo: float = 1e-3, H_hi: float = 1.0, n_scan: int = 64,
+                  what: str = "") -> float:
+    """H_c of any family of scenes ``scene_at(H)`` (a body whose H = I_P / (m d l) is set by H, e.g.
+    a polygon with fixed l whose drive radius d = I_P / (m H l) varies at fixed k): the first RR ->
+    no-RR boundary as H grows from ``H_lo`` (the scan and bisection of :func:`critical_h`)."""
     tol = float(check("tol", tol))
     H_lo = check_positive("H_lo", H_lo)
     H_hi = check_positive("H_hi", H_hi)
@@ -101,12 +112,11 @@ def critical_h(k: float, omega: float, *, phi0: float = math.pi, friction: str =
         raise ValueError(f"H_hi must be > H_lo={H_lo:g}, got {H_hi!r}")
 
     def rr(H: float) -> bool:
-        return reverse_rotation_exists(rod_mass_scene(H, k, omega, phi0, friction=friction), rtol=rtol,
-                                       accuracy=accuracy)
+        return reverse_rotation_exists(scene_at(H), rtol=rtol, accuracy=accuracy)
 
     grid = np.geomspace(H_lo, H_hi, n_scan)
     if not rr(float(grid[0])):
-        raise ValueError(f"no reverse rotation even at H_lo={H_lo:g} (k={k:g}, omega={omega:g}); lower H_lo")
+        raise ValueError(f"no reverse rotation even at H_lo={H_lo:g}{' (' + what + ')' if what else ''}; lower H_lo")
     a = float(grid[0])
     b = None
     for H in grid[1:]:

@@ -17,6 +17,10 @@ from pathlib import Path
 from typing import Any
 
 from rrbody._version import __version__
+from rrbody.analysis.report_parts import fmt as _f
+from rrbody.analysis.report_parts import heading as _heading
+from rrbody.analysis.report_parts import img as _img
+from rrbody.analysis.report_parts import read_summary
 
 __all__ = ["write_table", "write_summary", "read_summary", "write_report", "small_omega_C",
            "paper_small_omega_C", "add_parser", "cmd_report"]
@@ -52,12 +56,6 @@ def write_summary(out_dir: Path, summary: dict[str, Any], *, force: bool = True)
                              name="summary.json")
 
 
-def read_summary(results: Path, scene: str) -> dict[str, Any] | None:
-    """A scene's ``summary.json`` or None if the scene has not been run."""
-    p = Path(results) / scene / "summary.json"
-    if not p.exists():
-        return None
-    return json.loads(p.read_text())
 
 
 # ---- the exact small-omega limit -------------------------------------------------------------
@@ -84,14 +82,6 @@ def paper_small_omega_C(H: float) -> float:
 
 
 # ---- the report ------------------------------------------------------------------------------
-def _f(x: Any, fmt: str = ".4g") -> str:
-    if x is None:
-        return "n/a"
-    if isinstance(x, float) and not math.isfinite(x):
-        return "n/a"
-    return format(x, fmt)
-
-
 def _pm(v: Any, e: Any, fmt: str = ".4g") -> str:
     if v is None:
         return "n/a"
@@ -102,11 +92,6 @@ def _dev(ours: Any, paper: float) -> str:
     if ours is None:
         return "n/a"
     return f"{100.0 * (ours - paper) / paper:+.1f}%"
-
-
-def _img(scene: str, name: str, results: Path) -> str:
-    p = results / scene / f"{name}.png"
-    return f"![{scene}]({scene}/{name}.png)" if p.exists() else f"*(figure {scene}/{name}.png not generated)*"
 
 
 def write_report(results: str | Path = "results", *, out: str | Path | None = None, force: bool = True) -> Path:
@@ -179,19 +164,14 @@ def write_report(results: str | Path = "results", *, out: str | Path | None = No
     _section_tfxwpm2(L, res, tw)
     _section_hc(L, res, hc)
     _section_contour(L, res)
+    from rrbody.analysis.report_contacts import section_incline, section_polygon, section_pressure  # here: it imports this module
+
+    section_pressure(L, res)
+    section_incline(L, res)
+    section_polygon(L, res)
     _section_others(L, res)
     path = Path(out) if out is not None else res / "REPORT.md"
     return atomic_write_text(path, "\n".join(L) + "\n", force=force, name="REPORT.md")
-
-
-def _heading(L: list[str], title: str, summary: dict[str, Any] | None) -> bool:
-    """Append a section heading; if the scene has not been run, say so and return False."""
-    L.append(title)
-    L.append("")
-    if not summary:
-        L.append("*(not run)*\n")
-        return False
-    return True
 
 
 def _section_phixtpm(L: list[str], res: Path) -> None:
@@ -353,7 +333,8 @@ def _section_contour(L: list[str], res: Path) -> None:
     L.append("")
 
 
-MY_SCENES = ("phixtpm", "sss", "seco1", "normal-and-phase-portrait", "tfxwpm2", "hc", "tfvshvsomega")
+MY_SCENES = ("phixtpm", "sss", "seco1", "normal-and-phase-portrait", "tfxwpm2", "hc", "tfvshvsomega", "pressure", "incline",
+             "polygon")
 
 
 def _section_others(L: list[str], res: Path) -> None:

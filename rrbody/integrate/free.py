@@ -25,10 +25,11 @@ and set to zero when it stops. Viscous friction decays exponentially and never s
 
 On a tilted plane gravity pulls along it and the stop rule weighs the mechanical energy (kinetic
 less gravity's work). A body at rest (launched from rest, or come to rest) stays at rest if static
-friction holds the pull (:func:`rrbody.physics.limit.at_rest`, the contact's limit surface); one
-launched from rest that it cannot hold starts to slide in the maximum-dissipation direction. After
-a stop that static friction cannot hold the ODE path does not go on yet: the trajectory ends at the
-stop with a warning in its metadata (the plugin, :class:`rrbody.engine.PlaneFriction`, goes on).
+friction holds the pull (:func:`rrbody.physics.limit.at_rest`, the contact's limit surface);
+one it cannot hold (released at rest, or come to rest on a slope steeper than mu_static allows)
+starts to slide in the maximum-dissipation direction: the run goes on from tau = 1e-6 t_max after
+the stop along the break-away acceleration (constant at first: exact to O(tau^2)), and
+``events['break_aways']`` counts those stops.
 """
 
 from __future__ import annotations
@@ -41,7 +42,7 @@ import numpy as np
 from rrbody._version import __version__
 from rrbody.integrate.events import E_TSTOP, STEP_FRACTION, STOP_REST, STOP_SPEED_FRACTION, STOP_T_END, new_event_state
 from rrbody.integrate.chunks import run_in_chunks
-from rrbody.integrate.loop import L_NREJ, L_NOUT, L_NSTEP, L_T, STEP_METHODS, advance_for, new_loop_state
+from rrbody.integrate.loop import L_NEXTOUT, L_NREJ, L_NOUT, L_NSTEP, L_T, STEP_METHODS, advance_for, new_loop_state
 from rrbody.model.scene import Scene
 from rrbody.model.trajectory import Trajectory
 from rrbody.physics import params as P
@@ -89,15 +90,8 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     t_start = 0.0
     held = _held_at_rest(scene, p) if dry and pull > 0.0 else None
     if held is not None and not held[3] and v0[0] == v0[1] == w0 == 0.0:
-        # released at rest and not held: it starts with the break-away acceleration a, constant at
-        # first (its direction sets the friction's): the run starts at tau0 from the motion under a,
-        # exact to O(tau0^2 da/dt), where dry friction has a direction again
-        c, s_ = math.cos(body.alpha0), math.sin(body.alpha0)
-        ax, ay = c * held[0] - s_ * held[1], s_ * held[0] + c * held[1]
-        aw = held[2] if icm > 0.0 else 0.0
-        t_start = 1e-6 * t_max
-        y[:] = [0.5 * ax * t_start ** 2, 0.5 * ay * t_start ** 2, body.alpha0 + 0.5 * aw * t_start ** 2,
-                ax * t_start, ay * t_start, aw * t_start]
+        # released at rest and not held: it starts along the break-away acceleration
+        t_start = _break_away(y, held, 1e-6 * t_max, icm)
         v0 = y[3:5].copy()
         w0 = y[5]
         free_rhs(t_start, y, p, S, f)
@@ -121,6 +115,7 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     # above the kernels' zero-speed threshold v_eps, below which dry friction is switched off
     u_stop = max(STOP_SPEED_FRACTION * max(u0, 1e-300), 10.0 * p[P.VEPS])
     t0 = time.perf_counter()
+    n_breaks = 0  # stops static friction could not hold, each followed by a break-away
     if u0 == 0.0 and dry:
         ev[E_TSTOP] = 0.0
         status = 1
@@ -131,20 +126,33 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     else:
         minima = np.empty((0, 2))
         run = advance_for(system_from_params(p, SYSTEM_FREE))
-        status = run_in_chunks(
-            lambda n: run(y, f, st, ev, p, S, t_max, STOP_REST if dry else STOP_T_END, 0.0, 0.0, rtol, scale, -1,
-                          math.inf, n, minima, out, dt_out, STEP_METHODS[stepper], u_stop),
-            st, max_steps, progress=progress, total=t_max, desc="free body")
+
+        def go() -> int:
+            return run_in_chunks(
+                lambda n: run(y, f, st, ev, p, S, t_max, STOP_REST if dry else STOP_T_END, 0.0, 0.0, rtol, scale, -1,
+                              math.inf, n, minima, out, dt_out, STEP_METHODS[stepper], u_stop),
+                st, max_steps, progress=progress, total=t_max, desc="free body")
+
+        status = go()
+        while status == 1 and dry and pull > 0.0 and ev[E_TSTOP] < t_max:
+            held = _held_at_rest(scene, p, y[2])
+            if held[3]:
+                break
+            # came to rest where static friction cannot hold it (thrown up a steep slope): it breaks
+            # away from the stop. The loop wrote the samples after the stop as rest: drop them, and
+            # go on from the stop along the break-away acceleration
+            t_stop = float(ev[E_TSTOP])
+            n_keep = int(np.count_nonzero(out[:int(st[L_NOUT]), 0] <= t_stop))
+            st[L_NOUT] = n_keep
+            st[L_NEXTOUT] = n_keep * dt_out
+            st[L_T] = t_stop + _break_away(y, held, 1e-6 * t_max, icm, rotate=y[2])
+            ev[E_TSTOP] = math.nan
+            free_rhs(st[L_T], y, p, S, f)
+            n_breaks += 1
+            status = go()
     wall = time.perf_counter() - t0
-    broke = False
-    if status == 1 and dry and pull > 0.0 and not _held_at_rest(scene, p, y[2])[3]:
-        # came to rest where static friction cannot hold it: the ODE path stops here (module docstring)
-        broke = True
-        keep = out[:int(st[L_NOUT]), 0] <= ev[E_TSTOP]
-        st[L_NOUT] = int(np.count_nonzero(keep))
-        t_max = float(ev[E_TSTOP])
     n_done = int(st[L_NOUT])
-    if status == 1 and n_done < n_out and not broke:
+    if status == 1 and n_done < n_out:
         # at rest: the remaining samples repeat the final state exactly (no drift)
         rest = np.empty((n_out - n_done, 7))
         rest[:, 0] = np.arange(n_done, n_out) * dt_out
@@ -176,13 +184,25 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     if status in (3, 4):
         traj.meta["warning"] = (f"integration stopped early: {statuses[status]} at t={st[L_T]:.6g} s "
                                 f"after {wall:.3g} s of computing")
-    if broke:
-        traj.meta["status"] = "break-away"
-        traj.meta["warning"] = (f"the body came to rest at t={t_max:.6g} s where static friction cannot hold "
-                                "gravity's pull: it breaks away there, and the ODE path does not go on after a "
-                                "break-away yet (the plugin does); the trajectory ends at the stop")
-        traj.events["t_stop"] = None
+    traj.events["break_aways"] = n_breaks
     return traj
+
+
+def _break_away(y: np.ndarray, held: tuple[float, float, float, bool], tau: float, icm: float,
+                rotate: float | None = None) -> float:
+    """Set the state ``y`` (at rest) to the motion tau seconds after a break-away with the
+    acceleration ``held[:3]`` (m/s^2 body frame, rad/s^2; rotated into the world frame by the body
+    angle ``rotate``, default the state's own): constant at first, so exact to O(tau^2 da/dt), and
+    moving, so dry friction has a direction again. Returns tau (s)."""
+    a = y[2] if rotate is None else rotate
+    c, s = math.cos(a), math.sin(a)
+    ax, ay = c * held[0] - s * held[1], s * held[0] + c * held[1]
+    aw = held[2] if icm > 0.0 else 0.0
+    y[0] += 0.5 * ax * tau * tau
+    y[1] += 0.5 * ay * tau * tau
+    y[2] += 0.5 * aw * tau * tau
+    y[3], y[4], y[5] = ax * tau, ay * tau, aw * tau
+    return tau
 
 
 def _held_at_rest(scene: Scene, p: np.ndarray, alpha: float | None = None) -> tuple[float, float, float, bool]:

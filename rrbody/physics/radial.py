@@ -164,19 +164,26 @@ def _assemble(a, ux, uy, w, u, g, s):  # noqa: ANN001
 
 
 @njit(cache=True)
-def ring_wrench(a: float, ux: float, uy: float, w: float, v_eps: float) -> tuple[float, float, float]:
-    """Dry wrench (fx, fy, tq) per unit load and mu g of a ring of radius a (m), load uniform on it.
-
-    (ux, uy) (m/s) the contact centre's velocity, w (rad/s) the spin, body frame; tq (m) about the
-    centre. Zero at rest (|u| <= v_eps and |w| a <= v_eps, m/s)."""
+def _radial(hertz: bool, a: float, ux: float, uy: float, w: float, v_eps: float) -> tuple[float, float, float]:
+    """The ring's (hertz False) or the Hertz patch's wrench: zero at rest, the translation expansion
+    near translation (the profile's <|s|^2 - (s . u/|u|)^2> = a^2/2 or a^2/5), else the exact forms."""
     u = math.hypot(ux, uy)
     wa = abs(w) * a
     if u <= v_eps and wa <= v_eps:
         return 0.0, 0.0, 0.0
     if wa <= TRANSLATION_EPS * u:
-        return -ux / u, -uy / u, -(w / u) * 0.5 * a * a
-    g, s = _ring_gs(u, wa)
+        return -ux / u, -uy / u, -(w / u) * (0.2 if hertz else 0.5) * a * a
+    g, s = _hertz_gs(u, wa) if hertz else _ring_gs(u, wa)
     return _assemble(a, ux, uy, w, u, g, s)
+
+
+@njit(cache=True)
+def ring_wrench(a: float, ux: float, uy: float, w: float, v_eps: float) -> tuple[float, float, float]:
+    """Dry wrench (fx, fy, tq) per unit load and mu g of a ring of radius a (m), load uniform on it.
+
+    (ux, uy) (m/s) the contact centre's velocity, w (rad/s) the spin, body frame; tq (m) about the
+    centre. Zero at rest (|u| <= v_eps and |w| a <= v_eps, m/s)."""
+    return _radial(False, a, ux, uy, w, v_eps)
 
 
 @njit(cache=True)
@@ -186,11 +193,4 @@ def hertz_wrench(a: float, ux: float, uy: float, w: float, v_eps: float) -> tupl
 
     (ux, uy) (m/s) the contact centre's velocity, w (rad/s) the spin, body frame; tq (m) about the
     centre. Zero at rest (|u| <= v_eps and |w| a <= v_eps, m/s)."""
-    u = math.hypot(ux, uy)
-    wa = abs(w) * a
-    if u <= v_eps and wa <= v_eps:
-        return 0.0, 0.0, 0.0
-    if wa <= TRANSLATION_EPS * u:
-        return -ux / u, -uy / u, -(w / u) * 0.2 * a * a
-    g, s = _hertz_gs(u, wa)
-    return _assemble(a, ux, uy, w, u, g, s)
+    return _radial(True, a, ux, uy, w, v_eps)
