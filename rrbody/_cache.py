@@ -104,10 +104,44 @@ def built_by_numba(folder: Path) -> str | None:
         return None
 
 
+def _fill_in(shipped: Path, target: Path) -> bool:
+    """Complete a kernel folder numba began before the install's kernels existed (a source tree
+    used before its prebuild finished): every function whose index it lacks gets the install's index
+    and compiled files, each copied to a temporary name and renamed (a reader never sees half a
+    file); functions numba compiled here keep their own. The build file, written last, marks the
+    folder complete."""
+    import shutil
+
+    copied = False
+    for nbi in shipped.rglob("*.nbi"):
+        rel = nbi.relative_to(shipped)
+        if (target / rel).exists():
+            continue
+        stem = nbi.name[:-len(".nbi")]
+        (target / rel.parent).mkdir(parents=True, exist_ok=True)
+        # the index last: numba looks a function up by its index, then loads the data it names
+        for f in [*sorted(nbi.parent.glob(stem + ".*.nbc")), nbi]:
+            dest = target / rel.parent / f.name
+            tmp = dest.with_name(f".seed-{os.getpid()}-{f.name}")
+            try:
+                shutil.copyfile(f, tmp)
+                os.replace(tmp, dest)
+            except OSError:
+                tmp.unlink(missing_ok=True)
+                return copied
+        copied = True
+    try:
+        shutil.copyfile(shipped / BUILD_FILE, target / BUILD_FILE)
+    except OSError:
+        pass
+    return copied
+
+
 def seed_kernels() -> bool:
     """Copy the kernels compiled at install into the cache folder, if it has none for these sources
     yet. Atomic (a copy in a temporary folder, renamed): of two processes seeding at once, one wins
-    and the other's copy is dropped. Kernels compiled by another numba (pip's build environment may
+    and the other's copy is dropped. A folder numba began before the install's kernels existed is
+    completed function by function (:func:`_fill_in`). Kernels compiled by another numba (pip's build environment may
     hold a newer one than the environment it installs into) would all be refused by numba: they are
     not copied, and a RuntimeWarning says how to compile them once (``rrbody cache build``).
     Returns whether this call seeded (never under ``RRBODY_NO_SEED``)."""
@@ -116,7 +150,7 @@ def seed_kernels() -> bool:
 
     target = kernels_dir()
     shipped = shipped_kernels_dir()
-    if target.is_dir() or not shipped.is_dir() or os.environ.get(NO_SEED):
+    if not shipped.is_dir() or os.environ.get(NO_SEED) or (target / BUILD_FILE).exists():
         return False
     import numba
 
@@ -128,6 +162,8 @@ def seed_kernels() -> bool:
                       f"{numba.__version__}: each is compiled on first use instead (15-30 s); "
                       "'rrbody cache build' compiles them all now", RuntimeWarning, stacklevel=2)
         return False
+    if target.is_dir():
+        return _fill_in(shipped, target)
     target.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=".seed-", dir=target.parent))
     try:

@@ -108,6 +108,36 @@ def test_first_use_seeds_the_cache_once(tmp_path: Path, monkeypatch: pytest.Monk
     assert not list(target.parent.glob(".seed-*"))  # no temporary copy left behind
 
 
+def test_a_folder_numba_began_is_completed_from_the_install(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A source tree used before its prebuild finished leaves a kernel folder numba began: seeding
+    then adds every function it lacks (index and data), keeps the ones numba compiled there, and marks
+    the folder complete so later processes do nothing."""
+    import json
+
+    import numba
+
+    monkeypatch.setattr(_cache, "_PKG", tmp_path / "pkg")
+    monkeypatch.setattr(_cache, "source_hash", lambda: "abc")
+    monkeypatch.setenv(_cache.ENV, str(tmp_path / "c"))
+    shipped = _cache.shipped_kernels_dir()
+    (shipped / "physics").mkdir(parents=True)
+    for name, data in (("f-1.py311.nbi", b"shipped f"), ("f-1.py311.0.nbc", b"shipped f0"),
+                       ("g-9.py311.nbi", b"shipped g"), ("g-9.py311.0.nbc", b"shipped g0"),
+                       ("g-9.py311.1.nbc", b"shipped g1")):
+        (shipped / "physics" / name).write_bytes(data)
+    (shipped / _cache.BUILD_FILE).write_text(json.dumps({"numba": numba.__version__}))
+    target = _cache.kernels_dir()
+    (target / "physics").mkdir(parents=True)
+    (target / "physics" / "f-1.py311.nbi").write_bytes(b"local f")
+    (target / "physics" / "f-1.py311.0.nbc").write_bytes(b"local f0")
+    assert _cache.seed_kernels() is True
+    got = {f.name: f.read_bytes() for f in (target / "physics").iterdir()}
+    assert got == {"f-1.py311.nbi": b"local f", "f-1.py311.0.nbc": b"local f0", "g-9.py311.nbi": b"shipped g",
+                   "g-9.py311.0.nbc": b"shipped g0", "g-9.py311.1.nbc": b"shipped g1"}
+    assert (target / _cache.BUILD_FILE).exists()
+    assert _cache.seed_kernels() is False  # complete: nothing more to do
+
+
 def test_no_seed_under_a_forced_build(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """``prebuild --force`` must compile: its jobs run with RRBODY_NO_SEED, and seeding then copies nothing."""
     import json
