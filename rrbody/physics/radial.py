@@ -25,8 +25,10 @@ sums of positive terms, full relative accuracy everywhere. At x = 1: g = -2/pi, 
 Hertz (p = 3/(2 pi a^2) sqrt(1 - rho^2/a^2)): lines through c at angle psi from c/r, s = c + t n,
 chord half-length^2 h2 = 1 - x^2 sin^2 psi (units of a). The radial integrals are exact:
 Int t p dt = -(3/4) x cos(psi) h2 and Int t^2 p dt = (3/16) h2^2 + (3/4) x^2 cos^2(psi) h2, and
-s . e = sgn(t) (x cos psi + t), so the cos^2 terms cancel in S:
+s . e = sgn(t) (x cos psi + t), so the cos^2 terms cancel in S::
+
     g = -(3/4) x Int cos^2(psi) h2 dpsi,   S = (3/16) Int h2^2 dpsi,   psi in [-psi1, psi1],
+
 psi1 = pi/2 (x <= 1: g = -(3 pi/8) x (1 - x^2/4), S = (3 pi/16)(1 - x^2 + 3 x^4/8)) or asin(1/x)
 (x > 1: non-negative entire integrands, Gauss-Legendre in psi/psi1, converged to ~1e-16 at 16 nodes).
 
