@@ -26,6 +26,11 @@ HC0 = 0.7927262347097797
 PROFILE_LEVER = {"uniform": "2R/3", "ring": "R", "annulus": "(2/3)(Ro^3-Ri^3)/(Ro^2-Ri^2)", "hertz": "3 pi R/16"}
 
 
+def _figure(L: list[str], scene: str, res: Path) -> None:
+    """The scene's figure (``<scene>/<scene>.png``), closing its section."""
+    L.extend([_img(scene, scene, res), ""])
+
+
 def _table(L: list[str], rows: list[tuple[str, str, str]]) -> None:
     L.append("| quantity | exact | rrbody |")
     L.append("|---|---|---|")
@@ -65,8 +70,7 @@ def section_pressure(L: list[str], res: Path) -> None:
     for r in sr["sim"]:
         L.append(f"| {r['f']:g} | {_f(exact.get(r['f']), '.6f')} | {r['eps0']:g} | {_f(r['eps_last'], '.6f')} |")
     L.append("")
-    L.append(_img("pressure", "pressure", res))
-    L.append("")
+    _figure(L, "pressure", res)
 
 
 def section_incline(L: list[str], res: Path) -> None:
@@ -92,8 +96,7 @@ def section_incline(L: list[str], res: Path) -> None:
              (f"released at rest on the slope, mu < tan(alpha) < mu_s: motion after {held['steps']:,} steps", "none",
               "none: position, angle and velocity bit-identical" if held["bit_identical"] else "moved")]
     _table(L, rows)
-    L.append(_img("incline", "incline", res))
-    L.append("")
+    _figure(L, "incline", res)
 
 
 def section_polygon(L: list[str], res: Path) -> None:
@@ -128,5 +131,4 @@ def section_polygon(L: list[str], res: Path) -> None:
     rows.append(("square spinning in place: spin-down rate mu g (sqrt 2 + ln(1 + sqrt 2))/a (rad/s^2)",
                  _f(c["alpha_exact"], ".12g"), f"{_f(c['alpha_ode'], '.12g')} (ODE path, rel. err. {_f(c['rel_err'], '.1e')})"))
     _table(L, rows)
-    L.append(_img("polygon", "polygon", res))
-    L.append("")
+    _figure(L, "polygon", res)
