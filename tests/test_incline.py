@@ -247,3 +247,19 @@ def test_plugin_and_ode_agree_on_a_tilt_at_second_order() -> None:
         errs.append(float(np.max(np.abs(np.array([b.position.x, b.position.y, b.angle]) - want))))
     rates = [math.log2(errs[i] / errs[i + 1]) for i in range(2)]
     assert all(1.7 < r < 2.3 for r in rates), (errs, rates)
+
+
+def test_rrbody_scenes_on_the_engine_path_take_the_tilt() -> None:
+    """A driven disk (P off the centre) on a tilted plane through --method engine: phi approaches the
+    ODE path's at second order in dt (the scene's tilt builds the space's plane); a second scene with
+    another tilt in the same space is refused (one space, one plane)."""
+    sc = scene_from_params(body="disk", R0=0.1, l=0.05, omega=1.0, k=0.05, tilt=0.2, downhill=0.5, t_max=20.0)
+    ode = simulate(sc).phi[-1]
+    errs = [abs(simulate(sc, method="engine", dt=dt).phi[-1] - ode) for dt in (2e-3, 1e-3)]
+    assert 3.0 < errs[0] / errs[1] < 5.0, errs
+    from rrbody.engine import EngineSettings, attach
+
+    space = pymunk.Space()
+    attach(space, sc, settings=EngineSettings(dt=1e-3))
+    with pytest.raises(ValueError, match=r"scene tilt must match the space's plane"):
+        attach(space, sc.with_(tilt=0.1), settings=EngineSettings(dt=1e-3))

@@ -45,25 +45,35 @@ __all__ = ["EngineHandle", "attach", "plane_for"]
 _PLANES: "weakref.WeakKeyDictionary[Any, PlaneFriction]" = weakref.WeakKeyDictionary()
 
 
-def plane_for(space: Any) -> PlaneFriction:
-    """The PlaneFriction that :func:`attach` uses for ``space`` (created on first use)."""
+def plane_for(space: Any, scene: Scene | None = None) -> PlaneFriction:
+    """The PlaneFriction that :func:`attach` uses for ``space`` (created on first use, level or tilted
+    as ``scene`` says; a scene's tilt must match the plane's: one space, one plane)."""
     pf = _PLANES.get(space)
+    tilt = (0.0, 0.0) if scene is None or scene.tilt == 0.0 else (scene.tilt, scene.downhill)
     if pf is None:
-        pf = _PLANES[space] = PlaneFriction(space)
+        g = 9.81 if scene is None else scene.g
+        pf = _PLANES[space] = PlaneFriction(space, g=g, tilt=tilt[0], downhill=tilt[1])
+    elif scene is not None and (tilt != ((pf.tilt, pf.downhill) if pf.tilt != 0.0 else (0.0, 0.0))
+                                or (tilt[0] != 0.0 and scene.g != pf.g)):
+        raise ValueError(f"scene tilt must match the space's plane (one space, one plane): the plane has tilt "
+                         f"{pf.tilt!r} rad, downhill {pf.downhill!r} rad, g {pf.g!r} m/s^2; got tilt {scene.tilt!r}, "
+                         f"downhill {scene.downhill!r}, g {scene.g!r}")
     return pf
 
 
-def _footprint(scene: Scene) -> tuple[float, float, tuple]:
-    """(law, coeff, footprint) of the scene's body for the plugin kernel."""
-    body = scene.body
+def _footprint(scene: Scene) -> tuple[float, float, float | None, tuple]:
+    """(law, coeff, static, footprint) of the scene's body for the plugin kernel: the friction
+    coefficients as the ODE path binds them (:func:`rrbody.physics.bind.kernel_params`: dry friction
+    and static friction scaled by the tilt's cos)."""
     fr = scene.friction
     law = K.LAW_VISCOUS if fr.law == "viscous" else K.LAW_DRY
-    coeff = fr.coeff if fr.active else 0.0
-    model = area_model(scene)
-    if model == P.BODY_SAMPLED:
-        return law, coeff, combine([sampled_part(kernel_params(scene)[1])])
+    p, S = kernel_params(scene)
+    coeff = float(p[P.COEFF]) if fr.active else 0.0
+    static = float(p[P.MUS]) if fr.active and fr.law == "dry" else None
+    if area_model(scene) == P.BODY_SAMPLED:
+        return law, coeff, static, combine([sampled_part(S)])
     # the ODE path's contact method packs the same footprint (one description, both paths)
-    return law, coeff, apply_pressure(body_parts(body), scene.pressure)
+    return law, coeff, static, apply_pressure(body_parts(scene.body), scene.pressure)
 
 
 class EngineHandle:
@@ -78,7 +88,7 @@ class EngineHandle:
         import pymunk
 
         self.space = space
-        self.plane = plane_for(space)
+        self.plane = plane_for(space, scene)
         self.scene = scene
         self.settings = settings
         body = scene.body
@@ -132,10 +142,10 @@ class EngineHandle:
             self.joint = pymunk.PivotJoint(self.driver, self.body, (0.0, 0.0), self.anchor)
             objs += [self.driver, self.joint]
         space.add(*objs)
-        law, coeff, fp = _footprint(scene)
+        law, coeff, static, fp = _footprint(scene)
         # the rest rule is for free bodies: a driven body's joint decides its velocity
         self.plane._add(self.body, law=law, coeff=coeff, footprint=fp, snap=scene.drive is None, history=history,
-                        v_eps=1e-12 * scene.velocity_scale(), staggered=self._staggered)
+                        v_eps=1e-12 * scene.velocity_scale(), staggered=self._staggered, static=static)
         if self.driver is not None:
             j = self.plane._slots[self.body]
             self.plane._bodies[j, [K.DRV, K.OMG, K.DD, K.ANX, K.ANY, K.T0]] = \
