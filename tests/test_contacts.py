@@ -265,3 +265,15 @@ def test_cli_pressure_runs_and_bad_values_are_one_line(tmp_path: object) -> None
     assert ok.code == 0, ok.err
     assert bad.code == 2 and bad.err.count("\n") == 1 and "ring must lie on the body's footprint" in bad.err
     assert rod.code == 2 and "needs an extended body" in rod.err and "Traceback" not in rod.err
+
+
+def test_feet_run_on_the_engine_path_and_the_ode_path_says_why_not() -> None:
+    """A disk on two feet: the engine path runs it to rest; the ODE path refuses in one line (a body
+    on point feet comes to pivot on one foot, a sliding mode its right-hand side cannot follow)."""
+    from tests.clirun import run_many
+
+    base = ["simulate", "--body", "disk", "--R0", "0.2", "--no-drive", "--v0", "1,0", "--spin0", "5", "--k", "2",
+            "--pressure", "points:0.1,0,1;-0.1,0,1", "--t-max", "1", "--json"]
+    engine, ode = run_many([[base[0], "--method", "engine", *base[1:]], base])
+    assert engine.code == 0, engine.err
+    assert ode.code == 2 and ode.err.count("\n") == 1 and "runs on the engine path only" in ode.err

@@ -21,7 +21,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from rrbody.physics.bind import kernel_params
+from rrbody.physics.bind import ode_params
 from rrbody.integrate.events import FlipResult, classify_flip, rr_from_T1
 from rrbody.integrate.ode import STEP_METHODS, integrate_driven
 from rrbody.model.checks import check, check_positive
@@ -58,7 +58,7 @@ def flip_time(scene: Scene, *, rtol: float | None = None, accuracy: str = "defau
     settle_periods = float(check("settle_periods", settle_periods))
     horizon = t_max if t_max is not None else scene.t_max
     horizon = math.inf if horizon is None else check_positive("t_max", horizon, unit="s")
-    p, S = kernel_params(scene)
+    p, S = ode_params(scene)
     y0 = (scene.phi0, scene.initial_phi_dot)
     if not scene.friction.active:
         res = integrate_driven(p, S, y0, t_end=min(horizon, 2.0 * scene.drive.period), rtol=rtol_v,  # type: ignore[union-attr]
@@ -81,7 +81,7 @@ def flip_time(scene: Scene, *, rtol: float | None = None, accuracy: str = "defau
 
 def reverse_rotation_exists(scene: Scene, *, rtol: float | None = None, accuracy: str = "default") -> bool:
     """T_1 exists and omega T_1 < 2 pi. Integrates at most one driving period."""
-    p, S = kernel_params(scene)
+    p, S = ode_params(scene)
     res = integrate_driven(p, S, (scene.phi0, scene.initial_phi_dot), t_end=1.01 * scene.drive.period,  # type: ignore[union-attr]
                            rtol=resolve_rtol(rtol, accuracy), stop="rr")
     return rr_from_T1(res.T1, scene.omega)

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.physics.bind import kernel_params
+from rrbody.physics.bind import ode_params
 from rrbody.model.checks import check
 from rrbody.model.scene import Scene
 from rrbody.model.trajectory import Trajectory, driven_trajectory
@@ -96,7 +96,7 @@ def _simulate_ode(scene: Scene, *, t_max: float, dt_out: float, progress: bool =
                              stepper=stepper)
     from rrbody.integrate.ode import integrate_driven
 
-    p, S = kernel_params(scene)
+    p, S = ode_params(scene)
     res = integrate_driven(p, S, (scene.phi0, scene.initial_phi_dot), t_end=t_max, rtol=rtol_v, stop="t_end",
                            dt_out=dt_out, max_steps=max_steps, progress=progress, desc="ode", method=stepper)
     out = res.out

@@ -46,7 +46,7 @@ from rrbody.integrate.loop import L_NEXTOUT, L_NREJ, L_NOUT, L_NSTEP, L_T, STEP_
 from rrbody.model.scene import Scene
 from rrbody.model.trajectory import Trajectory
 from rrbody.physics import params as P
-from rrbody.physics.bind import kernel_params
+from rrbody.physics.bind import ode_params
 from rrbody.physics.contact import H_PARTS, HEADER
 from rrbody.physics.dynamics import SYSTEM_FREE, free_rhs, system_from_params
 from rrbody.physics.footprint import packed
@@ -76,7 +76,7 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     if stepper not in FREE_STEPPERS:
         raise ValueError(f"stepper must be one of {', '.join(repr(m) for m in FREE_STEPPERS)} for a free body "
                          f"(Radau IIA is the driven body's stiff method), got {stepper!r}")
-    p, S = kernel_params(scene)
+    p, S = ode_params(scene)
     body = scene.body
     icm = body.inertia_per_mass
     rmax = max(body.semi_axes)

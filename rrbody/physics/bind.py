@@ -16,7 +16,7 @@ from rrbody.physics.area import area_samples, icr_nodes, icr_supported
 from rrbody.physics.footprint import packed
 from rrbody.physics.icr_table import build_table
 
-__all__ = ["area_model", "kernel_params", "DRIVEN_DEAD_BAND", "FREE_DEAD_BAND"]
+__all__ = ["area_model", "kernel_params", "ode_params", "DRIVEN_DEAD_BAND", "FREE_DEAD_BAND"]
 
 #: Zero-speed dead band of dry friction, relative to the scene's velocity scale, for driven bodies.
 #: At the impulsive start from phi0 = pi the CM starts at rest and its speed grows like
@@ -114,3 +114,15 @@ def kernel_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
         if scene.friction.law == "dry":
             S = build_table(ra, rb)
     return p, S
+
+
+def ode_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`kernel_params` for the ODE path, which refuses a body standing on point feet: as its
+    sliding dies away such a body ends up pivoting on one foot (the foot at rest, a sliding mode that
+    the plugin's per-step friction follows and an ODE right-hand side, discontinuous at that foot,
+    does not: the steps collapse)."""
+    if scene.pressure.kind == "points" and scene.friction.active and scene.friction.law == "dry":
+        raise ValueError("pressure 'points' (feet) runs on the engine path only (--method engine, or the plugin): "
+                         "a body on point feet comes to pivot on one foot, which the ODE path cannot follow; "
+                         "for the ODE path give the feet an area (pressure field p(x, y))")
+    return kernel_params(scene)
