@@ -232,20 +232,10 @@ def test_plugin_and_ode_agree_on_a_tilt_at_second_order() -> None:
     ode = simulate(scene_from_params(body="disk", R0=R, no_drive=True, v0=v0, spin0=w0, mu=mu, g=G, tilt=tilt,
                                      downhill=dh, pressure=f"ring:{R}", t_max=T))
     want = np.array([ode.x_cm[-1], ode.y_cm[-1], ode.body_angle[-1]])
-    errs = []
-    for dt in (4e-3, 2e-3, 1e-3):
-        space = pymunk.Space()
-        pf = PlaneFriction(space, g=G, tilt=tilt, downhill=dh)
-        b = pymunk.Body()
-        s = pymunk.Circle(b, R)
-        s.density = 2.0
-        space.add(b, s)
-        b.velocity, b.angular_velocity = v0, w0
-        pf.add(b, mu=mu, pressure=rp.ring(R))
-        for _ in range(round(T / dt)):
-            pf.step(dt)
-        errs.append(float(np.max(np.abs(np.array([b.position.x, b.position.y, b.angle]) - want))))
-    rates = [math.log2(errs[i] / errs[i + 1]) for i in range(2)]
+    from tests.plugin_orders import plugin_errors
+
+    errs, rates = plugin_errors(lambda b: pymunk.Circle(b, R), want, v0=v0, w0=w0, T=T, dts=(4e-3, 2e-3, 1e-3),
+                                plane={"g": G, "tilt": tilt, "downhill": dh}, add={"mu": mu, "pressure": rp.ring(R)})
     assert all(1.7 < r < 2.3 for r in rates), (errs, rates)
 
 

@@ -11,7 +11,6 @@ import pymunk
 import pytest
 
 from rrbody.analysis.simulate import simulate
-from rrbody.engine import PlaneFriction
 from rrbody.model.bodies import Polygon
 from rrbody.model.scene import Scene, scene_from_params
 from rrbody.physics.polygon import box_spin_torque
@@ -47,20 +46,10 @@ def test_free_box_on_both_paths_agrees_at_second_order() -> None:
     a, mu, v0, w0, T = 0.2, 0.3, (1.0, 0.4), 6.0, 0.25
     ode = simulate(scene_from_params(body="box", R0=a / 2, no_drive=True, v0=v0, spin0=w0, mu=mu, g=G, t_max=T))
     want = np.array([ode.x_cm[-1], ode.y_cm[-1], ode.body_angle[-1]])
-    errs = []
-    for dt in (2e-3, 1e-3, 5e-4):
-        space = pymunk.Space()
-        pf = PlaneFriction(space, g=G)
-        b = pymunk.Body()
-        s = pymunk.Poly.create_box(b, (a, a))
-        s.density = 1.0
-        space.add(b, s)
-        b.velocity, b.angular_velocity = v0, w0
-        pf.add(b, mu=mu)
-        for _ in range(round(T / dt)):
-            pf.step(dt)
-        errs.append(float(np.max(np.abs(np.array([b.position.x, b.position.y, b.angle]) - want))))
-    rates = [math.log2(errs[i] / errs[i + 1]) for i in range(2)]
+    from tests.plugin_orders import plugin_errors
+
+    errs, rates = plugin_errors(lambda b: pymunk.Poly.create_box(b, (a, a)), want, v0=v0, w0=w0, T=T,
+                                dts=(2e-3, 1e-3, 5e-4), plane={"g": G}, add={"mu": mu})
     assert all(1.7 < r < 2.3 for r in rates), (errs, rates)
 
 
