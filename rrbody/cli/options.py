@@ -9,6 +9,7 @@ from typing import Any
 
 from rrbody.cli.args import (CliError, angle, check_options, float_list, given, integer, number, option_help,
                              option_message)
+from rrbody.model.checks import number_rows
 from rrbody.model.scene import FRICTION_METHODS
 
 __all__ = ["add_scene_options", "add_integrator_options", "add_accuracy_options", "scene_from_args", "scene_params",
@@ -186,7 +187,7 @@ def scene_params(a: argparse.Namespace) -> dict[str, Any]:
     kw = {k: getattr(a, k) for k in keys if getattr(a, k, None) is not None}
     if "vertices" in kw:
         try:
-            kw["vertices"] = tuple(tuple(float(c) for c in v.split(",")) for v in kw["vertices"].split(";") if v.strip())
+            kw["vertices"] = tuple(number_rows(kw["vertices"]))
         except ValueError:
             raise CliError(f"--vertices must be X,Y;X,Y;... (numbers, m), got {kw['vertices']!r}") from None
     if "v0" in kw:

@@ -37,7 +37,7 @@ from rrbody.engine.plugin import PlaneFriction
 from rrbody.engine.settings import EngineSettings, check_dt
 from rrbody.physics.footprint import apply_pressure, body_parts, combine, sampled_part
 from rrbody.model.scene import Scene
-from rrbody.physics.bind import area_model, kernel_params
+from rrbody.physics.bind import area_model, friction_per_mass, kernel_params
 from rrbody.physics import params as P
 
 __all__ = ["EngineHandle", "attach", "plane_for"]
@@ -49,31 +49,33 @@ def plane_for(space: Any, scene: Scene | None = None) -> PlaneFriction:
     """The PlaneFriction that :func:`attach` uses for ``space`` (created on first use, level or tilted
     as ``scene`` says; a scene's tilt must match the plane's: one space, one plane)."""
     pf = _PLANES.get(space)
-    tilt = (0.0, 0.0) if scene is None or scene.tilt == 0.0 else (scene.tilt, scene.downhill)
     if pf is None:
-        g = 9.81 if scene is None else scene.g
-        pf = _PLANES[space] = PlaneFriction(space, g=g, tilt=tilt[0], downhill=tilt[1])
-    elif scene is not None and (tilt != ((pf.tilt, pf.downhill) if pf.tilt != 0.0 else (0.0, 0.0))
-                                or (tilt[0] != 0.0 and scene.g != pf.g)):
+        pf = _PLANES[space] = (PlaneFriction(space) if scene is None else
+                               PlaneFriction(space, g=scene.g, tilt=scene.tilt, downhill=scene.downhill))
+    elif scene is not None and _slope(scene.tilt, scene.downhill, scene.g) != _slope(pf.tilt, pf.downhill, pf.g):
         raise ValueError(f"scene tilt must match the space's plane (one space, one plane): the plane has tilt "
                          f"{pf.tilt!r} rad, downhill {pf.downhill!r} rad, g {pf.g!r} m/s^2; got tilt {scene.tilt!r}, "
                          f"downhill {scene.downhill!r}, g {scene.g!r}")
     return pf
 
 
+def _slope(tilt: float, downhill: float, g: float) -> tuple[float, float, float]:
+    """What a plane's tilt does to the bodies on it (a level plane's downhill and g do nothing here:
+    the scenes' friction already carries mu g)."""
+    return (tilt, downhill, g) if tilt != 0.0 else (0.0, 0.0, 0.0)
+
+
 def _footprint(scene: Scene) -> tuple[float, float, float | None, tuple]:
     """(law, coeff, static, footprint) of the scene's body for the plugin kernel: the friction
-    coefficients as the ODE path binds them (:func:`rrbody.physics.bind.kernel_params`: dry friction
-    and static friction scaled by the tilt's cos)."""
+    coefficients as the ODE path binds them (:func:`rrbody.physics.bind.friction_per_mass`)."""
     fr = scene.friction
     law = K.LAW_VISCOUS if fr.law == "viscous" else K.LAW_DRY
-    p, S = kernel_params(scene)
-    coeff = float(p[P.COEFF]) if fr.active else 0.0
-    static = float(p[P.MUS]) if fr.active and fr.law == "dry" else None
+    coeff, static = friction_per_mass(scene)
+    static_or_none = static if fr.active and fr.law == "dry" else None
     if area_model(scene) == P.BODY_SAMPLED:
-        return law, coeff, static, combine([sampled_part(S)])
+        return law, coeff, static_or_none, combine([sampled_part(kernel_params(scene)[1])])
     # the ODE path's contact method packs the same footprint (one description, both paths)
-    return law, coeff, static, apply_pressure(body_parts(scene.body), scene.pressure)
+    return law, coeff, static_or_none, apply_pressure(body_parts(scene.body), scene.pressure)
 
 
 class EngineHandle:

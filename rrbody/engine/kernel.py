@@ -180,6 +180,19 @@ def _driver(j: int, bodies: np.ndarray, t: float, dt: float) -> None:
     bodies[j, DPY] = d * s1 - dt * vy
 
 
+@njit(cache=True, inline="always")
+def _slow_enough(i: int, j: int, vx: float, vy: float, w: float, dt: float, bodies: np.ndarray,
+                 out: np.ndarray) -> bool:
+    """The rest rule's test: every point of body j slower than the deceleration friction leaves along
+    the motion (mu g, less the pull of the other forces in ``out[i]`` along it: a tilt's, the user's)
+    times dt. Evaluated only where the limiter already cut the friction impulse."""
+    speed = math.hypot(vx, vy)
+    decel = bodies[j, COEFF]
+    if speed > 0.0:
+        decel -= (out[i, 0] * vx + out[i, 1] * vy) / (bodies[j, MASS] * speed)
+    return speed + abs(w) * bodies[j, REACH] <= decel * dt
+
+
 @njit(cache=True)
 def _held(i: int, j: int, alpha: float, bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray,
           out: np.ndarray) -> bool:
@@ -293,14 +306,8 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.n
         m0 = bodies[j, MASS]
         ax, ay, aw, s = limited(j, alpha, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo, out[i, 0] / m0,
                                 out[i, 1] / m0, out[i, 2] / (m0 * bodies[j, IPM]))
-        speed = math.hypot(vx, vy)
-        # the deceleration friction leaves along the motion: mu g less the load's pull along it
-        # (gravity on a tilt, the user's force); mu g on a level plane without forces
-        decel = bodies[j, COEFF]
-        if speed > 0.0:
-            decel -= (out[i, 0] * vx + out[i, 1] * vy) / (bodies[j, MASS] * speed)
         if s < 1.0 and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY \
-                and speed + abs(w) * bodies[j, REACH] <= decel * dt \
+                and _slow_enough(i, j, vx, vy, w, dt, bodies, out) \
                 and (not static or _held(i, j, got[i, 0], bodies, shapes, geo, out)):
             # every point slower than decel dt: friction stops the body within this step (if a load
             # acts, only where static friction then holds it; else it slides on). The positions

@@ -29,6 +29,7 @@ from rrbody.engine import kernel as K
 from rrbody.engine.batchio import BatchIO
 from rrbody.engine.shapes import body_footprint
 from rrbody.model.checks import check
+from rrbody.model.friction import check_mu_static
 from rrbody.model.pressure import PRESSURE_KINDS, Pressure, as_pressure
 from rrbody.physics import contact as C
 from rrbody.physics.footprint import Footprint
@@ -172,9 +173,7 @@ class PlaneFriction:
         other bodies' data."""
         self._check_body(body)
         mu = float(check("mu", mu))
-        mu_s = mu if mu_static is None else float(check("mu_static", mu_static))
-        if mu_s < mu:
-            raise ValueError(f"mu_static must be >= mu ({mu:g}: static friction is never below kinetic), got {mu_static!r}")
+        mu_s = mu if mu_static is None else check_mu_static(mu_static, mu)
         footprint = body_footprint(body, as_pressure(pressure))
         self._add(body, law=K.LAW_DRY, coeff=mu * self._g_normal, footprint=footprint, snap=True, history=None,
                   static=mu_s * self._g_normal)

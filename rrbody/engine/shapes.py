@@ -5,7 +5,7 @@ quadrature with 24 nodes, ~5e-12); convex polygons (``pymunk.Poly``) are exact, 
 (``Poly(..., radius=r)``) is not part of the footprint; a ``pymunk.Segment`` with radius r is a stadium
 and enters as one convex polygon with ``SEGMENT_CAP_EDGES`` edges on each round end (its caps' area
 0.6 % short at 16); a segment of radius 0 has no area and no friction. rrbody's own scenes build
-their footprint from the scene instead (:func:`rrbody.physics.footprint.scene_footprint`). Geometry is
+their footprint from the scene instead (:func:`rrbody.physics.footprint.body_parts`). Geometry is
 in the body frame with the origin at the body's centre of gravity (m); the pressure distribution
 (:mod:`rrbody.model.pressure`) says what load each part carries.
 """

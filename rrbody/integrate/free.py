@@ -88,13 +88,14 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     dry = scene.friction.active and scene.friction.law == "dry"
     pull = math.hypot(p[P.GTX], p[P.GTY])  # gravity along a tilted plane (m/s^2)
     t_start = 0.0
-    held = _held_at_rest(scene, p) if dry and pull > 0.0 else None
-    if held is not None and not held[3] and v0[0] == v0[1] == w0 == 0.0:
-        # released at rest and not held: it starts along the break-away acceleration
-        t_start = _break_away(y, held, 1e-6 * t_max, icm)
-        v0 = y[3:5].copy()
-        w0 = y[5]
-        free_rhs(t_start, y, p, S, f)
+    if dry and pull > 0.0 and v0[0] == v0[1] == w0 == 0.0:
+        held = _held_at_rest(scene, p)
+        if not held[3]:
+            # released at rest and not held: it starts along the break-away acceleration
+            t_start = _break_away(y, held, 1e-6 * t_max, icm)
+            v0 = y[3:5].copy()
+            w0 = y[5]
+            free_rhs(t_start, y, p, S, f)
     # speed scale: translation plus rotation (gyration radius for bodies with inertia), and what the
     # tilt's pull adds over the run
     u0 = math.hypot(v0[0], v0[1]) + math.sqrt(icm) * abs(w0)

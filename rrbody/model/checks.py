@@ -35,7 +35,7 @@ DIMENSIONLESS = "(dimensionless)"
 
 __all__ = ["MAX_RATE", "MIN_RATE", "MAX_LENGTH", "MIN_LENGTH", "MAX_FRICTION", "MIN_FRICTION", "MAX_TIME",
            "Limit", "LIMITS", "MissingParameters", "check", "check_real", "check_positive", "check_nonnegative", "check_range",
-           "check_int", "check_choice", "range_text"]
+           "check_int", "check_choice", "range_text", "number_rows"]
 
 
 @dataclass(frozen=True)
@@ -224,3 +224,9 @@ def check_choice(name: str, value: object, choices: tuple[str, ...]) -> str:
     if value not in choices:
         raise ValueError(f"{name} must be one of {', '.join(repr(c) for c in choices)}, got {value!r}")
     return str(value)
+
+
+def number_rows(text: str) -> list[tuple[float, ...]]:
+    """Rows of numbers in the command line's form ``A,B;C,D;...`` (empty rows skipped); ValueError
+    (unnamed: the caller names its option) if a field is not a number."""
+    return [tuple(float(v) for v in row.split(",")) for row in str(text).split(";") if row.strip()]

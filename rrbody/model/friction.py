@@ -18,10 +18,19 @@ from dataclasses import dataclass
 
 from rrbody.model.checks import check, check_choice
 
-__all__ = ["Friction", "LAWS", "LAW_CODES"]
+__all__ = ["Friction", "LAWS", "LAW_CODES", "check_mu_static"]
 
 LAWS: tuple[str, ...] = ("dry", "viscous", "none")
 LAW_CODES: dict[str, int] = {"none": 0, "dry": 1, "viscous": 2}
+
+
+def check_mu_static(mu_static: object, mu: float, *, rounding: float = 0.0) -> float:
+    """``mu_static`` validated (a friction coefficient, and >= the kinetic ``mu``): static friction is
+    never below kinetic. ``rounding``: the relative error ``mu`` carries (a mu recovered as mu g / g)."""
+    mu_s = float(check("mu_static", mu_static))
+    if mu_s < mu * (1.0 - rounding):
+        raise ValueError(f"mu_static must be >= mu ({mu:g}: static friction is never below kinetic), got {mu_static!r}")
+    return mu_s
 
 
 @dataclass(frozen=True)

@@ -27,7 +27,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field as _field
 
-from rrbody.model.checks import MAX_LENGTH, MIN_LENGTH, check_choice, range_text
+from rrbody.model.checks import MAX_LENGTH, MIN_LENGTH, check_choice, number_rows, range_text
 
 __all__ = ["Pressure", "uniform", "ring", "annulus", "hertz", "points", "field", "parse_pressure", "as_pressure", "pressure_from_description",
            "PRESSURE_KINDS"]
@@ -209,7 +209,7 @@ def parse_pressure(text: str) -> Pressure:
         return uniform()
     try:
         if kind == "points":
-            feet = [[float(v) for v in foot.split(",")] for foot in args.split(";") if foot.strip()]
+            feet = number_rows(args)
         else:
             nums = [float(v) for v in args.split(",")] if args else []
     except ValueError:

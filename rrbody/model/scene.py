@@ -16,7 +16,7 @@ from typing import Any
 from rrbody.model.checks import LIMITS, MissingParameters, check, check_choice
 from rrbody.model.bodies import BODY_KINDS, Body, Polygon, RodMass
 from rrbody.model.drive import CircularDrive
-from rrbody.model.friction import LAWS, Friction
+from rrbody.model.friction import LAWS, Friction, check_mu_static
 from rrbody.model.pressure import Pressure, as_pressure, pressure_from_description, uniform
 
 __all__ = ["Scene", "rod_mass_scene", "scene_from_params", "SCENE_PARAMS", "NUMERIC_SCENE_PARAMS", "FRICTION_METHODS"]
@@ -111,13 +111,10 @@ class Scene:
         object.__setattr__(self, "downhill", check("downhill", self.downhill))
         object.__setattr__(self, "g", check("g", self.g))
         if self.mu_static is not None:
-            object.__setattr__(self, "mu_static", check("mu_static", self.mu_static))
-            mu = self.friction.coeff / self.g if self.friction.law == "dry" else 0.0
             if self.friction.law != "dry":
                 raise ValueError(f"mu_static applies to dry friction only, got friction {self.friction.law!r}")
-            if self.mu_static < mu * (1.0 - 1e-12):
-                raise ValueError(f"mu_static must be >= mu ({mu:g}: static friction is never below kinetic), "
-                                 f"got {self.mu_static!r}")
+            object.__setattr__(self, "mu_static", check_mu_static(self.mu_static, self.friction.coeff / self.g,
+                                                                       rounding=1e-12))  # mu = (mu g) / g
         if not self.pressure.is_uniform and self.body.is_point:
             raise ValueError(f"pressure {self.pressure.kind!r} needs an extended body (disk or ellipse): a "
                              f"{self.body.kind} body is a point mass, got body {self.body.kind!r}")

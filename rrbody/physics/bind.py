@@ -16,7 +16,7 @@ from rrbody.physics.area import area_samples, icr_nodes, icr_supported
 from rrbody.physics.footprint import packed
 from rrbody.physics.icr_table import build_table
 
-__all__ = ["area_model", "kernel_params", "ode_params", "DRIVEN_DEAD_BAND", "FREE_DEAD_BAND"]
+__all__ = ["area_model", "kernel_params", "ode_params", "friction_per_mass", "DRIVEN_DEAD_BAND", "FREE_DEAD_BAND"]
 
 #: Zero-speed dead band of dry friction, relative to the scene's velocity scale, for driven bodies.
 #: At the impulsive start from phi0 = pi the CM starts at rest and its speed grows like
@@ -69,6 +69,20 @@ def area_model(scene: Scene) -> int:
     return P.BODY_TABLE if (ra == rb and scene.friction.law == "dry") else P.BODY_ICR
 
 
+def friction_per_mass(scene: Scene) -> tuple[float, float]:
+    """(kinetic, static) friction per unit mass of the scene's body, m/s^2 (dry: mu g and mu_static g,
+    both times cos(tilt), the normal load of a tilted plane; viscous: gamma in 1/s and no static
+    friction; none: 0, 0). What both paths bind: the ODE path's ``p``, the engine path's plane."""
+    fr = scene.friction
+    if not fr.active:
+        return 0.0, 0.0
+    if fr.law != "dry":
+        return fr.coeff, 0.0
+    c = math.cos(scene.tilt)
+    mu_s = fr.coeff / scene.g if scene.mu_static is None else scene.mu_static
+    return fr.coeff * c, mu_s * scene.g * c
+
+
 def kernel_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
     """The parameter vector ``p`` and area-sample array ``S`` for the compiled kernels: ``S`` holds the
     area samples (rows x_b, y_b, w) for the sampled method, the wrench table
@@ -85,17 +99,12 @@ def kernel_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
     p[P.CBETA] = math.cos(beta)
     p[P.SBETA] = math.sin(beta)
     p[P.LAW] = float(scene.friction.code if scene.friction.active else 0)
-    # a tilted plane: the normal load m g cos(tilt) scales dry friction; gravity pulls along it
-    dry = scene.friction.active and scene.friction.law == "dry"
-    p[P.COEFF] = scene.friction.coeff * (math.cos(scene.tilt) if dry else 1.0)
-    if scene.tilt != 0.0:
+    p[P.COEFF], p[P.MUS] = friction_per_mass(scene)
+    if scene.tilt != 0.0:  # gravity pulls along a tilted plane
         pull = scene.g * math.sin(scene.tilt)
         p[P.TILTED] = 1.0
         p[P.GTX] = pull * math.cos(scene.downhill)
         p[P.GTY] = pull * math.sin(scene.downhill)
-    if dry:
-        mu_s = scene.friction.coeff / scene.g if scene.mu_static is None else scene.mu_static
-        p[P.MUS] = mu_s * scene.g * math.cos(scene.tilt)
     p[P.VEPS] = (DRIVEN_DEAD_BAND if scene.driven else FREE_DEAD_BAND) * scene.velocity_scale()
     ra, rb = scene.body.semi_axes
     p[P.RA] = ra

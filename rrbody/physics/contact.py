@@ -29,7 +29,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from rrbody.physics.effects import law_dry
+from rrbody.physics.effects import area_sampled, law_dry
+from rrbody.physics.effects.laws import DRY
 from rrbody.physics.icr import icr_wrench
 from rrbody.physics.polygon import polygon_wrench
 from rrbody.physics.radial import hertz_wrench, ring_wrench
@@ -85,17 +86,9 @@ def footprint_wrench(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int, vbx:
         elif kind == HERTZ:
             gx, gy, gt = hertz_wrench(shapes[k, RA], ux, uy, w, v_eps)
             gt += ox * gy - oy * gx
-        else:  # SAMPLED: rows (x, y, weight) from the centre of gravity
-            gx = 0.0
-            gy = 0.0
-            gt = 0.0
-            for i in range(int(shapes[k, Q0]), int(shapes[k, Q1])):
-                rx = geo[i, 0]
-                ry = geo[i, 1]
-                ex, ey = law_dry.force(vbx - w * ry, vby + w * rx, 1.0, v_eps)
-                gx += geo[i, 2] * ex
-                gy += geo[i, 2] * ey
-                gt += geo[i, 2] * (rx * ey - ry * ex)
+        else:  # SAMPLED: rows (x, y, weight) from the centre of gravity, the sampled area method's own sum
+            gx, gy, gt = area_sampled.wrench(DRY, geo[int(shapes[k, Q0]):int(shapes[k, Q1])], 0.0, 0.0, 0, 0.0,
+                                             vbx, vby, w, 1.0, v_eps)
         wt = shapes[k, WEIGHT]
         fx += wt * gx
         fy += wt * gy
