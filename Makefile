@@ -40,7 +40,9 @@ $(VENV)/.installed-docs: pyproject.toml | $(BIN)/python
 
 # the kernels compiled at install (setup.py) are those of the sources at install time; after an edit
 # the suite's own targets compile them again (a few seconds when nothing changed: rrbody.cli.prebuild)
-KERNEL_SOURCES := $(shell find rrbody -name '*.py' -not -path '*/__pycache__/*')
+# (rrbody._cache.KERNEL_LAYERS: the files the kernels are compiled from; the prebuild's own list of work)
+KERNEL_SOURCES := $(shell find rrbody/model rrbody/physics rrbody/integrate rrbody/engine -name '*.py') \
+	rrbody/_cache.py rrbody/_version.py rrbody/cli/prebuild.py rrbody/cli/workload.py
 $(VENV)/.kernels: $(KERNEL_SOURCES) | $(VENV)/.installed-test
 	$(BIN)/python -m rrbody.cli.prebuild --into rrbody/_kernels
 	touch $@

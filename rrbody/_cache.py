@@ -7,8 +7,10 @@ Layout (``cache_dir()``, by default the platform's user cache folder, ``~/.cache
     tables/                        quadrature rules (``.npz``), keyed by their own parameters
     locks/                         one advisory lock file per output in use (rrbody.model.outlock)
 
-``<sources>`` is a hash of every ``.py`` file of the package (the scene scripts aside: they hold no
-kernel), so a kernel compiled from other sources (another version, an edited checkout) is never
+``<sources>`` is a hash of every ``.py`` file of the layers that hold kernels and of the layers below
+them (``KERNEL_LAYERS``: a kernel can inline only what it imports, and imports go only downward, which
+``tests/test_layers.py`` enforces; the same test keeps kernels out of the layers above), so a kernel
+compiled from other sources (another version, an edited checkout) is never
 loaded: numba itself keys a cached function only by its own file's time stamp and would miss an
 edit to a kernel it inlines from another file. The same hash, not the files' time stamps, is the
 stamp numba checks in each index, so kernels compiled from a source tree load from an installed copy
@@ -38,7 +40,7 @@ from pathlib import Path
 from rrbody._version import __version__
 
 __all__ = ["ENV", "BUILD_FILE", "cache_dir", "kernels_dir", "shipped_kernels_dir", "tables_dir", "locks_dir", "source_hash",
-           "use_for_kernels", "prune_kernels", "seed_kernels",
+           "use_for_kernels", "kernel_sources", "KERNEL_LAYERS", "prune_kernels", "seed_kernels",
            "built_by_numba", "NO_SEED"]
 
 #: the environment variable that moves the cache folder
@@ -56,13 +58,26 @@ def cache_dir() -> Path:
     return Path(platformdirs.user_cache_dir("rrbody", appauthor=False))
 
 
+#: the sub-packages whose sources the kernels are compiled from: those that define kernels (physics,
+#: integrate, engine) and the one below them (model); an edit in analysis, render or cli, which
+#: hold no kernel and which no kernel imports, compiles nothing again
+KERNEL_LAYERS = ("model", "physics", "integrate", "engine")
+#: modules at the package root that the kernel layers import
+KERNEL_ROOT_FILES = ("_cache.py", "_version.py")
+
+
+def kernel_sources() -> list[Path]:
+    """The ``.py`` files the kernels are compiled from (see ``KERNEL_LAYERS``), sorted."""
+    files = [f for f in _PKG.rglob("*.py")
+             if f.relative_to(_PKG).parts[0] in KERNEL_LAYERS or f.relative_to(_PKG).as_posix() in KERNEL_ROOT_FILES]
+    return sorted(files)
+
+
 @functools.lru_cache(maxsize=1)
 def source_hash() -> str:
-    """A short hash of the package's sources (path and bytes of every ``.py`` file): about 3 ms."""
+    """A short hash of the kernels' sources (path and bytes of every file of ``kernel_sources``): about 2 ms."""
     h = hashlib.sha256(__version__.encode())
-    for f in sorted(_PKG.rglob("*.py")):
-        if f.relative_to(_PKG).parts[0] == "_scenes":  # only in an installed copy (scenes/ in a checkout)
-            continue
+    for f in kernel_sources():
         h.update(f.relative_to(_PKG).as_posix().encode())
         h.update(f.read_bytes())
     return h.hexdigest()[:16]
@@ -234,7 +249,7 @@ def use_for_kernels() -> None:
             return self._cache_path
 
         def get_source_stamp(self) -> str:
-            # the hash of all sources, not this file's time stamp: an installed copy of a source tree
+            # the hash of the kernels' sources, not this file's time stamp: an installed copy of a source tree
             # (new time stamps) loads the kernels compiled from it, an edited tree never does
             return source_hash()
 

@@ -115,3 +115,39 @@ def test_the_contract_catches_a_back_edge(tmp_path: Path) -> None:
     found = _imports(f, "rrbody.physics.mod")
     assert "rrbody.cli.main" in found and "rrbody.render.mp4" in found
     assert max(_layer(t) for t in found) > _layer("rrbody.physics.mod")
+
+
+# ---- the kernels' sources: what rrbody._cache.source_hash covers --------------------------------
+_NUMBA_MAKERS = {"njit", "jit", "cfunc", "vectorize", "guvectorize", "generated_jit", "overload", "intrinsic",
+                 "jitclass", "literal_unroll"}
+
+
+def _makes_kernels(path: Path) -> list[str]:
+    """Names of numba's kernel makers used in ``path`` (as decorators or calls)."""
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        target = node.func if isinstance(node, ast.Call) else node
+        name = target.attr if isinstance(target, ast.Attribute) else target.id if isinstance(target, ast.Name) else ""
+        if name in _NUMBA_MAKERS and isinstance(node, (ast.Call, ast.Name, ast.Attribute)):
+            found.append(name)
+    return sorted(set(found))
+
+
+def test_the_kernel_hash_covers_every_kernel_and_what_it_can_inline() -> None:
+    """source_hash reads only KERNEL_LAYERS (and two root files): sound only if those are the bottom
+    layers (imports run downward, so a kernel inlines nothing from above) and no file above them
+    makes a kernel."""
+    from rrbody import _cache
+
+    assert tuple(_cache.KERNEL_LAYERS) == LAYERS[:len(_cache.KERNEL_LAYERS)]
+    covered = set(_cache.kernel_sources())
+    outside = {p.relative_to(PKG).as_posix(): names for p in sorted(PKG.rglob("*.py"))
+               if p.resolve() not in {c.resolve() for c in covered} and (names := _makes_kernels(p))}
+    assert not outside, f"files outside rrbody._cache.KERNEL_LAYERS make numba kernels: {outside}"
+    assert any(_makes_kernels(p) for p in covered)  # the scan itself finds the kernels there
+
+
+def test_the_kernel_scan_finds_a_decorator(tmp_path: Path) -> None:
+    f = tmp_path / "k.py"
+    f.write_text("import numba\n@numba.njit(cache=True)\ndef f(x):\n    return x\n")
+    assert _makes_kernels(f) == ["njit"]
