@@ -53,8 +53,9 @@ def test_cache_folder_follows_the_environment(tmp_path: Path) -> None:
 
 
 def test_kernels_of_other_sources_are_never_loaded(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """The kernel folder is keyed by a hash of every source file: an edit anywhere (a kernel inlined
-    from another file included) or another version gives another folder, so a stale kernel is never found."""
+    """The kernel folder is keyed by a hash of the kernels' source files: an edit there (a kernel inlined
+    from another file included) or another version gives another folder, so a stale kernel is never
+    found; an edit in a layer above the kernels (render) keeps the folder."""
     import shutil
 
     from rrbody import _cache
@@ -74,6 +75,9 @@ def test_kernels_of_other_sources_are_never_loaded(tmp_path: Path, monkeypatch: 
     law.write_text(law.read_text() + "\n# an edit\n")
     edited = folder()
     assert edited != first and edited.parent == first.parent
+    drawing = tree / "render" / "mp4.py"
+    drawing.write_text(drawing.read_text() + "\n# an edit above the kernels\n")
+    assert folder() == edited
     monkeypatch.setattr(_cache, "__version__", "9.9.9")
     assert folder().name.startswith("9.9.9-") and folder() != edited
     _cache.source_hash.cache_clear()
