@@ -34,6 +34,7 @@ STUDIES: dict[str, str] = {
     "contacts": "benchmarks.contacts",
     "sweeps": "benchmarks.sweeps",
     "render": "benchmarks.render",
+    "recorder": "benchmarks.recorder",
     "startup": "benchmarks.startup",
     "coldstart": "benchmarks.coldstart",
 }

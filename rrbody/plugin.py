@@ -1,9 +1,12 @@
-"""The pymunk plugin's public entry point: ``from rrbody.plugin import PlaneFriction``.
+"""The pymunk plugin's public entry point: ``from rrbody.plugin import PlaneFriction, Recorder``.
 
 Like :mod:`rrbody` itself this module is part of the curated public API above every layer; the
-plugin lives in :mod:`rrbody.engine.plugin` (it needs the ``[engine]`` extra, pymunk).
+plugin lives in :mod:`rrbody.engine.plugin` (it needs the ``[engine]`` extra, pymunk), the recorder
+that films its bodies in :mod:`rrbody.render.recorder` (MP4 needs the ``[movie]`` extra, rerun
+recordings the ``[rerun]`` one).
 """
 
 from rrbody.engine.plugin import PlaneFriction
+from rrbody.render.recorder import Recorder
 
-__all__ = ["PlaneFriction"]
+__all__ = ["PlaneFriction", "Recorder"]

@@ -68,23 +68,6 @@ def _build() -> tuple[Any, Any, list[tuple[str, Any, Any]], list[tuple[str, Any]
     return space, pf, driven, free
 
 
-def _outline(body: Any) -> list[np.ndarray]:
-    """Body-frame outlines (m) of a pymunk body's shapes, for drawing."""
-    import pymunk
-
-    out = []
-    for s in body.shapes:
-        if isinstance(s, pymunk.Circle):
-            t = np.linspace(0, 2 * math.pi, 25)
-            out.append(np.column_stack([s.offset.x + s.radius * np.cos(t), s.offset.y + s.radius * np.sin(t)]))
-        elif isinstance(s, pymunk.Poly):
-            v = np.array([tuple(p) for p in s.get_vertices()])
-            out.append(np.vstack([v, v[:1]]))
-        elif isinstance(s, pymunk.Segment):
-            out.append(np.array([tuple(s.a), tuple(s.b)]))
-    return out
-
-
 def _episodes(t: np.ndarray, phi: np.ndarray, phid: np.ndarray, hits: list[float]) -> list[dict]:
     """Reverse-rotation episodes: runs of phi' < 0 in which phi falls by more than pi."""
     out, i = [], 0
@@ -113,6 +96,7 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     from rrbody.analysis.flip import flip_time
     from rrbody.analysis.report import write_summary
     from rrbody.render.figures import save_figure
+    from rrbody.render.recorder import shape_outlines
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -129,18 +113,17 @@ def main(out_dir: Path, *, force: bool = True) -> None:
                 hits[index[b]].append(pf.t)
 
     space.on_collision(begin=begin)
+    from rrbody.plugin import Recorder
+
     n = round(T_END / DT)
-    t = np.zeros(n // SAMPLE + 1)
-    pose = np.zeros((len(t), len(bodies), 3))  # x, y, angle
-    phi = np.zeros((len(t), len(driven), 2))  # phi, phi'
+    rec = Recorder(space, pf, bodies=bodies, every=SAMPLE)  # x, y, angle of every body, every SAMPLE steps
+    phi = np.zeros((n // SAMPLE + 1, len(driven), 2))  # phi, phi'
     for i in range(n + 1):
         if i:
             pf.step(DT)
-        if i % SAMPLE == 0:
-            k = i // SAMPLE
-            t[k] = pf.t
-            pose[k] = [(b.position.x, b.position.y, b.angle) for b in bodies]
-            phi[k] = [(h.phi, h.phi_dot) for _, _, h in driven]
+        if rec.capture():
+            phi[rec.n_frames - 1] = [(h.phi, h.phi_dot) for _, _, h in driven]
+    t, pose = rec.times, rec.frames[:, :, :3]
     # episodes per driven body, and whether each body reverse-rotates alone (ODE path, no collisions)
     summary = {"dt": DT, "t_end": T_END, "k": K, "collision_window_s": COLLISION_WINDOW, "bodies": {}}
     for j, (name, sc, _) in enumerate(driven):
@@ -177,7 +160,8 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     b = fig.add_subplot(grid[:, 1])
     for j, name in enumerate(names):
         b.plot(pose[:, j, 0], pose[:, j, 1], lw=0.6, color=f"C{j}" if j < len(driven) else "0.55")  # free: grey
-        for o in _outline(bodies[j]):
+        for o in shape_outlines(bodies[j]):
+            o = np.vstack([o, o[:1]])
             x, y, ang = pose[-1, j]
             c, s = math.cos(ang), math.sin(ang)
             b.plot(x + c * o[:, 0] - s * o[:, 1], y + s * o[:, 0] + c * o[:, 1], "k-", lw=0.8)
@@ -187,41 +171,10 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     plt.close(fig)
     movies = out_dir.parent.parent / "movies"  # movies/ is the sibling of results/ (the runner's layout)
     movies.mkdir(parents=True, exist_ok=True)
-    _movie(t, pose, [_outline(x) for x in bodies], len(driven), movies / "collisions.mp4", force=force)
-
-
-def _movie(t: np.ndarray, pose: np.ndarray, outlines: list, n_driven: int, path: Path, *, force: bool) -> None:
-    """Every body at 20 frames per s of playback, 4 simulated s per s, the first T_MOVIE s."""
-    import imageio_ffmpeg
-    import matplotlib.pyplot as plt
-
-    from rrbody.model.io import atomic_path
-
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fps, speed = 20, 4.0
-    frames = [int(round(k)) for k in np.arange(0, T_MOVIE / speed * fps) * speed / fps / (t[1] - t[0])]
-    fig, ax = plt.subplots(figsize=(6.4, 6.4), dpi=100)
-    with atomic_path(path, force=force, name=path.name) as tmp:
-        writer = imageio_ffmpeg.write_frames(str(tmp), (640, 640), fps=fps, codec="libx264", pix_fmt_out="yuv420p",
-                                             output_params=["-f", "mp4"])
-        writer.send(None)
-        for k in frames:
-            ax.cla()
-            for r in RADII:
-                ax.add_patch(plt.Circle((0, 0), r, fill=False, ls=":", lw=0.5, color="0.6"))
-            for j, outs in enumerate(outlines):
-                x, y, ang = pose[k, j]
-                c, s = math.cos(ang), math.sin(ang)
-                for o in outs:
-                    ax.fill(x + c * o[:, 0] - s * o[:, 1], y + s * o[:, 0] + c * o[:, 1],
-                            color="tab:red" if j < n_driven and j % 2 == 0 else
-                            ("tab:blue" if j < n_driven else "0.5"), alpha=0.8)
-            ax.set(xlim=(-4.6, 4.6), ylim=(-4.6, 4.6), aspect="equal",
-                   title=f"t = {t[k]:5.1f} s   red: H < H_c, blue: H > H_c, grey: free")
-            fig.canvas.draw()
-            writer.send(np.asarray(fig.canvas.buffer_rgba())[:, :, :3].copy())
-        writer.close()
-    plt.close(fig)
+    # the first T_MOVIE s at 20 frames per s of playback, 4 simulated s per s
+    colours = ["tab:red" if j % 2 == 0 else "tab:blue" for j in range(len(driven))] + ["0.5"] * len(free)
+    rec.movie(movies / "collisions.mp4", fps=20, speed=4.0, size=(640, 640), t_end=T_MOVIE, color=colours,
+              box=(-4.6, 4.6, -4.6, 4.6), title="red: H < H_c, blue: H > H_c, grey: free", force=force)
 
 
 if __name__ == "__main__":

@@ -231,3 +231,26 @@ def test_step_refuses_a_body_removed_from_the_space_only(first_step: bool) -> No
             pf.step(DT)
         finals.append(_state(bodies[:2]))
     assert finals[0] == finals[1]
+
+
+def test_a_subnormal_speed_stops_cleanly() -> None:
+    """A body crawling at a subnormal speed (m * speed underflows to 0) under a push: the rest rule's
+    pull-along-the-motion must not divide by that product (it raised ZeroDivisionError with 1,000 bodies
+    sliding to rest). The push (0.1 N, inside mu m g) is held once the body is at rest."""
+    import pymunk
+
+    from rrbody.plugin import PlaneFriction
+
+    space = pymunk.Space()
+    body = pymunk.Body()
+    shape = pymunk.Circle(body, 0.1)
+    shape.density = 1.0
+    space.add(body, shape)
+    pf = PlaneFriction(space, g=9.81)
+    pf.add(body, mu=0.5)
+    pf.step(1e-3)
+    body.velocity = (5e-324, 5e-324)
+    for _ in range(3):
+        body.force = (0.1, 0.0)
+        pf.step(1e-3)
+    assert tuple(body.velocity) == (0.0, 0.0) and body.angular_velocity == 0.0

@@ -71,10 +71,12 @@ def test_user_commands_compile_nothing_after_the_prebuild(tmp_path: Path) -> Non
     for argv in FRESH_COMMANDS:
         assert _saved(argv, cache, tmp_path) == [], argv
     env = {**os.environ, _cache.ENV: str(cache), "NUMBA_DEBUG_CACHE": "1"}
-    p = subprocess.run([sys.executable, "-c", PLUGIN_PROGRAM], env=env, cwd=tmp_path, capture_output=True,
-                       text=True, timeout=900)
-    assert p.returncode == 0, p.stderr
-    assert [line for line in p.stdout.splitlines() if "data saved" in line] == []
+    filmed = PLUGIN_PROGRAM + "\nfrom rrbody.plugin import Recorder\nRecorder(space, pf).capture()\n"
+    for program in (PLUGIN_PROGRAM, filmed):
+        p = subprocess.run([sys.executable, "-c", program], env=env, cwd=tmp_path, capture_output=True,
+                           text=True, timeout=900)
+        assert p.returncode == 0, p.stderr
+        assert [line for line in p.stdout.splitlines() if "data saved" in line] == []
 
 
 def test_first_use_seeds_the_cache_once(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

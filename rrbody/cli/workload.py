@@ -82,6 +82,9 @@ def _plugin_workload() -> None:
         pf.step(1 / 240)
         tilted.step(1 / 240)
     pf.wrench(pf.bodies[0])
+    from rrbody.render.recorder import Recorder
+
+    Recorder(space, pf).capture()  # the recorder's copy kernel (every capture has the same types)
     pf.remove(pf.bodies[-1])
 
 

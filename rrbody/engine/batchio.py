@@ -14,22 +14,30 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["BatchIO", "READ_COLUMNS"]
+__all__ = ["BatchIO", "READ_COLUMNS", "POSE_COLUMNS"]
 
 #: columns of the array :meth:`BatchIO.read` returns (pymunk.batch writes fields in this order)
 READ_COLUMNS = ("angle", "vx", "vy", "spin", "fx", "fy", "torque")
+#: the columns of a reader made with ``poses=True`` (the recorder's): position, angle, velocity, spin
+POSE_COLUMNS = ("x", "y", "angle", "vx", "vy", "spin")
 
 
 class BatchIO:
-    """Reader and force writer for all bodies of ``space`` (order: pymunk's iteration order)."""
+    """Reader and force writer for all bodies of ``space`` (order: pymunk's iteration order); with
+    ``poses`` a reader of :data:`POSE_COLUMNS` instead (its forces are not to be written)."""
 
-    def __init__(self, space: Any, *, lean: bool = True) -> None:
+    def __init__(self, space: Any, *, lean: bool = True, poses: bool = False) -> None:
         import pymunk.batch as pb
 
         F = pb.BodyFields
         self._pb = pb
         self._space = space
-        self._read_fields = F.BODY_ID | F.ANGLE | F.VELOCITY | F.ANGULAR_VELOCITY | F.FORCE | F.TORQUE
+        if poses:
+            self._read_fields = F.BODY_ID | F.POSITION | F.ANGLE | F.VELOCITY | F.ANGULAR_VELOCITY
+            self._width = len(POSE_COLUMNS)
+        else:
+            self._read_fields = F.BODY_ID | F.ANGLE | F.VELOCITY | F.ANGULAR_VELOCITY | F.FORCE | F.TORQUE
+            self._width = len(READ_COLUMNS)
         self._write_fields = F.FORCE | F.TORQUE
         self._gbuf = pb.Buffer()
         self._sbuf = pb.Buffer()
@@ -58,8 +66,9 @@ class BatchIO:
                 self.lean = False
 
     def read(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(got, ids, out): ``got`` (n x 7, READ_COLUMNS) and ``ids`` (n, int64 view of the uintptr ids) of every body in the
-        space, and the (n x 3) array of (fx, fy, torque) that :meth:`write_forces` will set."""
+        """(got, ids, out): ``got`` (n x 7, READ_COLUMNS; n x 6, POSE_COLUMNS, for a pose reader) and ``ids``
+        (n, int64 view of the uintptr ids) of every body in the space, and the (n x 3) array of (fx, fy,
+        torque) that :meth:`write_forces` will set."""
         fa = self._gbuf._float_arr
         ia = self._gbuf._int_arr
         if self.lean:
@@ -81,11 +90,12 @@ class BatchIO:
         fa = self._gbuf._float_arr
         ia = self._gbuf._int_arr
         self._n, self._fptr, self._iptr = n, fa.arr, ia.arr
+        w = self._width
         if n == 0:
-            self._got = np.zeros((0, 7))
+            self._got = np.zeros((0, w))
             self._ids = np.zeros(0, dtype=np.int64)
         else:
-            self._got = np.frombuffer(ffi.buffer(fa.arr, 8 * 7 * n), dtype=np.float64).reshape(n, 7)
+            self._got = np.frombuffer(ffi.buffer(fa.arr, 8 * w * n), dtype=np.float64).reshape(n, w)
             # ids are pointers (uintptr_t); read as int64, the type the kernel's lookup table uses
             self._ids = np.frombuffer(ffi.buffer(ia.arr, 8 * n), dtype=np.int64)
         self._out = np.zeros((n, 3))

@@ -20,7 +20,9 @@ the driver's state for this step DPX, DPY, DVX, DVY (m, m/s), computed with the 
 (mu_static g cos(tilt), m/s^2: the static friction per unit mass; 0: none), GTX, GTY (gravity's
 in-plane part on a tilted plane, m/s^2, world frame), and the last load static friction held: HX,
 HY, HT (per unit mass, world frame) at the angle HA, HELD = 1.0 (the next step with the same load
-and angle needs no new test).
+and angle needs no new test); FFX, FFY, FFT: the friction the last step applied (N, world frame, and
+N m about the centre of gravity; static friction and the rest rule's stopping impulse included), for
+readers such as the recorder.
 ``shapes`` (float, per footprint part) and ``geo``: the footprint rows of :mod:`rrbody.physics.contact`.
 ``lookup``: row 0 the plugin bodies' ids (int64 view of pymunk's uintptr ids) sorted, row 1 their rows.
 ``cache`` (int64, rows ROWMAP, ROW_ID, STATUS): the plugin row of each row of the space's bulk read,
@@ -39,8 +41,8 @@ from rrbody.physics.contact import footprint_wrench
 from rrbody.physics.limit import at_rest
 
 (MASS, IPM, LAW, COEFF, REACH, SNAP, S0, S1, VEPS, VGX, VGY, VJ, STAG, PVX, PVY, PW, GAP, STOP, EA,
- EW, DRV, OMG, DD, ANX, ANY, T0, DPX, DPY, DVX, DVY, MUS, GTX, GTY, HX, HY, HT, HA, HELD) = range(38)
-N_BODY = 38
+ EW, DRV, OMG, DD, ANX, ANY, T0, DPX, DPY, DVX, DVY, MUS, GTX, GTY, HX, HY, HT, HA, HELD, FFX, FFY, FFT) = range(41)
+N_BODY = 41
 #: STOP values: the rest rule cancels the velocity in this step, or (the step after) sets it exactly zero
 STOPPING, ZEROED = 1.0, 2.0
 LAW_DRY, LAW_VISCOUS = 1.0, 2.0
@@ -188,8 +190,8 @@ def _slow_enough(i: int, j: int, vx: float, vy: float, w: float, dt: float, bodi
     times dt. Evaluated only where the limiter already cut the friction impulse."""
     speed = math.hypot(vx, vy)
     decel = bodies[j, COEFF]
-    if speed > 0.0:
-        decel -= (out[i, 0] * vx + out[i, 1] * vy) / (bodies[j, MASS] * speed)
+    if speed > 0.0:  # (the direction first: m * speed underflows to 0 for a subnormal speed)
+        decel -= (out[i, 0] * (vx / speed) + out[i, 1] * (vy / speed)) / bodies[j, MASS]
     return speed + abs(w) * bodies[j, REACH] <= decel * dt
 
 
@@ -272,72 +274,87 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.n
         # a tilted plane: gravity's in-plane part acts at the centre of gravity in every step
         out[i, 0] += bodies[j, MASS] * bodies[j, GTX]
         out[i, 1] += bodies[j, MASS] * bodies[j, GTY]
-        # static friction acts on dry bodies the rest rule governs (not a driven body: its joint holds it)
-        static = bodies[j, MUS] > 0.0 and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY
-        was = bodies[j, STOP]
-        bodies[j, STOP] = 0.0
-        vx = got[i, 1]
-        vy = got[i, 2]
-        w = got[i, 3]
-        alpha = got[i, 0] + w * dt
-        gap = bodies[j, GAP]
-        if gap > 0.0 and bodies[j, STAG] > 0.0:
-            g = 0.5 * dt / gap
-            ex = vx + g * (vx - bodies[j, PVX])
-            ey = vy + g * (vy - bodies[j, PVY])
-            ew = w + g * (w - bodies[j, PW])
-        else:
-            ex = vx
-            ey = vy
-            ew = w
-        bodies[j, PVX] = vx
-        bodies[j, PVY] = vy
-        bodies[j, PW] = w
-        bodies[j, GAP] = dt
-        bodies[j, EA] = alpha
-        bodies[j, EW] = ew
-        if bodies[j, DRV] > 0.0:
-            _driver(j, bodies, t, dt)
-        if vx == 0.0 and vy == 0.0 and w == 0.0:
-            # at rest: kinetic friction has no direction; static friction holds the load or lets go
-            if static:
-                _hold_or_break(i, j, got[i, 0], bodies, shapes, geo, out)
-            continue
-        m0 = bodies[j, MASS]
-        ax, ay, aw, s = limited(j, alpha, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo, out[i, 0] / m0,
-                                out[i, 1] / m0, out[i, 2] / (m0 * bodies[j, IPM]))
-        if s < 1.0 and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY \
-                and _slow_enough(i, j, vx, vy, w, dt, bodies, out) \
-                and (not static or _held(i, j, got[i, 0], bodies, shapes, geo, out)):
-            # every point slower than decel dt: friction stops the body within this step (if a load
-            # acts, only where static friction then holds it; else it slides on). The positions
-            # still move with this step's velocity (as the exact motion would, to O(mu g dt^2)); the
-            # impulse cancels it, and the next step sets the rounding residue exactly to zero.
-            n_stop += 1
-            if was > 0.0:
-                bodies[j, STOP] = ZEROED
-                bodies[j, PVX] = 0.0
-                bodies[j, PVY] = 0.0
-                bodies[j, PW] = 0.0
-                if static:  # its velocity is set to zero before this step: at rest, its load held
-                    out[i, 0] = 0.0
-                    out[i, 1] = 0.0
-                    out[i, 2] = 0.0
-                continue
-            bodies[j, STOP] = STOPPING
-            if static:  # the body comes to rest in this step, its load held
+        lx = out[i, 0]
+        ly = out[i, 1]
+        lt = out[i, 2]
+        n_stop += _friction(i, j, got, bodies, shapes, geo, t, dt, out)
+        # what friction added to the load is the friction this step applies
+        bodies[j, FFX] = out[i, 0] - lx
+        bodies[j, FFY] = out[i, 1] - ly
+        bodies[j, FFT] = out[i, 2] - lt
+    return n_stop
+
+
+@njit(cache=True)
+def _friction(i: int, j: int, got: np.ndarray, bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray, t: float,
+              dt: float, out: np.ndarray) -> int:
+    """Add this step's friction on plugin body ``j`` (row ``i`` of the space's read) to ``out[i]``, which
+    holds the load (the user's force and torque, and a tilt's pull); 1 if the rest rule stops it."""
+    # static friction acts on dry bodies the rest rule governs (not a driven body: its joint holds it)
+    static = bodies[j, MUS] > 0.0 and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY
+    was = bodies[j, STOP]
+    bodies[j, STOP] = 0.0
+    vx = got[i, 1]
+    vy = got[i, 2]
+    w = got[i, 3]
+    alpha = got[i, 0] + w * dt
+    gap = bodies[j, GAP]
+    if gap > 0.0 and bodies[j, STAG] > 0.0:
+        g = 0.5 * dt / gap
+        ex = vx + g * (vx - bodies[j, PVX])
+        ey = vy + g * (vy - bodies[j, PVY])
+        ew = w + g * (w - bodies[j, PW])
+    else:
+        ex = vx
+        ey = vy
+        ew = w
+    bodies[j, PVX] = vx
+    bodies[j, PVY] = vy
+    bodies[j, PW] = w
+    bodies[j, GAP] = dt
+    bodies[j, EA] = alpha
+    bodies[j, EW] = ew
+    if bodies[j, DRV] > 0.0:
+        _driver(j, bodies, t, dt)
+    if vx == 0.0 and vy == 0.0 and w == 0.0:
+        # at rest: kinetic friction has no direction; static friction holds the load or lets go
+        if static:
+            _hold_or_break(i, j, got[i, 0], bodies, shapes, geo, out)
+        return 0
+    m0 = bodies[j, MASS]
+    ax, ay, aw, s = limited(j, alpha, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo, out[i, 0] / m0,
+                            out[i, 1] / m0, out[i, 2] / (m0 * bodies[j, IPM]))
+    if s < 1.0 and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY \
+            and _slow_enough(i, j, vx, vy, w, dt, bodies, out) \
+            and (not static or _held(i, j, got[i, 0], bodies, shapes, geo, out)):
+        # every point slower than decel dt: friction stops the body within this step (if a load
+        # acts, only where static friction then holds it; else it slides on). The positions
+        # still move with this step's velocity (as the exact motion would, to O(mu g dt^2)); the
+        # impulse cancels it, and the next step sets the rounding residue exactly to zero.
+        if was > 0.0:
+            bodies[j, STOP] = ZEROED
+            bodies[j, PVX] = 0.0
+            bodies[j, PVY] = 0.0
+            bodies[j, PW] = 0.0
+            if static:  # its velocity is set to zero before this step: at rest, its load held
                 out[i, 0] = 0.0
                 out[i, 1] = 0.0
                 out[i, 2] = 0.0
-            out[i, 0] -= bodies[j, MASS] * vx / dt
-            out[i, 1] -= bodies[j, MASS] * vy / dt
-            out[i, 2] -= bodies[j, MASS] * bodies[j, IPM] * w / dt
-            continue
-        m = bodies[j, MASS] * s
-        out[i, 0] += m * ax
-        out[i, 1] += m * ay
-        out[i, 2] += m * bodies[j, IPM] * aw
-    return n_stop
+            return 1
+        bodies[j, STOP] = STOPPING
+        if static:  # the body comes to rest in this step, its load held
+            out[i, 0] = 0.0
+            out[i, 1] = 0.0
+            out[i, 2] = 0.0
+        out[i, 0] -= bodies[j, MASS] * vx / dt
+        out[i, 1] -= bodies[j, MASS] * vy / dt
+        out[i, 2] -= bodies[j, MASS] * bodies[j, IPM] * w / dt
+        return 1
+    m = bodies[j, MASS] * s
+    out[i, 0] += m * ax
+    out[i, 1] += m * ay
+    out[i, 2] += m * bodies[j, IPM] * aw
+    return 0
 
 
 def fast_entry(dispatcher: Any, *args: Any) -> tuple[Any, Any]:
@@ -353,3 +370,49 @@ def fast_entry(dispatcher: Any, *args: Any) -> tuple[Any, Any]:
         return dispatcher.overloads[sig].entry_point, result
     except (AttributeError, KeyError, TypeError):  # pragma: no cover - numba internals
         return dispatcher, result
+
+
+@njit(cache=True)
+def capture_rows(got: np.ndarray, ids: np.ndarray, want: np.ndarray, rows: np.ndarray, bodies: np.ndarray,
+                 prow: np.ndarray, out: np.ndarray) -> bool:
+    """One frame of the recorder: the filmed bodies' state from the space's bulk read ``got`` (rows x,
+    y, angle, vx, vy, spin; ``ids`` their ids) into ``out`` (one row per filmed body: x, y, angle and,
+    if ``out`` has 9 columns, vx, vy, spin at the plugin's time and the friction of its last step).
+    ``rows``: each filmed body's row in ``got`` (found by the caller; ``want`` their ids, to check it);
+    ``prow``: its row in ``bodies`` (the plugin's), or -1. Returns False if ``rows`` no longer points at
+    the filmed bodies (the space changed: the caller finds them again and calls again; what was
+    written meanwhile is overwritten then)."""
+    n = want.shape[0]
+    m = got.shape[0]
+    motion = out.shape[1] >= 9
+    for k in range(n):
+        r = rows[k]
+        if r < 0 or r >= m or ids[r] != want[k]:
+            return False
+        out[k, 0] = got[r, 0]
+        out[k, 1] = got[r, 1]
+        out[k, 2] = got[r, 2]
+        if not motion:
+            continue
+        vx = got[r, 3]
+        vy = got[r, 4]
+        w = got[r, 5]
+        j = prow[k]
+        if j >= 0:
+            if bodies[j, GAP] > 0.0 and bodies[j, STAG] > 0.0:
+                # the staggered scheme's velocity after a step belongs to half a step later: the mean
+                # with the one before is the velocity at the plugin's time (PlaneFriction.velocity)
+                vx = 0.5 * (bodies[j, PVX] + vx)
+                vy = 0.5 * (bodies[j, PVY] + vy)
+                w = 0.5 * (bodies[j, PW] + w)
+            out[k, 6] = bodies[j, FFX]
+            out[k, 7] = bodies[j, FFY]
+            out[k, 8] = bodies[j, FFT]
+        else:
+            out[k, 6] = 0.0
+            out[k, 7] = 0.0
+            out[k, 8] = 0.0
+        out[k, 3] = vx
+        out[k, 4] = vy
+        out[k, 5] = w
+    return True

@@ -140,6 +140,7 @@ class PlaneFriction:
         self.pre_step: list[Any] = []  # callables f(dt) run after friction is set, before space.step (builder)
         self._fresh: set[Any] = set()
         self._dirty = True  # membership changed: the id lookup is rebuilt at the next step
+        self.members = 0  # counts membership changes (readers such as the recorder cache rows by it)
         self._k_lookup = np.zeros((2, 0), dtype=np.int64)
         self._cache = np.zeros((3, 16), dtype=np.int64)  # the kernel's row cache (kernel.plane_check)
         self._kernel: Any = None  # the compiled step's entry point, found on the first step
@@ -230,6 +231,7 @@ class PlaneFriction:
             self._list.append(body)
             self._geo.append((shapes, geo))
             self._dirty = True
+            self.members += 1
         else:  # re-read: the old footprint rows become garbage (compacted when they outnumber the live ones)
             self._drop_geometry(j)
             self._rows.buf[j] = row
@@ -267,6 +269,7 @@ class PlaneFriction:
         self._fresh.discard(body)
         self._t_stop.pop(body, None)
         self._dirty = True
+        self.members += 1
 
     def _place(self, j: int) -> None:
         """Append row j's footprint (``_geo[j]``) to the kernel's shapes and geo arrays, its polygon and
@@ -432,6 +435,13 @@ class PlaneFriction:
         if p[K.GAP] <= 0.0 or p[K.STAG] == 0.0:
             return float(v.x), float(v.y), float(w)
         return 0.5 * (p[K.PVX] + v.x), 0.5 * (p[K.PVY] + v.y), 0.5 * (p[K.PW] + w)
+
+    def friction(self, body: Any) -> tuple[float, float, float]:
+        """The friction the last ``step`` applied to ``body``: force (N, world frame) at its centre of
+        gravity and torque about it (N m), static friction and the rest rule's stopping impulse
+        included (zeros before the first step). Its product with the velocity is the friction power."""
+        p = self._bodies[self._slots[body]]
+        return float(p[K.FFX]), float(p[K.FFY]), float(p[K.FFT])
 
     def wrench(self, body: Any, velocity: tuple[float, float, float] | None = None,
                angle: float | None = None) -> tuple[float, float, float]:

@@ -19,7 +19,7 @@ second of playback; positions in m (world frame); angles in rad.
 from __future__ import annotations
 
 import math
-from collections.abc import Generator
+from collections.abc import Generator, Iterable
 from pathlib import Path
 from typing import Any
 
@@ -31,7 +31,7 @@ from rrbody.model.trajectory import Trajectory
 from rrbody.render.flip import BLUE, RED, FlipMark, flip_mark
 from rrbody.render.movie_figure import GREEN, MovieFigure, check_size
 
-__all__ = ["render_movie", "render_poster", "frame_times", "frame_schedule", "MovieFigure", "RED", "BLUE", "GREEN"]
+__all__ = ["render_movie", "render_poster", "write_frames", "frame_times", "frame_schedule", "MovieFigure", "RED", "BLUE", "GREEN"]
 
 CODEC = "libx264"
 PIX_FMT = "yuv420p"
@@ -138,17 +138,26 @@ def render_movie(traj: Trajectory, path: str | Path, *, force: bool = False, pro
     schedule = frame_schedule(frame_times(a, b, fps=fps, speed=speed), mark, fps=fps, hold=hold)
     fig = MovieFigure(traj, flip=mark, size=size, trail=trail, window=(a, b), speed=speed, title=title,
                       trail_fade=fade, arrows=arrows)
+    return write_frames(final, (fig.frame(tau, banner=banner) for tau, banner in schedule), len(schedule),
+                        size=size, fps=fps, force=force, progress=progress)
+
+
+def write_frames(final: Path, frames: Iterable[Any], n: int, *, size: tuple[int, int], fps: float, force: bool,
+                 progress: bool, name: str = "movie") -> Path:
+    """Encode ``n`` RGBA frames (``size`` pixels, each a buffer of height x width x 4 bytes) to the MP4
+    ``final`` (already checked by ``check_writable``) at ``fps``: written to a temporary sibling and
+    renamed into place, with a progress bar if ``progress``. Returns ``final``."""
     bar = None
     if progress:
         from tqdm import tqdm
 
-        bar = tqdm(total=len(schedule), unit="frame", desc=f"movie {final.name}", leave=False)
+        bar = tqdm(total=n, unit="frame", desc=f"movie {final.name}", leave=False)
     try:
-        with atomic_path(final, force=force, name="movie") as tmp:
+        with atomic_path(final, force=force, name=name) as tmp:
             writer = _open_writer(tmp, size, fps)
             try:
-                for tau, banner in schedule:
-                    writer.send(fig.frame(tau, banner=banner))
+                for frame in frames:
+                    writer.send(frame)
                     if bar is not None:
                         bar.update(1)
             finally:

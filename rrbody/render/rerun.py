@@ -44,6 +44,7 @@ import shutil
 import sys
 import uuid
 from pathlib import Path
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -53,7 +54,7 @@ from rrbody.model.trajectory import Trajectory, _jsonable
 from rrbody.render.flip import FlipMark, flip_mark
 from rrbody.render.quantities import mechanics
 
-__all__ = ["record", "TIMELINE", "TRAIL_BLOCK", "MAX_WORLD_ROWS", "MAX_TRAIL_POINTS", "expected_entities"]
+__all__ = ["record", "check_output", "write_recording", "TIMELINE", "TRAIL_BLOCK", "MAX_WORLD_ROWS", "MAX_TRAIL_POINTS", "expected_entities"]
 
 TIMELINE = "time"
 #: trail points per block (storage ~ TRAIL_BLOCK / 2 points per trail sample)
@@ -322,20 +323,36 @@ def record(traj: Trajectory, path: str | Path | None, *, spawn: bool = False, fo
     behind; an existing file is kept unless ``force``. ``spawn`` needs a screen: without one, a file
     is still written (with a note on stderr), and with no ``path`` it is an error. Returns ``path``.
     """
+    check_output(path, spawn=spawn, force=force)
+    if len(traj) < 1:
+        raise ValueError("traj must have at least 1 sample, got 0")
+    mark = flip_mark(traj, flip)
+    driven = bool((traj.meta.get("scene") or {}).get("drive"))
+    return write_recording(path, spawn=spawn, force=force, blueprint=_blueprint(driven, _view_box(traj)),
+                           send=lambda rec: _log_run(rec, traj, mark))
+
+
+def check_output(path: str | Path | None, *, spawn: bool, force: bool) -> None:
+    """Refuse, before any work, a recording with nowhere to go, a path that is not a writable ``.rrd``
+    (or an existing one without ``force``), and a missing rerun extra."""
     from rrbody.model.extras import require
 
-    rr = require("rerun", purpose="a rerun recording")
+    require("rerun", purpose="a rerun recording")
     if path is None and not spawn:
         raise ValueError("rerun path must be given (a .rrd file) unless spawn=True")
     if path is not None:
         final = check_writable(path, force=force, name="rerun")
         if final.suffix.lower() != ".rrd":
             raise ValueError(f"rerun path must end in .rrd, got {str(path)!r}")
-    if len(traj) < 1:
-        raise ValueError("traj must have at least 1 sample, got 0")
-    mark = flip_mark(traj, flip)
-    driven = bool((traj.meta.get("scene") or {}).get("drive"))
-    bp = _blueprint(driven, _view_box(traj))
+
+
+def write_recording(path: str | Path | None, *, spawn: bool, force: bool, blueprint: Any,
+                    send: Callable[[Any], None]) -> Path | None:
+    """Open a recording stream (to ``path``, written to a temporary sibling and renamed into place, and/or
+    to a spawned viewer), let ``send(rec)`` log everything, and close it. Returns ``path``."""
+    import rerun as rr
+
+    bp = blueprint
     viewer = spawn and _has_screen()
     if spawn and not viewer:
         msg = "rerun_spawn: no screen here (DISPLAY / WAYLAND_DISPLAY unset), so no viewer was opened"
@@ -351,7 +368,7 @@ def record(traj: Trajectory, path: str | Path | None, *, spawn: bool = False, fo
         spawn_viewer(connect=False, executable_path=exe, recording=rec)
     if path is None:
         rec.connect_grpc(default_blueprint=bp)
-        _log_run(rec, traj, mark)
+        send(rec)
         rec.flush()
         rec.disconnect()
         return None
@@ -361,7 +378,7 @@ def record(traj: Trajectory, path: str | Path | None, *, spawn: bool = False, fo
         else:
             rec.save(tmp, default_blueprint=bp)
         try:
-            _log_run(rec, traj, mark)
+            send(rec)
             rec.flush()
         finally:
             rec.disconnect()  # closes the file (writes its footer) before the rename
