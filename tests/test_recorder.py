@@ -48,6 +48,37 @@ def _blend(hex_rgb: tuple[float, float, float]) -> tuple[int, int, int]:
     return tuple(int(round(255 * (0.85 * c + 0.15))) for c in hex_rgb)
 
 
+def test_a_thick_segment_and_a_two_shape_body_are_drawn_as_their_union() -> None:
+    """A capsule (a segment of radius 0.1 from (-0.3, 0) to (0.3, 0)) and an L of two boxes, each at a
+    known pose: in the body's own frame, the pixels of its face span the shape's exact extent to 2 px
+    (the outline, 1.1 px wide, covers the face's outermost pixel; antialiasing one more), and their
+    centroid lies within 1 px of the shape's area centroid."""
+    space = pymunk.Space()
+    cap = pymunk.Body()
+    cap.position, cap.angle = (0.9, 0.9), 0.4
+    el = pymunk.Body()
+    el.position, el.angle = (2.2, 0.8), -0.5
+    ls = [pymunk.Poly(el, [(0, 0), (0.4, 0), (0.4, 0.15), (0, 0.15)]),
+          pymunk.Poly(el, [(0, 0.15), (0.15, 0.15), (0.15, 0.4), (0, 0.4)])]
+    space.add(cap, pymunk.Segment(cap, (-0.3, 0.0), (0.3, 0.0), 0.1), el, *ls)
+    for sh in [*cap.shapes, *el.shapes]:
+        sh.density = 1.0
+    rec = Recorder(space, bodies=[cap, el])
+    rec.capture(t=0.0)
+    img = rec.image(size=SIZE, box=BOX, color=[(1.0, 0.0, 0.0), (0.0, 0.0, 1.0)])
+    # the L's area centroid in its own frame: the two boxes' centroids weighted by their areas
+    a1, a2 = 0.4 * 0.15, 0.15 * 0.25
+    el_centre = (a1 * np.array([0.2, 0.075]) + a2 * np.array([0.075, 0.275])) / (a1 + a2)
+    for body, rgb, lo, hi, centre in ((cap, (1.0, 0.0, 0.0), (-0.4, -0.1), (0.4, 0.1), (0.0, 0.0)),
+                                      (el, (0.0, 0.0, 1.0), (0.0, 0.0), (0.4, 0.4), el_centre)):
+        world = _pixels(img, _blend(rgb)) - np.array(tuple(body.position))
+        c, s = math.cos(body.angle), math.sin(body.angle)
+        local = np.column_stack([c * world[:, 0] + s * world[:, 1], -s * world[:, 0] + c * world[:, 1]])
+        assert np.all(np.abs(local.min(axis=0) - lo) * PX_PER_M < 2.0), (local.min(axis=0), lo)
+        assert np.all(np.abs(local.max(axis=0) - hi) * PX_PER_M < 2.0), (local.max(axis=0), hi)
+        assert np.hypot(*(local.mean(axis=0) - centre)) * PX_PER_M < 1.0
+
+
 def test_known_poses_are_drawn_where_they_are() -> None:
     """A disk at (1.0, 0.6), turned 0.7 rad, and a square at (2.2, 1.1), turned 0.3 rad: pixel centroids
     within 1 px of the centres; the disk's angle from its radius line, the square's from its edges
