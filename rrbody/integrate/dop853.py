@@ -34,7 +34,7 @@ def _load_scipy_tableau():  # noqa: ANN202
 _co = _load_scipy_tableau()
 
 from rrbody.physics import params as P
-from rrbody.physics.dynamics import rhs_near
+from rrbody.physics.dynamics import driven_tangent, rhs_near
 
 __all__ = ["TABLEAU", "rk_step", "error_norm", "trial_step", "ORDER"]
 
@@ -99,6 +99,36 @@ def rk_step(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp):  # noqa: ANN001 
         if j == 0 and driven:
             d = h * acc - w * h
     rhs_near(system, t + h, ynew, p, S, K, N_STAGES, d, s0, c0)
+    if y.shape[0] > n:  # tangent vectors ride along (effect tangent): one branch per step here
+        tangent_stages(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp)
+
+
+@njit(cache=True, _nrt=False)
+def tangent_stages(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp):  # noqa: ANN001
+    """The stages of the tangent vectors (components 2.. of a driven state, effect tangent), after
+    :func:`rk_step` has stepped the body: their equations are linear along the body's trajectory, so
+    each stage's body state is rebuilt from the body's own stages in K (y + h sum A K) and the
+    tangent derivative evaluated there. Out of line, so a run without tangent vectors pays one
+    branch per step. Leaves ``ytmp`` holding the last stage's state, as rk_step does."""
+    literally(system)
+    law = (system // 10) % 10
+    area = int(p[P.BODY])
+    m = y.shape[0]
+    for j in range(2, m):
+        K[0, j] = f0[j]
+    for s in range(1, N_STAGES):
+        for j in range(m):
+            acc = 0.0
+            for r in range(s):
+                acc += A[s, r] * K[r, j]
+            ytmp[j] = y[j] + h * acc
+        driven_tangent(law, area, t + C[s] * h, ytmp, p, S, K, s)
+    for j in range(2, m):
+        acc = 0.0
+        for r in range(N_STAGES):
+            acc += B[r] * K[r, j]
+        ynew[j] = y[j] + h * acc
+    driven_tangent(law, area, t + h, ynew, p, S, K, N_STAGES)
 
 
 @njit(cache=True, inline="always")
@@ -117,6 +147,16 @@ def error_norm(system, K, h, scale, E3, E5):  # noqa: ANN001
             a3 += E3[r] * K[r, j]
         e5 += (a5 / scale[j]) ** 2
         e3 += (a3 / scale[j]) ** 2
+    if scale.shape[0] > n:  # tangent vectors (rk_step): under the same error control
+        for j in range(n, scale.shape[0]):
+            a5 = 0.0
+            a3 = 0.0
+            for r in range(N_STAGES + 1):
+                a5 += E5[r] * K[r, j]
+                a3 += E3[r] * K[r, j]
+            e5 += (a5 / scale[j]) ** 2
+            e3 += (a3 / scale[j]) ** 2
+        n = scale.shape[0]
     if e5 == 0.0 and e3 == 0.0:
         return 0.0
     return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)

@@ -31,11 +31,11 @@ import numpy as np
 from numba import literally, njit
 
 from rrbody.physics import params as P
-from rrbody.physics.effects import DRIVEN, compiled_code, drive_circular, tilt
+from rrbody.physics.effects import DRIVEN, compiled_code, drive_circular, tangent, tilt
 from rrbody.physics.effects.areas import POINT, body_frame_wrench, body_wrench
 from rrbody.physics.effects.laws import NONE, element_perp
 
-__all__ = ["rhs", "rhs_near", "rhs_for", "driven_rhs", "driven_kinematics", "jacobian", "system_from_params", "SYSTEM_DRIVEN",
+__all__ = ["rhs", "rhs_near", "rhs_for", "driven_rhs", "driven_tangent", "driven_kinematics", "jacobian", "system_from_params", "SYSTEM_DRIVEN",
            "SYSTEM_FREE"]
 
 SYSTEM_DRIVEN = 0  # kind code: y = (phi, phi')
@@ -61,18 +61,17 @@ def _driven_point(law, t, y, p, d, s0, c0):  # noqa: ANN001 (numba)
 
 
 @njit(cache=True, _nrt=False)
-def _driven_extended(law, area, t, y, p, S, d, s0, c0):  # noqa: ANN001 (numba)
+def _driven_extended(law, area, t, phi, phid, p, S, d, s0, c0):  # noqa: ANN001 (numba)
     """(phi', phi'') of an extended body, or of a point mass on a tilted plane (one sampled element
     at its CM: :func:`rrbody.physics.bind.area_model`): one sine and cosine of the drive phase per evaluation, as
     for a point mass (:func:`drive_circular.sincos_psi`). The CM
     velocity in the rod frame (e, e_perp) of CM -> P is (d w sin psi, d w cos psi - l phi'),
     psi = phi - w t; the body frame is the rod frame turned by the constant beta = phi - alpha, so
     v_b = R(beta) v_rod and F_rod = R(-beta) F_b (cos, sin beta precomputed in p)."""
-    phid = y[1]
-    s, c = drive_circular.sincos_psi(t, y[0], p, d, s0, c0)
+    s, c = drive_circular.sincos_psi(t, phi, p, d, s0, c0)
     torque = drive_circular.torque(s, p)
     if p[P.TILTED] != 0.0:
-        torque += tilt.pivot_torque(y[0], p)
+        torque += tilt.pivot_torque(phi, p)
     if law != NONE:
         ve, vp = drive_circular.rod_velocity(s, c, phid, p)
         cb = p[P.CBETA]
@@ -106,6 +105,35 @@ def _free(law, area, t, y, p, S):  # noqa: ANN001 (numba)
 
 
 @njit(cache=True, _nrt=False)
+def driven_tangent(law, area, t, y, p, S, out, row):  # noqa: ANN001 (numba)
+    """The tangent vectors' derivatives (:mod:`rrbody.physics.effects.tangent`) at the base state
+    y[:2]: analytic for a point mass (its Jacobian's terms, as in :func:`jacobian`), central
+    differences of phi'' elsewhere."""
+    if area == POINT:
+        w = p[P.OMEGA]
+        dd = p[P.D]
+        l = p[P.L]
+        s, c = drive_circular.sincos_psi(t, y[0], p, math.nan, 0.0, 0.0)
+        dtq_dphi = w * w * l * dd * c
+        dtq_dphid = 0.0
+        if law != NONE:
+            _, dfe, dfp = element_perp(law, dd * w * s, dd * w * c - l * y[1], p[P.COEFF], p[P.VEPS])
+            # torque -= l f_p; dv_e/dphi = d w c, dv_p/dphi = -d w s, dv_p/dphi' = -l
+            dtq_dphi -= l * (dfe * dd * w * c - dfp * dd * w * s)
+            dtq_dphid += l * l * dfp
+        tangent.advance(y, out, row, dtq_dphi * p[P.INV_IP], dtq_dphid * p[P.INV_IP])
+        return
+    h0 = tangent.EPS * max(abs(y[0]), 1.0)
+    h1 = tangent.EPS * max(abs(y[1]), abs(p[P.OMEGA]), 1e-300)
+    nan = math.nan
+    a = (_driven_extended(law, area, t, y[0] + h0, y[1], p, S, nan, 0.0, 0.0)[1]
+         - _driven_extended(law, area, t, y[0] - h0, y[1], p, S, nan, 0.0, 0.0)[1]) / (2.0 * h0)
+    b = (_driven_extended(law, area, t, y[0], y[1] + h1, p, S, nan, 0.0, 0.0)[1]
+         - _driven_extended(law, area, t, y[0], y[1] - h1, p, S, nan, 0.0, 0.0)[1]) / (2.0 * h1)
+    tangent.advance(y, out, row, a, b)
+
+
+@njit(cache=True, _nrt=False)
 def rhs_near(code, t, y, p, S, out, row, d, s0, c0):  # noqa: ANN001
     """out[row, :] = y' for the equations of the compiled code ``code`` and the area method of ``p`` (module docstring), where a
     driven body's drive phase psi = phi - omega t is psi0 + d with (sin, cos)(psi0) = (s0, c0): a
@@ -126,7 +154,7 @@ def rhs_near(code, t, y, p, S, out, row, d, s0, c0):  # noqa: ANN001
         if area == POINT:
             a, b = _driven_point(law, t, y, p, d, s0, c0)
         else:
-            a, b = _driven_extended(law, area, t, y, p, S, d, s0, c0)
+            a, b = _driven_extended(law, area, t, y[0], y[1], p, S, d, s0, c0)
         out[row, 0] = a
         out[row, 1] = b
     else:
@@ -148,6 +176,8 @@ def rhs(code, t, y, p, S, out, row):  # noqa: ANN001
     """out[row, :] = y' at (t, y): :func:`rhs_near` without a base angle (the library's sin and cos)."""
     literally(code)
     rhs_near(code, t, y, p, S, out, row, math.nan, 0.0, 0.0)
+    if code % 10 == DRIVEN and y.shape[0] > 2:  # tangent vectors (DOP853 steps them: dop853.tangent_stages)
+        driven_tangent((code // 10) % 10, int(p[P.BODY]), t, y, p, S, out, row)
 
 
 def system_from_params(p: np.ndarray, kind: int) -> int:

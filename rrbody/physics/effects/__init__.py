@@ -21,6 +21,11 @@ method is a call of its own, so a point mass never executes, nor pays registers 
 kernels form one fixed set (compiled at install: :mod:`rrbody.cli.prebuild`), and a new combination
 of effects, or a new run-time effect, compiles nothing.
 
+One effect is chosen by the state itself: ``tangent`` (the variational equations, for Lyapunov
+exponents, :mod:`rrbody.analysis.chaos`) rides along when a driven state carries tangent vectors
+after (phi, phi'); DOP853 steps them out of line (:func:`rrbody.integrate.dop853.tangent_stages`),
+so a plain run pays one branch per step and no loop is compiled for it.
+
 Adding an effect: one module with the signature of its kind plus its registration, a code here and
 one branch in :mod:`.laws` (a law) or :mod:`.areas` (an area method); a new law adds one compiled
 loop per kind, so it belongs in the prebuild's workload too.

@@ -1,0 +1,192 @@
+"""Lyapunov exponents of a driven body (the paper's first outlook: the tilted, circularly forced
+double pendulum), on the one stepping loop.
+
+Two estimates, both by Benettin's method (renormalise every ``renorm`` seconds, one driving period by
+default, and average the logarithms of the growth):
+
+- ``"tangent"``: the variational equations ride along in the state (the effect
+  :mod:`rrbody.physics.effects.tangent`: y = (phi, phi', two tangent vectors)); every ``renorm``
+  seconds the two vectors are re-orthonormalised by a QR decomposition and the logarithms of R's
+  diagonal summed: the full spectrum (lambda_1 >= lambda_2, 1/s). Their sum is the mean of the
+  flow's divergence d phi''/d phi' exactly (Liouville: log |det| of the tangent matrix), whatever
+  the renormalisation. For a smooth right-hand side (no friction, viscous friction, or dry friction
+  while the contact never stops sliding). Integrated by DOP853 (the loop's stiff methods serve the
+  bare 2-state system).
+- ``"two"``: the maximal exponent from two trajectories ``d0`` apart in (phi, phi'), the second
+  pulled back to distance d0 along their separation every ``renorm`` seconds. It needs no
+  derivative, so it also serves dry friction, whose right-hand side has a kink where the contact's
+  slip speed is zero: a separation of d0 (1e-8 by default) straddles the kink only for the short
+  time the slip speed spends within d0's reach of zero, and what it adds there is the finite jump of
+  the flow, not an infinite rate, so the average converges to the exponent of the piecewise smooth
+  flow. Where both estimates apply they agree (``tests/test_chaos.py``).
+
+Norm: the plain Euclidean norm of (dphi, dphi') (rad, rad/s); an exponent does not depend on it.
+Units: exponents in 1/s, times in s.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from rrbody.integrate.events import new_event_state
+from rrbody.integrate.loop import L_T, STEP_METHODS, advance_for, new_loop_state
+from rrbody.model.checks import check_positive, check_range
+from rrbody.model.scene import Scene
+from rrbody.physics import params as P
+from rrbody.physics.bind import ode_params
+from rrbody.physics.dynamics import SYSTEM_DRIVEN, rhs_for, system_from_params
+
+__all__ = ["LyapunovResult", "lyapunov", "METHODS"]
+
+METHODS = ("tangent", "two")
+
+
+@dataclass
+class LyapunovResult:
+    """Exponents (1/s, largest first) and their running estimates at each renormalisation time."""
+
+    exponents: np.ndarray
+    times: np.ndarray
+    running: np.ndarray
+    method: str
+    renorm: float
+    rtol: float
+    divergence: float | None = None
+    meta: dict[str, Any] = field(default_factory=dict)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready summary (no per-interval arrays)."""
+        return {"exponents": [float(x) for x in self.exponents], "method": self.method, "t_max": float(self.times[-1]),
+                "renorm": self.renorm, "rtol": self.rtol, "n_renorm": int(len(self.times)),
+                "divergence": self.divergence, **self.meta}
+
+
+
+
+def lyapunov(scene: Scene, *, t_max: float, renorm: float | None = None, rtol: float = 1e-10, method: str = "tangent",
+             d0: float = 1e-8, progress: bool = False) -> LyapunovResult:
+    """Lyapunov exponents of the driven ``scene`` over [0, ``t_max``] (s): the spectrum (``"tangent"``)
+    or the maximal exponent (``"two"``); see the module docstring. ``renorm``: seconds between
+    renormalisations (default one driving period)."""
+    if scene.drive is None:
+        raise ValueError("scene must be driven (a drive): Lyapunov exponents here are those of the driven body")
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {', '.join(repr(m) for m in METHODS)}, got {method!r}")
+    t_max = check_positive("t_max", t_max, unit="s")
+    omega = scene.omega
+    renorm = 2.0 * math.pi / abs(omega) if renorm is None else check_positive("renorm", renorm, unit="s")
+    rtol = check_range("rtol", rtol, 1e-14, 1e-3)
+    d0 = check_range("d0", d0, 1e-14, 1e-3)
+    if method == "tangent" and scene.friction.active and scene.friction.law == "dry":
+        raise ValueError("method 'tangent' needs a smooth right-hand side; dry friction has a kink where the contact "
+                         "stops sliding: use method 'two' (two nearby trajectories)")
+    n_int = int(math.ceil(t_max / renorm - 1e-9))
+    times = np.minimum(renorm * np.arange(1, n_int + 1), t_max)
+    y0 = (scene.phi0, scene.initial_phi_dot)
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=n_int, desc=f"lyapunov ({method})", unit="period", leave=False)
+    try:
+        if method == "tangent":
+            return _tangent(scene, y0, times, renorm, rtol, bar)
+        return _two(scene, y0, times, renorm, rtol, d0, bar)
+    finally:
+        if bar is not None:
+            bar.close()
+
+
+class _Run:
+    """One trajectory on the stepping loop (state y, f = f(t, y), loop and event state)."""
+
+    def __init__(self, scene: Scene, y: np.ndarray, rtol: float, mode: int) -> None:
+        self.p, self.S = ode_params(scene)
+        system = system_from_params(self.p, SYSTEM_DRIVEN)
+        self.run, self.rhs = advance_for(system), rhs_for(system)
+        omega = scene.omega
+        self.y = np.array(y, dtype=float)
+        self.f = np.empty_like(self.y)
+        self.rhs(0.0, self.y, self.p, self.S, self.f)
+        yscale = max(abs(omega), abs(self.y[1]))
+        self.scale = rtol * np.concatenate([[math.pi, yscale], np.ones(len(y) - 2)])
+        self.hmax = 0.125 * 2.0 * math.pi / abs(omega)
+        h0 = min(1e-3 / max(abs(omega), abs(self.y[1]), 1e-300), 1e-2 * 2.0 * math.pi / abs(omega))
+        self.st = new_loop_state(h0, mode, yscale=yscale)
+        self.ev = new_event_state(float(y[0]), float(y[1]))
+        self.minima = np.empty((16, 2))
+        self.out = np.empty((0, len(y) + 1))
+        self.rtol, self.mode = rtol, mode
+
+    def advance(self, t_end: float) -> None:
+        while True:
+            code = self.run(self.y, self.f, self.st, self.ev, self.p, self.S, t_end, 0, 2.0, 3.0, self.rtol, self.scale,
+                            1, self.hmax, 1_000_000, self.minima, self.out, 0.0, self.mode, 0.0)
+            if code == 0:
+                return
+            if code == 4 and t_end - self.st[L_T] <= 1e-12 * max(1.0, abs(t_end)):
+                # the last step landed an ulp short of t_end (t + (t_end - t) rounds): it is t_end
+                self.st[L_T] = t_end
+                return
+            if code != 5:
+                raise RuntimeError(f"integration failed at t={self.st[L_T]:.6g} s (loop status {code})")
+
+    def changed(self) -> None:
+        """After editing y: f = f(t, y) again (the loop carries f from step to step)."""
+        self.rhs(float(self.st[L_T]), self.y, self.p, self.S, self.f)
+
+
+def _tangent(scene: Scene, y0: tuple[float, float], times: np.ndarray, renorm: float, rtol: float,
+             bar: Any) -> LyapunovResult:
+    r = _Run(scene, np.array([y0[0], y0[1], 1.0, 0.0, 0.0, 1.0]), rtol, STEP_METHODS["dop853"])
+    sums = np.zeros(2)
+    running = np.empty((len(times), 2))
+    for i, t in enumerate(times):
+        r.advance(float(t))
+        D = np.array([[r.y[2], r.y[4]], [r.y[3], r.y[5]]])  # columns: the tangent vectors
+        Q, R = np.linalg.qr(D)
+        sign = np.sign(np.diag(R))
+        sign[sign == 0.0] = 1.0
+        sums += np.log(np.abs(np.diag(R)))
+        Q = Q * sign
+        r.y[2:] = (Q[0, 0], Q[1, 0], Q[0, 1], Q[1, 1])
+        r.changed()
+        running[i] = sums / t
+        if bar is not None:
+            bar.update(1)
+    # the flow's divergence d phi''/d phi': -gamma under viscous friction (its torque about P is
+    # -gamma phi' I_P / m plus terms free of phi', for any body), 0 without friction
+    div = None
+    if not scene.friction.active:
+        div = 0.0
+    elif scene.friction.law == "viscous":
+        div = -float(r.p[P.COEFF])
+    return LyapunovResult(exponents=running[-1].copy(), times=times, running=running, method="tangent", renorm=renorm,
+                          rtol=rtol, divergence=div)
+
+
+def _two(scene: Scene, y0: tuple[float, float], times: np.ndarray, renorm: float, rtol: float, d0: float,
+         bar: Any) -> LyapunovResult:
+    base = _Run(scene, np.array(y0, dtype=float), rtol, STEP_METHODS["auto"])
+    twin = _Run(scene, np.array(y0, dtype=float) + d0 * np.array([1.0, 0.0]), rtol, STEP_METHODS["auto"])
+    total = 0.0
+    running = np.empty((len(times), 1))
+    for i, t in enumerate(times):
+        base.advance(float(t))
+        twin.advance(float(t))
+        sep = twin.y - base.y
+        dist = float(np.hypot(sep[0], sep[1]))
+        if not dist > 0.0:
+            raise RuntimeError(f"the two trajectories met at t={t:.6g} s: choose another d0")
+        total += math.log(dist / d0)
+        twin.y[:] = base.y + sep * (d0 / dist)
+        twin.changed()
+        running[i, 0] = total / t
+        if bar is not None:
+            bar.update(1)
+    return LyapunovResult(exponents=running[-1].copy(), times=times, running=running, method="two", renorm=renorm,
+                          rtol=rtol, meta={"d0": d0})
