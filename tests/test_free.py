@@ -142,3 +142,21 @@ def test_free_simulation_refuses_a_driven_scene() -> None:
     sc = Scene(body=Disk(R=0.2, l=0.1), drive=CircularDrive(omega=1.0, d=1.0), friction=Friction("dry", 0.5))
     with pytest.raises(ValueError, match="free scene"):
         simulate_free(sc, t_max=1.0, dt_out=0.1)
+
+
+def test_an_off_centre_load_turns_the_spin_through_zero_and_stops() -> None:
+    """A disk pressing on a ring off its centre (rrbody.pressure.ring(0.03, centre=(0.05, 0))): the
+    load's offset turns friction's torque against a small spin, which passes through zero while the
+    disk slides on (it stopped the ODE path with a step size underflow when a step could not reverse
+    the spin). It comes to rest, at the engine path's stop within two of its steps (its order at a
+    stop, docs/engine.md)."""
+    from rrbody import pressure as rp
+    from rrbody.model.scene import scene_from_params
+
+    sc = scene_from_params(body="disk", R0=0.1, no_drive=True, v0=(0.0, 1.0), spin0=0.5, mu=0.3,
+                           pressure=rp.ring(0.03, centre=(0.05, 0.0)))
+    tr = simulate(sc, t_max=1.0)
+    assert tr.meta["status"] == "came to rest" and tr.events["t_stop"] is not None
+    assert (np.diff(np.sign(tr.phi_dot)) != 0).any()  # the spin did turn through zero
+    eng = simulate(sc, t_max=1.0, method="engine")
+    assert abs(eng.events["t_stop"] - tr.events["t_stop"]) < 2.0 * eng.meta["dt"]

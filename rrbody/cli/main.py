@@ -121,6 +121,8 @@ def _simulate(args: argparse.Namespace, scene: Any, stepper: dict[str, str], pic
                "phi_end": float(traj.phi[-1]), "phi_min": ev.get("phi_min"), "t_phi_min": ev.get("t_phi_min"),
                "t_stop": ev.get("t_stop"), "distance": ev.get("distance"), "turn": ev.get("turn"),
                "meta": {k: v for k, v in traj.meta.items() if k != "scene"}, "written": written}
+    if "pivots" in ev:  # a free body on point feet (the ODE path): its pivots on a foot
+        summary["pivots"] = ev["pivots"]
     if flip is not None:
         summary["flip"] = {"status": flip.status, "t_f": flip.t_f, "in_span": flip.in_span(float(traj.t[0]),
                                                                                              float(traj.t[-1])),

@@ -15,7 +15,8 @@ stops it exactly and cleanly:
   (exact for a point mass, and asymptotically for any body, whose approach to rest is self-similar:
   v and Omega both decay linearly with a fixed ratio). Steps are capped at ``STEP_FRACTION`` of
   tau_left, so the integration approaches the stop geometrically and never steps across it;
-- a step that would raise K or reverse the velocity or the spin is rejected and halved;
+- a step that would raise K is rejected and halved (the velocity or the spin may turn through zero
+  while the body slides on: an off-centre load, a tilt);
 - once sqrt(2 K) falls below ``STOP_SPEED_FRACTION`` of its initial value, the last 2K/P seconds
   are completed analytically (linear decay: distance v tau/2, turn Omega tau/2), velocities are
   set to exactly zero and stay there. The stop time is reported in ``events['t_stop']``.
@@ -30,6 +31,11 @@ one it cannot hold (released at rest, or come to rest on a slope steeper than mu
 starts to slide in the maximum-dissipation direction: the run goes on from tau = 1e-6 t_max after
 the stop along the break-away acceleration (constant at first: exact to O(tau^2)), and
 ``events['break_aways']`` counts those stops.
+
+Point feet (pressure ``points``) under dry friction: a foot can come to rest while the body still
+turns about it (a pivot), and break away again; :class:`rrbody.integrate.pivot.FeetRun` steps the
+same loop one accepted step at a time and reports ``events['pivots']`` (foot, start and end times,
+what ended each).
 """
 
 from __future__ import annotations
@@ -43,12 +49,14 @@ from rrbody._version import __version__
 from rrbody.integrate.events import E_TSTOP, STEP_FRACTION, STOP_REST, STOP_SPEED_FRACTION, STOP_T_END, new_event_state
 from rrbody.integrate.chunks import run_in_chunks
 from rrbody.integrate.loop import L_NEXTOUT, L_NREJ, L_NOUT, L_NSTEP, L_T, STEP_METHODS, advance_for, new_loop_state
+from rrbody.integrate.pivot import FeetRun
 from rrbody.model.scene import Scene
 from rrbody.model.trajectory import Trajectory
 from rrbody.physics import params as P
 from rrbody.physics.bind import ode_params
 from rrbody.physics.contact import H_PARTS, HEADER
 from rrbody.physics.dynamics import SYSTEM_FREE, free_rhs, system_from_params
+from rrbody.physics.effects.pivot_foot import feet_of
 from rrbody.physics.footprint import packed
 from rrbody.physics.limit import at_rest
 
@@ -70,6 +78,8 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     the CM there (m). ``rtol`` scales the error control: positions by the sliding distance scale,
     velocities by the initial speed, angles by pi, spin by the initial rotation rate. ``stepper``
     (:data:`FREE_STEPPERS`): "auto" (DOP853, switching to RODAS4 where stiff), "dop853" or "rodas".
+    A body on point feet also reports ``events['pivots']`` (:mod:`rrbody.integrate.pivot`; its run
+    shows no progress bar: it goes one accepted step at a time).
     """
     if scene.driven:
         raise ValueError("simulate_free needs a free scene (drive=None); use rrbody.simulate for driven ones")
@@ -117,6 +127,7 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     u_stop = max(STOP_SPEED_FRACTION * max(u0, 1e-300), 10.0 * p[P.VEPS])
     t0 = time.perf_counter()
     n_breaks = 0  # stops static friction could not hold, each followed by a break-away
+    pivots: list[dict[str, object]] | None = None  # a body on feet: its pivots (rrbody.integrate.pivot)
     if u0 == 0.0 and dry:
         ev[E_TSTOP] = 0.0
         status = 1
@@ -124,6 +135,18 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
         out[:, 1:] = y
         out[:, 4:7] = 0.0
         st[L_NOUT] = n_out
+    elif (feet := feet_of(S) if dry and int(p[P.BODY]) == P.BODY_CONTACT else None) is not None:
+        # on point feet: sliding, pivoting on a foot and breaking away, one accepted step at a time
+        # (rrbody.integrate.pivot); the stop and a break-away from it as below
+        def held(alpha: float) -> tuple[float, float, float, bool]:
+            return (0.0, 0.0, 0.0, True) if pull == 0.0 else _held_at_rest(scene, p, alpha)
+
+        run_feet = FeetRun(p, S, feet, y, f, st, ev, out, dt_out=dt_out, t_max=t_max, rtol=rtol, scale=scale,
+                           mode=STEP_METHODS[stepper], u_stop=u_stop, t_scale=t_scale, max_steps=max_steps, held=held,
+                           break_from_rest=lambda yy, h: _break_away(yy, h, 1e-6 * t_max, icm, rotate=yy[2]))
+        status = run_feet.go()
+        n_breaks = run_feet.n_breaks
+        pivots = run_feet.pivots
     else:
         minima = np.empty((0, 2))
         run = advance_for(system_from_params(p, SYSTEM_FREE))
@@ -186,6 +209,8 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
         traj.meta["warning"] = (f"integration stopped early: {statuses[status]} at t={st[L_T]:.6g} s "
                                 f"after {wall:.3g} s of computing")
     traj.events["break_aways"] = n_breaks
+    if pivots is not None:
+        traj.events["pivots"] = pivots
     return traj
 
 

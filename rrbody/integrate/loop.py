@@ -16,7 +16,7 @@ event detector of :mod:`rrbody.integrate.events`:
   step, so an event inherits the order of the solution rather than that of an interpolant);
 - stop rules (``stop``, :data:`rrbody.integrate.events.STOP_T_END` ...): flip settled, RR decided,
   rest of a free body under dry friction (``rest``: steps capped at a fraction of the time left to
-  rest, steps that would gain energy or reverse a motion rejected, the last stretch below ``u_stop``
+  rest, steps that would gain energy rejected, the last stretch below ``u_stop``
   completed analytically);
 - dense output on a fixed grid ``dt_out`` by re-stepping from the step start: out rows (t, y...).
 

@@ -16,7 +16,8 @@ from rrbody.physics.area import area_samples, icr_nodes, icr_supported
 from rrbody.physics.footprint import packed
 from rrbody.physics.icr_table import build_table
 
-__all__ = ["area_model", "kernel_params", "ode_params", "friction_per_mass", "DRIVEN_DEAD_BAND", "FREE_DEAD_BAND"]
+__all__ = ["area_model", "kernel_params", "ode_params", "pinned_params", "friction_per_mass", "DRIVEN_DEAD_BAND",
+           "FREE_DEAD_BAND"]
 
 #: Zero-speed dead band of dry friction, relative to the scene's velocity scale, for driven bodies.
 #: At the impulsive start from phi0 = pi the CM starts at rest and its speed grows like
@@ -126,12 +127,31 @@ def kernel_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
 
 
 def ode_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`kernel_params` for the ODE path, which refuses a body standing on point feet: as its
-    sliding dies away such a body ends up pivoting on one foot (the foot at rest, a sliding mode that
-    the plugin's per-step friction follows and an ODE right-hand side, discontinuous at that foot,
-    does not: the steps collapse)."""
-    if scene.pressure.kind == "points" and scene.friction.active and scene.friction.law == "dry":
-        raise ValueError("pressure 'points' (feet) runs on the engine path only (--method engine, or the plugin): "
-                         "a body on point feet comes to pivot on one foot, which the ODE path cannot follow; "
-                         "for the ODE path give the feet an area (pressure field p(x, y))")
+    """:func:`kernel_params` for the ODE path. Every pressure runs, feet (``points``) included: a
+    driven body's feet stop only at isolated instants (it has one degree of freedom, and a foot at
+    rest needs two conditions), and a free body that comes to pivot on a foot is followed in the pivot
+    mode (:mod:`rrbody.integrate.pivot`, with :func:`pinned_params`)."""
     return kernel_params(scene)
+
+
+def pinned_params(p: np.ndarray, foot: tuple[float, float]) -> np.ndarray:
+    """The parameter vector of a free body's ``p`` pinned at its point ``foot`` (m, body frame from the
+    centre of gravity; a foot at rest): the driven body's equations with the pivot P at rest
+    (omega = d = 0), l = |foot| (m), I_P / m = I_cm / m + l^2 (m^2) and beta the foot's direction in
+    the body frame (rad; 0 for a foot at the centre of gravity). Friction, its dead band and a tilt's
+    pull are the free body's, so phi'' is the spin's rate about the foot under the other feet's
+    friction and the pull's torque about it (:mod:`rrbody.physics.effects.pivot_foot`)."""
+    x, y = float(foot[0]), float(foot[1])
+    if not (math.isfinite(x) and math.isfinite(y)):
+        raise ValueError(f"foot must be a finite point (x, y) in m, got {foot!r}")
+    q = p.copy()
+    l = math.hypot(x, y)
+    beta = math.atan2(y, x) if l > 0.0 else 0.0
+    q[P.OMEGA] = 0.0
+    q[P.D] = 0.0
+    q[P.L] = l
+    q[P.IP] = p[P.ICM] + l * l
+    q[P.INV_IP] = 1.0 / q[P.IP] if q[P.IP] > 0.0 else 0.0
+    q[P.CBETA] = math.cos(beta)
+    q[P.SBETA] = math.sin(beta)
+    return q
