@@ -132,6 +132,17 @@ def tangent_stages(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp):  # noqa: 
 
 
 @njit(cache=True, inline="always")
+def _error_terms(K, j, scale, E3, E5):  # noqa: ANN001
+    """Component j's squared scaled 5th- and 3rd-order error estimates (without the step size)."""
+    a5 = 0.0
+    a3 = 0.0
+    for r in range(N_STAGES + 1):
+        a5 += E5[r] * K[r, j]
+        a3 += E3[r] * K[r, j]
+    return (a5 / scale[j]) ** 2, (a3 / scale[j]) ** 2
+
+
+@njit(cache=True, inline="always")
 def error_norm(system, K, h, scale, E3, E5):  # noqa: ANN001
     """scipy's DOP853 error norm (RMS over components of the scaled 5th/3rd-order estimates);
     ``system`` fixes the state size at compile time, as in :func:`rk_step` (inlined into the loop,
@@ -140,22 +151,14 @@ def error_norm(system, K, h, scale, E3, E5):  # noqa: ANN001
     e5 = 0.0
     e3 = 0.0
     for j in range(n):
-        a5 = 0.0
-        a3 = 0.0
-        for r in range(N_STAGES + 1):
-            a5 += E5[r] * K[r, j]
-            a3 += E3[r] * K[r, j]
-        e5 += (a5 / scale[j]) ** 2
-        e3 += (a3 / scale[j]) ** 2
+        a5, a3 = _error_terms(K, j, scale, E3, E5)
+        e5 += a5
+        e3 += a3
     if scale.shape[0] > n:  # tangent vectors (rk_step): under the same error control
         for j in range(n, scale.shape[0]):
-            a5 = 0.0
-            a3 = 0.0
-            for r in range(N_STAGES + 1):
-                a5 += E5[r] * K[r, j]
-                a3 += E3[r] * K[r, j]
-            e5 += (a5 / scale[j]) ** 2
-            e3 += (a3 / scale[j]) ** 2
+            a5, a3 = _error_terms(K, j, scale, E3, E5)
+            e5 += a5
+            e3 += a3
         n = scale.shape[0]
     if e5 == 0.0 and e3 == 0.0:
         return 0.0

@@ -73,6 +73,14 @@ MAX_HALVINGS: int = 40
 Held = tuple[float, float, float, bool]
 
 
+def _undo(save: tuple[np.ndarray, ...], arrays: tuple[np.ndarray, ...]) -> float:
+    """Put the saved (y, f, st, ev) back into ``arrays`` after a step to retry; return half its length (s)."""
+    h = arrays[2][L_T] - save[2][L_T]
+    for a, b in zip(arrays, save):
+        a[:] = b
+    return 0.5 * h
+
+
 class FeetRun:
     """The run of a free body on feet: sliding, pivoting, breaking away, stopping (module docstring).
 
@@ -157,9 +165,7 @@ class FeetRun:
             u2, _ = PF.foot_motion(y, f, PF.foot_offsets(y[2], self.feet))
             if (np.any(np.einsum("ij,ij->i", u, u2) < 0.0) or self._gains(save[0], y)) and halvings < MAX_HALVINGS:
                 # the step crossed a foot's stop, or friction would have given energy: again, shorter
-                h = st[L_T] - save[2][L_T]
-                y[:], f[:], st[:], ev[:] = save
-                hcap = 0.5 * h
+                hcap = _undo(save, (y, f, st, ev))
                 halvings += 1
                 continue
             halvings = 0
@@ -313,9 +319,7 @@ class FeetRun:
                 ended = "underflow"
                 break
             if y2[1] * w < 0.0 and halvings < MAX_HALVINGS:
-                h = st2[L_T] - save[2][L_T]
-                y2[:], f2[:], st2[:], ev2[:] = save
-                hcap = 0.5 * h
+                hcap = _undo(save, (y2, f2, st2, ev2))
                 halvings += 1
                 continue
             halvings = 0
