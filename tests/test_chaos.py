@@ -66,3 +66,18 @@ def test_bad_input_names_the_parameter(kwargs: dict, message: str) -> None:
     sc = scene_from_params(H=0.2, k=0.05, omega=0.6, friction="viscous")
     with pytest.raises(ValueError, match=message):
         lyapunov(sc, **kwargs)
+
+
+def test_the_chaos_pages_python_example_runs() -> None:
+    """docs/chaos.md's Python block, as a reader copies it: its printed sum is -k."""
+    import contextlib
+    import io
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "chaos.md").read_text()
+    code = re.search(r"```python\n(.*?)```", text, re.S).group(1)
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        exec(compile(code, "docs/chaos.md", "exec"), {})
+    assert "-0.05" in buf.getvalue()

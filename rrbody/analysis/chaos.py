@@ -34,7 +34,7 @@ import numpy as np
 
 from rrbody.integrate.events import new_event_state
 from rrbody.integrate.loop import L_T, STEP_METHODS, advance_for, new_loop_state
-from rrbody.model.checks import check_positive, check_range
+from rrbody.model.checks import check
 from rrbody.model.scene import Scene
 from rrbody.physics import params as P
 from rrbody.physics.bind import ode_params
@@ -76,11 +76,11 @@ def lyapunov(scene: Scene, *, t_max: float, renorm: float | None = None, rtol: f
         raise ValueError("scene must be driven (a drive): Lyapunov exponents here are those of the driven body")
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(repr(m) for m in METHODS)}, got {method!r}")
-    t_max = check_positive("t_max", t_max, unit="s")
+    t_max = float(check("t_max", t_max))
     omega = scene.omega
-    renorm = 2.0 * math.pi / abs(omega) if renorm is None else check_positive("renorm", renorm, unit="s")
-    rtol = check_range("rtol", rtol, 1e-14, 1e-3)
-    d0 = check_range("d0", d0, 1e-14, 1e-3)
+    renorm = 2.0 * math.pi / abs(omega) if renorm is None else float(check("renorm", renorm))
+    rtol = float(check("rtol", rtol))
+    d0 = float(check("d0", d0))
     if method == "tangent" and scene.friction.active and scene.friction.law == "dry":
         raise ValueError("method 'tangent' needs a smooth right-hand side; dry friction has a kink where the contact "
                          "stops sliding: use method 'two' (two nearby trajectories)")

@@ -298,6 +298,9 @@ def build_parser() -> Parser:
     add_sweep_parser(sub)
     add_report_parser(sub)
     add_cache_parser(sub)
+    from rrbody.cli.chaos import add_parser as add_chaos_parser
+
+    add_chaos_parser(sub)
 
     dm = sub.add_parser("demo", help="the main job (what `make demo` runs): Movie S1",
                         description="Run the Movie S1 scene: movies/movie_s1.mp4 and results/movie-s1/. No options.")

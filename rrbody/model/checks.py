@@ -108,6 +108,9 @@ LIMITS: dict[str, Limit] = {
     "iterations": Limit(1, 100_000, "iterations per step", integer=True, help="engine constraint-solver iterations"),
     "settle_turns": Limit(0.5, 100.0, "turns"),
     "settle_periods": Limit(0.0, 1e6, "driving periods"),
+    # Lyapunov exponents (rrbody.analysis.chaos)
+    "renorm": Limit(0.0, MAX_TIME, "s", lo_open=True, help="time between renormalisations"),
+    "d0": Limit(1e-14, 1e-3, DIMENSIONLESS, help="separation of the two trajectories (rad, rad/s)"),
     # movie
     "fps": Limit(1.0, 240.0, "frames/s", help="movie frame rate"),
     "movie_speed": Limit(0.0, 1e6, "simulated s per movie s", lo_open=True),
