@@ -38,3 +38,23 @@ def test_lyapunov_refuses_bad_input_in_one_line(tmp_path: Path) -> None:
                      ["lyapunov", *SCENE, *extra] for extra, _ in cases], cwd=tmp_path)
     for r, (_, option) in zip(runs, cases):
         assert_bad_input(r, option, tmp_path)
+
+
+def test_poincare_command_writes_the_apis_points(tmp_path: Path) -> None:
+    from rrbody.analysis.chaos import poincare
+
+    ok, bad_points, bad_dir, free = run_many(
+        [["poincare", "--H", "0.2", "--omega", "0.6", "--friction", "none", "--points", "40", "--direction", "down",
+          "--out", "s.csv", "--plot", "s.png", "--json"],
+         ["poincare", "--H", "0.2", "--omega", "0.6", "--friction", "none", "--points", "0", "--out", "x.csv"],
+         ["poincare", "--H", "0.2", "--omega", "0.6", "--friction", "none", "--direction", "left", "--out", "x.csv"],
+         ["poincare", "--R0", "0.2", "--body", "disk", "--no-drive", "--v0", "1,0", "--k", "1", "--out", "x.csv"]],
+        cwd=tmp_path)
+    assert ok.code == 0, ok.err
+    assert json.loads(ok.out)["n"] == 40
+    api = poincare(scene_from_params(H=0.2, k=None, omega=0.6, friction="none"), points=40, direction=-1)
+    rows = [line.split(",") for line in (tmp_path / "s.csv").read_text().splitlines()[2:]]
+    assert [float(r[0]) for r in rows] == list(api.t) and [float(r[2]) for r in rows] == list(api.phi_dot)
+    before = {"s.csv", "s.png"}
+    for r, option in ((bad_points, "--points"), (bad_dir, "--direction"), (free, "--no-drive")):
+        assert_bad_input(r, option, tmp_path, before)

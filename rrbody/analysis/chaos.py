@@ -32,15 +32,15 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.integrate.events import new_event_state
-from rrbody.integrate.loop import L_T, STEP_METHODS, advance_for, new_loop_state
+from rrbody.integrate.events import E_SECDIR, E_SECTION, new_event_state
+from rrbody.integrate.loop import L_NOUT, L_T, STEP_METHODS, advance_for, new_loop_state
 from rrbody.model.checks import check
 from rrbody.model.scene import Scene
 from rrbody.physics import params as P
 from rrbody.physics.bind import ode_params
 from rrbody.physics.dynamics import SYSTEM_DRIVEN, rhs_for, system_from_params
 
-__all__ = ["LyapunovResult", "lyapunov", "METHODS"]
+__all__ = ["LyapunovResult", "lyapunov", "METHODS", "Section", "poincare", "SECTIONS", "rotating_energy"]
 
 METHODS = ("tangent", "two")
 
@@ -190,3 +190,95 @@ def _two(scene: Scene, y0: tuple[float, float], times: np.ndarray, renorm: float
             bar.update(1)
     return LyapunovResult(exponents=running[-1].copy(), times=times, running=running, method="two", renorm=renorm,
                           rtol=rtol, meta={"d0": d0})
+
+
+# ---- Poincare sections -----------------------------------------------------------------------------
+SECTIONS = ("theta", "strobe")
+
+
+@dataclass
+class Section:
+    """Points of a Poincare section: times (s), phi (rad), phi' (rad/s) and theta = phi - omega t + pi
+    reduced to [0, 2 pi) (rad)."""
+
+    t: np.ndarray
+    phi: np.ndarray
+    phi_dot: np.ndarray
+    kind: str
+    theta_s: float
+    rtol: float
+
+    @property
+    def theta(self) -> np.ndarray:
+        """theta = phi - omega t + pi at the points, in [0, 2 pi) (rad; needs the drive's omega: see
+        :func:`poincare`, which stores it in ``omega``)."""
+        return np.mod(self.phi - self.omega * self.t + math.pi, 2.0 * math.pi)
+
+    omega: float = 0.0
+
+    @property
+    def drive_phase(self) -> np.ndarray:
+        """The drive's phase omega t at the points, in [0, 2 pi) (rad): with phi' the coordinates of a
+        theta section, on which theta itself is fixed."""
+        return np.mod(self.omega * self.t, 2.0 * math.pi)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"kind": self.kind, "n": int(len(self.t)), "theta_s": self.theta_s, "rtol": self.rtol,
+                "t_last": float(self.t[-1]) if len(self.t) else None}
+
+
+def poincare(scene: Scene, *, points: int, kind: str = "theta", theta_s: float = 0.0, direction: int = 1,
+             t_max: float | None = None, rtol: float = 1e-10) -> Section:
+    """``points`` points of a Poincare section of the driven ``scene``:
+
+    - ``"theta"``: the crossings of theta = ``theta_s`` (mod 2 pi) with theta' = phi' - omega of the
+      sign ``direction`` (1: upwards, the default; -1: downwards, for an orbit that only turns back
+      against the drive), theta = phi - omega t + pi the angle in the frame turning with the drive, each located by the
+      stepping loop's event detector (Newton on the step size, every iterate a fresh step: the
+      point has the integrator's accuracy, not an interpolant's);
+    - ``"strobe"``: the state at every driving period T = 2 pi / omega, t = T, 2 T, ... (the loop
+      steps onto each exactly).
+
+    ``t_max`` (s) caps the run (default 100 driving periods per point asked: a section that is not
+    crossed returns the points found, perhaps none)."""
+    if scene.drive is None:
+        raise ValueError("scene must be driven (a drive): the sections are those of the driven body")
+    if kind not in SECTIONS:
+        raise ValueError(f"kind must be one of {', '.join(repr(k) for k in SECTIONS)}, got {kind!r}")
+    n = int(check("points", points))
+    rtol = float(check("rtol", rtol))
+    omega = scene.omega
+    period = 2.0 * math.pi / abs(omega)
+    theta_s = float(check("theta_s", theta_s))
+    if direction not in (1, -1):
+        raise ValueError(f"direction must be 1 (theta' > 0) or -1 (theta' < 0), got {direction!r}")
+    t_max = float(check("t_max", t_max)) if t_max is not None else 100.0 * period * n
+    run = _Run(scene, np.array((scene.phi0, scene.initial_phi_dot)), rtol, STEP_METHODS["auto"])
+    if kind == "strobe":
+        rows = []
+        for k in range(1, n + 1):
+            if k * period > t_max:
+                break
+            run.advance(k * period)
+            rows.append((k * period, run.y[0], run.y[1]))
+        pts = np.array(rows, dtype=float).reshape(-1, 3)
+    else:
+        run.ev[E_SECTION] = float(theta_s)
+        run.ev[E_SECDIR] = float(direction)
+        run.out = np.empty((n, 3))
+        t = 0.0
+        while int(run.st[L_NOUT]) < n and t < t_max:
+            t = min(t + 64.0 * period, t_max)
+            run.advance(t)
+        pts = run.out[:int(run.st[L_NOUT])]
+    return Section(t=pts[:, 0].copy(), phi=pts[:, 1].copy(), phi_dot=pts[:, 2].copy(), kind=kind,
+                   theta_s=float(theta_s), rtol=rtol, omega=omega)
+
+
+def rotating_energy(scene: Scene, t: np.ndarray, phi: np.ndarray, phi_dot: np.ndarray) -> np.ndarray:
+    """The frictionless driven body's first integral (rad^2/s^2): with psi = phi - omega t,
+    psi'' = (omega^2 l d m / I_P) sin psi is a pendulum, so E = psi'^2 / 2 + (omega^2 l d m / I_P) cos psi
+    is conserved (a level plane, no friction)."""
+    w = scene.omega
+    a = w * w * scene.body.l * scene.d / scene.inertia_about_pivot
+    return 0.5 * (np.asarray(phi_dot) - w) ** 2 + a * np.cos(np.asarray(phi) - w * np.asarray(t))

@@ -77,7 +77,7 @@ OPTION_PARAMS: dict[str, str] = {
     "--max-steps": "max_steps", "--t-max": "t_max", "--dt-out": "dt_out", "--tol": "tol", "--fps": "fps",
     "--movie-speed": "movie_speed", "--workers": "workers", "--batch-size": "batch_size",
     "--tilt": "tilt", "--downhill": "downhill", "--mu-static": "mu_static", "--sides": "sides",
-    "--renorm": "renorm", "--d0": "d0",
+    "--renorm": "renorm", "--d0": "d0", "--points": "points", "--theta-s": "theta_s",
 }
 #: parameter names in library messages -> the option a user typed
 _PARAM_OPTIONS: dict[str, str] = {**{p: o for o, p in OPTION_PARAMS.items()}, "R": "--R0", "v0[0]": "--v0",

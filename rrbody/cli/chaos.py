@@ -1,5 +1,5 @@
-"""``rrbody lyapunov``: the Lyapunov exponents of a driven scene (:mod:`rrbody.analysis.chaos`), with
-the running estimates written as CSV and drawn as a figure of their convergence."""
+"""``rrbody lyapunov`` and ``rrbody poincare``: the Lyapunov exponents of a driven scene and its Poincare
+sections (:mod:`rrbody.analysis.chaos`), written as CSV and drawn as figures."""
 
 from __future__ import annotations
 
@@ -8,10 +8,10 @@ import json
 import math
 from typing import Any
 
-from rrbody.cli.args import CliError, number, option_help, option_message
+from rrbody.cli.args import CliError, angle, integer, number, option_help, option_message
 from rrbody.cli.options import add_scene_options, scene_from_args
 
-__all__ = ["add_parser", "cmd_lyapunov", "OUTPUTS"]
+__all__ = ["add_parser", "cmd_lyapunov", "cmd_poincare", "OUTPUTS"]
 
 #: output options and the suffix their writer needs
 OUTPUTS = {"--out": ".csv", "--plot": ".png"}
@@ -44,20 +44,40 @@ def add_parser(sub: Any) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object (exponents, method, renorm, ...)")
     p.set_defaults(func=cmd_lyapunov)
 
+    q = sub.add_parser("poincare", help="a Poincare section of a driven scene (theta = theta_s, or stroboscopic)",
+                       description="Points of a Poincare section of a driven scene: the crossings of theta = phi - "
+                                   "omega t + pi = THETA_S (mod 2 pi) in one direction, each located to the "
+                                   "integrator's accuracy, or the state once per driving period. Example: rrbody "
+                                   "poincare --H 0.2 --omega 0.6 --friction none --points 500 --direction down "
+                                   "--out sec.csv --plot sec.png")
+    add_scene_options(q)
+    g = q.add_argument_group("section")
+    g.add_argument("--kind", choices=("theta", "strobe"), default="theta",
+                   help="theta (default): the crossings of theta = --theta-s; strobe: once per driving period")
+    g.add_argument("--points", type=integer("--points"), default=1000,
+                   help=option_help("points", "points wanted", 1000))
+    g.add_argument("--theta-s", type=angle("--theta-s"), default=0.0,
+                   help=option_help("theta_s", "--kind theta: the surface's theta ('pi/2', '90deg')", 0))
+    g.add_argument("--direction", choices=("up", "down"), default="up",
+                   help="--kind theta: the crossings counted, theta' > 0 (up, default) or < 0 (down: an orbit "
+                        "that turns back against the drive crosses only downwards)")
+    g.add_argument("--rtol", type=number("--rtol"), default=1e-10,
+                   help=option_help("rtol", "ODE relative tolerance", "1e-10"))
+    g.add_argument("--t-max", type=number("--t-max"), default=None,
+                   help=option_help("t_max", "a cap on the run (default: 100 driving periods per point)"))
+    q.add_argument("--out", help="CSV of the points: t (s), phi (rad), phi_dot (rad/s), theta and the drive phase "
+                                 "omega t (rad, in [0, 2 pi))")
+    q.add_argument("--plot", help="PNG of the section: phi' against theta (strobe) or the drive phase (theta)")
+    q.add_argument("--force", action="store_true", help="overwrite existing output files (regular files only)")
+    q.add_argument("--json", action="store_true", help="print one JSON object (points found, kind, ...)")
+    q.set_defaults(func=cmd_poincare)
 
-def cmd_lyapunov(args: argparse.Namespace) -> int:
+
+def _outputs(args: argparse.Namespace) -> dict[str, str]:
+    """The output paths by option, checked before anything runs (writable, their suffix, distinct), and
+    the figure's extra."""
     from rrbody.model.io import check_distinct, check_writable
 
-    scene = scene_from_args(args, required=("--t-max",))
-    if not scene.driven:
-        raise CliError("--no-drive: Lyapunov exponents are computed for driven scenes (drop --no-drive)")
-    method = args.estimate
-    dry = scene.friction.active and scene.friction.law == "dry"
-    if method == "tangent" and dry:
-        raise CliError("--estimate tangent needs a smooth right-hand side, and dry friction has a kink where the "
-                       "contact stops sliding: use --estimate two (or auto)")
-    if method == "auto":
-        method = "two" if dry else "tangent"
     paths = {opt: getattr(args, opt[2:]) for opt in OUTPUTS if getattr(args, opt[2:]) is not None}
     for opt, path in paths.items():
         check_writable(path, force=args.force, name=opt)
@@ -68,6 +88,21 @@ def cmd_lyapunov(args: argparse.Namespace) -> int:
         from rrbody.model.extras import require
 
         require("matplotlib", purpose="a figure (--plot)")
+    return paths
+
+
+def cmd_lyapunov(args: argparse.Namespace) -> int:
+    scene = scene_from_args(args, required=("--t-max",))
+    if not scene.driven:
+        raise CliError("--no-drive: Lyapunov exponents are computed for driven scenes (drop --no-drive)")
+    method = args.estimate
+    dry = scene.friction.active and scene.friction.law == "dry"
+    if method == "tangent" and dry:
+        raise CliError("--estimate tangent needs a smooth right-hand side, and dry friction has a kink where the "
+                       "contact stops sliding: use --estimate two (or auto)")
+    if method == "auto":
+        method = "two" if dry else "tangent"
+    paths = _outputs(args)
     from rrbody.analysis.chaos import lyapunov
 
     try:
@@ -88,6 +123,69 @@ def cmd_lyapunov(args: argparse.Namespace) -> int:
 
     emit(args, d, text)
     return 0
+
+
+def cmd_poincare(args: argparse.Namespace) -> int:
+    scene = scene_from_args(args)
+    if not scene.driven:
+        raise CliError("--no-drive: the sections are those of a driven scene (drop --no-drive)")
+    paths = _outputs(args)
+    from rrbody.analysis.chaos import poincare
+
+    try:
+        sec = poincare(scene, points=args.points, kind=args.kind, theta_s=args.theta_s,
+                       direction=1 if args.direction == "up" else -1, t_max=args.t_max, rtol=args.rtol)
+    except ValueError as e:
+        raise CliError(option_message(str(e))) from None
+    written = {}
+    if "--out" in paths:
+        import numpy as np
+
+        from rrbody.model.io import atomic_path
+
+        with atomic_path(paths["--out"], force=args.force, name="--out") as tmp:
+            with open(tmp, "w", encoding="utf-8") as fh:
+                fh.write("# " + json.dumps({**sec.to_dict(), "direction": args.direction}) + "\n")
+                fh.write("t_s,phi_rad,phi_dot_rad_per_s,theta_rad,drive_phase_rad\n")
+                np.savetxt(fh, np.column_stack([sec.t, sec.phi, sec.phi_dot, sec.theta, sec.drive_phase]),
+                           delimiter=",", fmt="%.17g")
+        written["out"] = paths["--out"]
+    if "--plot" in paths:
+        written["plot"] = str(_section_plot(sec, scene, paths["--plot"], force=args.force))
+    d = {**sec.to_dict(), "direction": args.direction, "H": scene.H, "k": scene.k, "omega": scene.omega,
+         "tilt": scene.tilt, "friction": scene.friction.law, "written": written}
+    from rrbody.cli.main import emit
+
+    emit(args, d, f"{len(sec.t)} points of the {args.kind} section"
+                  + (f" (fewer than {args.points}: the run's cap came first)" if len(sec.t) < args.points else ""))
+    return 0
+
+
+def _section_plot(sec: Any, scene: Any, path: str, *, force: bool) -> Any:
+    """phi' against theta at the section's points."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from rrbody.model.io import atomic_path
+    from rrbody.render.figures import savefig_reproducible
+
+    fig, ax = plt.subplots(figsize=(6, 4.5), constrained_layout=True)
+    # the section's own coordinates: (theta, phi') once per period; (drive phase, phi') on theta = theta_s
+    strobe = sec.kind == "strobe"
+    x = sec.theta if strobe else sec.drive_phase
+    ax.plot(x, sec.phi_dot, ".", ms=2, color="k")
+    what = "once per driving period" if strobe else f"theta = {sec.theta_s:.3g} (mod 2 pi)"
+    xlabel = "theta = phi - omega t + pi (rad, mod 2 pi)" if strobe else "drive phase omega t (rad, mod 2 pi)"
+    ax.set(xlabel=xlabel, ylabel="phi' (rad/s)", xlim=(0, 2 * math.pi),
+           title=f"Poincare section, {what}: H={scene.H:.3g}, k={scene.k:.3g}, omega={scene.omega:.3g} rad/s, "
+                 f"tilt={math.degrees(scene.tilt):.3g} deg; {len(sec.t)} points")
+    ax.title.set_fontsize(8)
+    with atomic_path(path, force=force, name="--plot") as tmp:
+        savefig_reproducible(fig, tmp, fmt="png", dpi=150)
+    plt.close(fig)
+    return path
 
 
 def _tty() -> bool:

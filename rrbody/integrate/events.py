@@ -97,15 +97,16 @@ def classify_flip(scene: Scene, *, status: str, has_min: bool, phi_min: float, t
 # The compiled event detector: one set of rules for every path (ODE loop, free bodies, engine)
 # ------------------------------------------------------------------------------------------------
 # Event state ``ev`` (float64 vector, made by new_event_state): lowest minimum so far, T_1, rest.
-E_PHIMIN, E_TMIN, E_HAVEMIN, E_THETA0, E_T1, E_NMIN, E_TSTOP = range(7)
-EV_SIZE = 8
+E_PHIMIN, E_TMIN, E_HAVEMIN, E_THETA0, E_T1, E_NMIN, E_TSTOP, E_SECTION, E_SECDIR = range(9)
+EV_SIZE = 9
 #: stop rules: run to the horizon, until the flip is settled, until RR is decided, until rest
 STOP_T_END, STOP_FLIP, STOP_RR, STOP_REST = 0, 1, 2, 3
 #: what :func:`stop_reached` / :func:`on_step` return (0: keep going)
 GO_ON, FLIP_SETTLED, RR_DECIDED = 0, 1, 2
 
 __all__ += ["new_event_state", "crossings", "record_minimum", "stop_reached", "on_step", "hermite",
-            "E_PHIMIN", "E_TMIN", "E_HAVEMIN", "E_THETA0", "E_T1", "E_NMIN", "E_TSTOP", "EV_SIZE",
+            "E_PHIMIN", "E_TMIN", "E_HAVEMIN", "E_THETA0", "E_T1", "E_NMIN", "E_TSTOP", "E_SECTION", "E_SECDIR", "EV_SIZE",
+            "section_crossings",
             "STOP_T_END", "STOP_FLIP", "STOP_RR", "STOP_REST", "GO_ON", "FLIP_SETTLED", "RR_DECIDED"]
 
 
@@ -119,6 +120,8 @@ def new_event_state(phi0: float, phi_dot0: float) -> np.ndarray:
     ev[E_TMIN] = np.nan
     ev[E_T1] = np.nan
     ev[E_TSTOP] = np.nan
+    ev[E_SECTION] = np.nan  # no Poincare section (its theta_s, rad, turns it on: section_crossings)
+    ev[E_SECDIR] = 1.0  # its crossings: 1 upwards (theta' > 0), -1 downwards
     ev[E_THETA0] = phi0 + math.pi
     if phi_dot0 >= 0.0:
         ev[E_PHIMIN] = phi0
@@ -147,6 +150,22 @@ def crossings(t1_open, target, t0, phi0, phid0, t1, phi1, phid1, omega):  # noqa
             which |= 2
             gt1 = h * g0 / (g0 - g1)
     return which, gmin, gt1
+
+
+@njit(cache=True, inline="always")
+def section_crossings(theta_s, direction, t0, phi0, t1, phi1, omega):  # noqa: ANN001
+    """The Poincare section theta = theta_s (mod 2 pi) crossed in ``direction`` (1: upwards,
+    theta' > 0; -1: downwards) inside the step [t0, t1], theta = phi - omega t + pi: (first, last)
+    integers k of the surfaces theta = theta_s + 2 pi k crossed (last < first: none). The end
+    states decide; a step is short enough (hmax, an eighth of a period) for theta not to turn back
+    across a surface within it but where it turns at the surface itself."""
+    g0 = (phi0 - omega * t0 + math.pi - theta_s) / (2.0 * math.pi)
+    g1 = (phi1 - omega * t1 + math.pi - theta_s) / (2.0 * math.pi)
+    # surfaces k with g0 < k <= g1 (upwards) or g1 <= k < g0 (downwards): a start on a surface is
+    # not a crossing, an end on one is
+    if direction > 0.0:
+        return math.floor(g0) + 1, math.floor(g1)
+    return math.ceil(g1), math.ceil(g0) - 1
 
 
 @njit(cache=True, inline="always")

@@ -14,6 +14,10 @@ event detector of :mod:`rrbody.integrate.events`:
 - events of a driven body (local minima of phi, T_1) are located to the method's accuracy by Newton
   iteration on the step size from the start of the step that brackets them (each iterate is a fresh
   step, so an event inherits the order of the solution rather than that of an interpolant);
+- a Poincare section of a driven body (``ev[E_SECTION]`` = theta_s, rad; NaN: none): every crossing
+  of theta = phi - omega t + pi = theta_s (mod 2 pi) in the direction ``ev[E_SECDIR]`` (1: theta'
+  > 0, -1: theta' < 0) is located like T_1 and written to
+  ``out`` as a row (t, phi, phi') in place of the dense output (``dt_out`` 0);
 - stop rules (``stop``, :data:`rrbody.integrate.events.STOP_T_END` ...): flip settled, RR decided,
   rest of a free body under dry friction (``rest``: steps capped at a fraction of the time left to
   rest, steps that would gain energy rejected, the last stretch below ``u_stop``
@@ -39,8 +43,9 @@ import numpy as np
 from numba import literally, njit
 
 from rrbody.integrate.dop853 import TABLEAU, step_factor, trial_step
-from rrbody.integrate.events import (E_HAVEMIN, E_PHIMIN, E_T1, E_THETA0, E_TMIN, E_TSTOP, STOP_REST, crossings, record_minimum, rest_admissible,
-                                     rest_reached, rest_step_limit, stop_reached)
+from rrbody.integrate.events import (E_HAVEMIN, E_PHIMIN, E_SECDIR, E_SECTION, E_T1, E_THETA0, E_TMIN, E_TSTOP, STOP_REST, crossings,
+                                     record_minimum, rest_admissible, rest_reached, rest_step_limit, section_crossings,
+                                     stop_reached)
 from rrbody.integrate.radau import radau_step
 from rrbody.integrate.rodas import ros_step, spectral_radius
 from rrbody.physics import params as P
@@ -125,7 +130,7 @@ def _refine(meth, system, t, y, f, h0, hmax, which, p, S, J, fx, K2, y2, ytmp, s
             omega, target, rtol):  # noqa: ANN001
     """Newton on h in (0, hmax] for the event `which` (1: phi' = 0; 2: theta = target); every
     iterate is a fresh step of the current method from the step start. Returns the event's step
-    size and phi there (rad).
+    size and phi (rad) and phi' (rad/s) there.
 
     Each step at h gives the event function g and its slope g', hence the Newton update
     d = -g / g' and, from the curvature g'', the error of the updated iterate h + d, about
@@ -149,15 +154,15 @@ def _refine(meth, system, t, y, f, h0, hmax, which, p, S, J, fx, K2, y2, ytmp, s
             dg = y2[1] - omega
             ddg = K2[12, 1]
         if dg == 0.0:
-            return h, y2[0]
+            return h, y2[0], y2[1]
         hn = min(max(h - g / dg, 0.0), hmax)
         d = hn - h
         # the curvature is estimated roughly (to first order across the step): a safety factor of 10
         if abs(d) <= htol or 10.0 * abs(ddg / (2.0 * dg)) * d * d <= htol:
-            return hn, y2[0] + d * (y2[1] + 0.5 * K2[12, 1] * d)
+            return hn, y2[0] + d * (y2[1] + 0.5 * K2[12, 1] * d), y2[1] + d * K2[12, 1]
         h = hn
     _step(meth, system, t, y, f, h, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5)
-    return h, y2[0]
+    return h, y2[0], y2[1]
 
 
 @njit(cache=True)
@@ -221,6 +226,8 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
     yscale = st[L_YSCALE]
     t1_open = math.isnan(ev[E_T1])
     target = ev[E_THETA0] - 2.0 * math.pi
+    theta_s = ev[E_SECTION]
+    section = driven and not math.isnan(theta_s)
     havemin = ev[E_HAVEMIN] != 0.0
     phimin = ev[E_PHIMIN]
     tmin = ev[E_TMIN]
@@ -310,17 +317,32 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
         if driven:
             which, gmin, gt1 = crossings(t1_open, target, t, y[0], y[1], t + hh, ynew[0], ynew[1], omega)
             if which & 1:
-                hm, phim = _refine(meth, system, t, y, f, gmin, hh, 1, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
-                             omega, 0.0, rtol)
+                hm, phim, _ = _refine(meth, system, t, y, f, gmin, hh, 1, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3,
+                                      E5, omega, 0.0, rtol)
                 record_minimum(ev, minima, t + hm, phim)
                 havemin = True
                 phimin = ev[E_PHIMIN]
                 tmin = ev[E_TMIN]
             if which & 2:
-                hm, _ = _refine(meth, system, t, y, f, gt1, hh, 2, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
-                             omega, target, rtol)
+                hm, _, _ = _refine(meth, system, t, y, f, gt1, hh, 2, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
+                                   omega, target, rtol)
                 ev[E_T1] = t + hm
                 t1_open = False
+            if section:  # a Poincare section: its crossings in this step, each located as T_1 is
+                k0, k1 = section_crossings(theta_s, ev[E_SECDIR], t, y[0], t + hh, ynew[0], omega)
+                for kk in range(k0, k1 + 1):
+                    if st[L_NOUT] >= out.shape[0]:
+                        break
+                    surf = theta_s + 2.0 * math.pi * kk
+                    g0 = y[0] - omega * t + math.pi - surf
+                    g1 = ynew[0] - omega * (t + hh) + math.pi - surf
+                    hm, phis, phids = _refine(meth, system, t, y, f, hh * g0 / (g0 - g1), hh, 2, p, S, J, fx, K2, y2,
+                                              ytmp, scale, A, B, C, E3, E5, omega, surf, rtol)
+                    k = int(st[L_NOUT])
+                    out[k, 0] = t + hm
+                    out[k, 1] = phis
+                    out[k, 2] = phids
+                    st[L_NOUT] += 1
         t = t + hh
         for j in range(n):
             y[j] = ynew[j]

@@ -111,6 +111,8 @@ LIMITS: dict[str, Limit] = {
     # Lyapunov exponents (rrbody.analysis.chaos)
     "renorm": Limit(0.0, MAX_TIME, "s", lo_open=True, help="time between renormalisations"),
     "d0": Limit(1e-14, 1e-3, DIMENSIONLESS, help="separation of the two trajectories (rad, rad/s)"),
+    "points": Limit(1, 10_000_000, "points", integer=True, help="points of a Poincare section"),
+    "theta_s": Limit(-1e6, 1e6, "rad", help="the Poincare section's surface theta = theta_s (mod 2 pi)"),
     # movie
     "fps": Limit(1.0, 240.0, "frames/s", help="movie frame rate"),
     "movie_speed": Limit(0.0, 1e6, "simulated s per movie s", lo_open=True),
