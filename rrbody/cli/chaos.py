@@ -168,9 +168,6 @@ def _section_plot(sec: Any, scene: Any, path: str, *, force: bool) -> Any:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from rrbody.model.io import atomic_path
-    from rrbody.render.figures import savefig_reproducible
-
     fig, ax = plt.subplots(figsize=(6, 4.5), constrained_layout=True)
     # the section's own coordinates: (theta, phi') once per period; (drive phase, phi') on theta = theta_s
     strobe = sec.kind == "strobe"
@@ -182,10 +179,7 @@ def _section_plot(sec: Any, scene: Any, path: str, *, force: bool) -> Any:
            title=f"Poincare section, {what}: H={scene.H:.3g}, k={scene.k:.3g}, omega={scene.omega:.3g} rad/s, "
                  f"tilt={math.degrees(scene.tilt):.3g} deg; {len(sec.t)} points")
     ax.title.set_fontsize(8)
-    with atomic_path(path, force=force, name="--plot") as tmp:
-        savefig_reproducible(fig, tmp, fmt="png", dpi=150)
-    plt.close(fig)
-    return path
+    return _save_png(fig, path, force=force)
 
 
 def _tty() -> bool:
@@ -215,9 +209,6 @@ def _plot(res: Any, scene: Any, path: str, *, force: bool) -> Any:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from rrbody.model.io import atomic_path
-    from rrbody.render.figures import savefig_reproducible
-
     fig, ax = plt.subplots(figsize=(7, 4), constrained_layout=True)
     for i in range(res.running.shape[1]):
         ax.plot(res.times, res.running[:, i], lw=1.2, label=f"lambda_{i + 1} = {res.exponents[i]:.4g} 1/s")
@@ -229,6 +220,16 @@ def _plot(res: Any, scene: Any, path: str, *, force: bool) -> Any:
                  f"omega={scene.omega:.3g} rad/s, tilt={math.degrees(scene.tilt):.3g} deg")
     ax.title.set_fontsize(9)
     ax.legend(fontsize=8)
+    return _save_png(fig, path, force=force)
+
+
+def _save_png(fig: Any, path: str, *, force: bool) -> str:
+    """``--plot``: the figure as a byte-reproducible PNG, written to a temporary sibling and renamed."""
+    import matplotlib.pyplot as plt
+
+    from rrbody.model.io import atomic_path
+    from rrbody.render.figures import savefig_reproducible
+
     with atomic_path(path, force=force, name="--plot") as tmp:
         savefig_reproducible(fig, tmp, fmt="png", dpi=150)
     plt.close(fig)
