@@ -2,7 +2,8 @@
 rrbody writes nothing inside its installed folder (caches live in one user cache folder).
 
 The ``install`` test builds a real virtual environment, installs rrbody with ``pip install .``
-(not editable) and runs, from an empty folder, what a new user runs first: the scene list, a
+(not editable; through uv's ``uv pip install .`` when the suite's environment has the uv the
+Makefile installs, else pip itself) and runs, from an empty folder, what a new user runs first: the scene list, a
 scene, a flip time, an ellipse simulation and the plugin. The install compiles every kernel into the
 package (setup.py), and the first flip time compiles nothing. Then the installed folder must be
 byte-for-byte what pip put there, and the kernels must sit in the cache folder."""
@@ -12,6 +13,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import shutil
 import subprocess
 import sys
 import textwrap
@@ -83,6 +85,15 @@ def test_kernels_of_other_sources_are_never_loaded(tmp_path: Path, monkeypatch: 
     _cache.source_hash.cache_clear()
 
 
+def _installer(py: Path) -> list[str] | None:
+    """The command that installs packages into the virtual environment of ``py`` with uv, the
+    installer ``make test`` puts beside this interpreter (its version pinned in the Makefile,
+    UV_VERSION): PyPI's packages, as pip takes them, laid out from uv's cache, their bytecode compiled
+    at install as pip compiles it (a first import then writes nothing inside a package). None: no uv."""
+    uv = shutil.which("uv", path=str(Path(sys.executable).parent))
+    return None if uv is None else [uv, "pip", "install", "--quiet", "--compile-bytecode", "--python", str(py)]
+
+
 def _snapshot(folder: Path) -> dict[str, str]:
     return {f.relative_to(folder).as_posix(): hashlib.sha256(f.read_bytes()).hexdigest()
             for f in sorted(folder.rglob("*")) if f.is_file()}
@@ -99,16 +110,21 @@ def test_non_editable_install_lists_scenes_and_writes_nothing_inside(tmp_path: P
     from tests.test_extras import OPTIONAL
 
     env_dir = tmp_path / "venv"
-    venv.EnvBuilder(with_pip=True).create(env_dir)
     py = env_dir / "bin" / "python"
-    pip = [str(py), "-m", "pip", "install", "--quiet", "--disable-pip-version-check"]
+    uv = _installer(py)
+    venv.EnvBuilder(with_pip=uv is None).create(env_dir)  # a plain venv; pip in it only if it installs
+    pip = uv or [str(py), "-m", "pip", "install", "--quiet", "--disable-pip-version-check"]
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
     env.update(RRBODY_WORKER="off", RRBODY_CACHE_DIR=str(tmp_path / "cache"), MPLBACKEND="Agg")
     conf = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
     got = subprocess.run([*pip, *conf["dependencies"]], env=env, capture_output=True, text=True, timeout=900)
     if got.returncode != 0:
         pytest.skip(f"could not install the core dependencies here: {got.stderr.strip()[-300:]}")
-    inst = subprocess.run([*pip, "--no-deps", str(ROOT)], env=env, capture_output=True, text=True, timeout=900)
+    # built from these sources every time: uv would otherwise reuse a wheel it built from this
+    # folder before (its cache keys a folder by pyproject.toml and setup.py, not by the sources)
+    fresh = ["--refresh-package", "rrbody"] if uv else []
+    inst = subprocess.run([*pip, *fresh, "--no-deps", str(ROOT)], env=env, capture_output=True, text=True,
+                          timeout=900)
     assert inst.returncode == 0, inst.stderr
     site = Path(subprocess.run([str(py), "-c", "import rrbody, pathlib; print(pathlib.Path(rrbody.__file__).parent)"],
                                env=env, capture_output=True, text=True, check=True, cwd=tmp_path).stdout.strip())
