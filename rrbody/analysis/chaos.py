@@ -38,7 +38,7 @@ from rrbody.model.checks import check
 from rrbody.model.scene import Scene
 from rrbody.physics import params as P
 from rrbody.physics.bind import ode_params
-from rrbody.physics.dynamics import SYSTEM_DRIVEN, rhs_for, system_from_params
+from rrbody.physics.dynamics import SYSTEM_DRIVEN, system_from_params, tangent_rhs_for
 
 __all__ = ["LyapunovResult", "lyapunov", "METHODS", "Section", "poincare", "SECTIONS", "rotating_energy"]
 
@@ -107,7 +107,7 @@ class _Run:
     def __init__(self, scene: Scene, y: np.ndarray, rtol: float, mode: int) -> None:
         self.p, self.S = ode_params(scene)
         system = system_from_params(self.p, SYSTEM_DRIVEN)
-        self.run, self.rhs = advance_for(system), rhs_for(system)
+        self.run, self.rhs = advance_for(system), tangent_rhs_for(system)
         omega = scene.omega
         self.y = np.array(y, dtype=float)
         self.f = np.empty_like(self.y)

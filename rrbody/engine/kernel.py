@@ -285,11 +285,12 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.n
     return n_stop
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _friction(i: int, j: int, got: np.ndarray, bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray, t: float,
               dt: float, out: np.ndarray) -> int:
     """Add this step's friction on plugin body ``j`` (row ``i`` of the space's read) to ``out[i]``, which
-    holds the load (the user's force and torque, and a tilt's pull); 1 if the rest rule stops it."""
+    holds the load (the user's force and torque, and a tilt's pull); 1 if the rest rule stops it.
+    Inlined into :func:`plane_step` (a call would pass its arrays on the stack for every body)."""
     # static friction acts on dry bodies the rest rule governs (not a driven body: its joint holds it)
     static = bodies[j, MUS] > 0.0 and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY
     was = bodies[j, STOP]

@@ -35,7 +35,7 @@ from rrbody.physics.effects import DRIVEN, compiled_code, drive_circular, tangen
 from rrbody.physics.effects.areas import POINT, body_frame_wrench, body_wrench
 from rrbody.physics.effects.laws import NONE, element_perp
 
-__all__ = ["rhs", "rhs_near", "rhs_for", "driven_rhs", "driven_tangent", "driven_kinematics", "jacobian", "system_from_params", "SYSTEM_DRIVEN",
+__all__ = ["rhs", "rhs_near", "rhs_for", "tangent_rhs_for", "driven_rhs", "driven_tangent", "driven_kinematics", "jacobian", "system_from_params", "SYSTEM_DRIVEN",
            "SYSTEM_FREE"]
 
 SYSTEM_DRIVEN = 0  # kind code: y = (phi, phi')
@@ -176,8 +176,6 @@ def rhs(code, t, y, p, S, out, row):  # noqa: ANN001
     """out[row, :] = y' at (t, y): :func:`rhs_near` without a base angle (the library's sin and cos)."""
     literally(code)
     rhs_near(code, t, y, p, S, out, row, math.nan, 0.0, 0.0)
-    if code % 10 == DRIVEN and y.shape[0] > 2:  # tangent vectors (DOP853 steps them: dop853.tangent_stages)
-        driven_tangent((code // 10) % 10, int(p[P.BODY]), t, y, p, S, out, row)
 
 
 def system_from_params(p: np.ndarray, kind: int) -> int:
@@ -203,6 +201,27 @@ def rhs_for(system: int) -> Any:
 
         _RHS_KERNELS[code] = kernel
     return _RHS_KERNELS[code]
+
+
+_TANGENT_KERNELS: dict[int, Any] = {}
+
+
+def tangent_rhs_for(system: int) -> Any:
+    """:func:`rhs_for` of a driven state that carries tangent vectors (effect tangent): y' including
+    theirs. A kernel of its own: the stepping methods' right-hand side (:func:`rhs`) stays free of
+    the tangent's branch (DOP853 steps the vectors in ``dop853.tangent_stages``)."""
+    code = compiled_code(system)
+    if code not in _TANGENT_KERNELS:
+
+        @njit(cache=True)
+        def kernel(t, y, p, S, out):  # noqa: ANN001
+            out2 = out.reshape((1, out.shape[0]))
+            rhs(code, t, y, p, S, out2, 0)
+            if y.shape[0] > 2:
+                driven_tangent((code // 10) % 10, int(p[P.BODY]), t, y, p, S, out2, 0)
+
+        _TANGENT_KERNELS[code] = kernel
+    return _TANGENT_KERNELS[code]
 
 
 def driven_rhs(t: float, y: np.ndarray, p: np.ndarray, S: np.ndarray, out: np.ndarray) -> None:
