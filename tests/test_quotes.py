@@ -43,7 +43,9 @@ def test_the_pages_quote_the_recorded_benchmarks() -> None:
 
 @pytest.mark.parametrize("page", PAGES, ids=lambda p: p.relative_to(ROOT).as_posix())
 def test_no_known_stale_figure_remains(page: Path) -> None:
-    text = page.read_text()
+    """No stale figure written by hand: the quoted spans are the generator's (checked above), and a
+    recorded figure may happen to equal an old one, so they are left out of this search."""
+    text = MARKER.sub("", page.read_text())
     assert [s for s in STALE if s in text] == []
 
 
