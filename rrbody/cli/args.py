@@ -20,7 +20,7 @@ from typing import Any, NoReturn
 from rrbody.model.angles import parse_number
 from rrbody.model.checks import LIMITS, check
 
-__all__ = ["CliError", "Parser", "OPTION_PARAMS", "number", "integer", "angle", "float_list", "option_help",
+__all__ = ["CliError", "Parser", "OPTION_PARAMS", "emit", "number", "integer", "angle", "float_list", "option_help",
            "check_options", "option_message", "preprocess_argv", "suggest", "commands", "subparser", "parse",
            "check_repeats", "given", "plain_text", "_angle", "_finite", "_float_list"]
 
@@ -310,3 +310,15 @@ def given(args: argparse.Namespace, option: str) -> bool:
     value: a default and an explicit value equal to it differ here (``--g 9.81`` with ``--k`` is a
     contradiction, leaving ``--g`` out is not)."""
     return option in getattr(args, "_given", ())
+
+
+def emit(args: argparse.Namespace, payload: dict[str, Any], text: str) -> None:
+    """Print a command's result: one JSON line with ``--json``, else the text."""
+    import json
+
+    if args.json:
+        from rrbody.model.trajectory import _jsonable
+
+        print(json.dumps(_jsonable(payload)), flush=bool(getattr(args, "batch_line", False)))
+    else:
+        print(text)

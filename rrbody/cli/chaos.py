@@ -8,7 +8,7 @@ import json
 import math
 from typing import Any
 
-from rrbody.cli.args import CliError, angle, integer, number, option_help, option_message
+from rrbody.cli.args import CliError, angle, emit, integer, number, option_help, option_message
 from rrbody.cli.options import add_scene_options, scene_from_args
 
 __all__ = ["add_parser", "cmd_lyapunov", "cmd_poincare", "OUTPUTS"]
@@ -119,8 +119,6 @@ def cmd_lyapunov(args: argparse.Namespace) -> int:
          "friction": scene.friction.law, "body": scene.body.kind, "written": written}
     text = "lambda = " + ", ".join(f"{x:.6g}" for x in res.exponents) + f" 1/s  ({method}, {len(res.times)} renormalisations"
     text += f"; divergence {res.divergence:.6g} 1/s)" if res.divergence is not None else ")"
-    from rrbody.cli.main import emit
-
     emit(args, d, text)
     return 0
 
@@ -154,8 +152,6 @@ def cmd_poincare(args: argparse.Namespace) -> int:
         written["plot"] = str(_section_plot(sec, scene, paths["--plot"], force=args.force))
     d = {**sec.to_dict(), "direction": args.direction, "H": scene.H, "k": scene.k, "omega": scene.omega,
          "tilt": scene.tilt, "friction": scene.friction.law, "written": written}
-    from rrbody.cli.main import emit
-
     emit(args, d, f"{len(sec.t)} points of the {args.kind} section"
                   + (f" (fewer than {args.points}: the run's cap came first)" if len(sec.t) < args.points else ""))
     return 0

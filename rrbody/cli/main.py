@@ -10,7 +10,6 @@ Heavy modules are imported inside the handlers, so a command imports only what i
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
 import signal
@@ -19,7 +18,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from rrbody._version import __version__
-from rrbody.cli.args import CliError, Parser, angle, check_options, commands, number, option_help, option_message, \
+from rrbody.cli.args import CliError, Parser, angle, check_options, commands, emit, number, option_help, option_message, \
     parse
 from rrbody.cli.cache import add_parser as add_cache_parser
 from rrbody.cli.options import (SIMULATE_OUTPUTS, add_accuracy_options, add_integrator_options,
@@ -31,16 +30,6 @@ EXIT_BAD_INPUT = 2
 EXIT_INTERRUPTED = 130
 EXIT_BROKEN_PIPE = 141
 INTERRUPTED = "rrbody: interrupted; no partial output was left behind"
-
-
-def emit(args: argparse.Namespace, payload: dict[str, Any], text: str) -> None:
-    """Print the result: one JSON line with ``--json``, else the text."""
-    if args.json:
-        from rrbody.model.trajectory import _jsonable
-
-        print(json.dumps(_jsonable(payload)), flush=bool(getattr(args, "batch_line", False)))
-    else:
-        print(text)
 
 
 def _progress(args: argparse.Namespace) -> bool:
