@@ -206,6 +206,9 @@ def test_movie_poster_and_image_write_what_was_captured(tmp_path: Path) -> None:
     assert len(frames) == len(frame_times(rec.times[0], rec.times[-1], fps=20, speed=0.5))
     poster = rec.poster(tmp_path / "run.png", times=[0.1, 0.5, 1.0], size=(600, 200), trails=True)
     assert iio.imread(poster).shape[:2] == (200, 600)
+    first = poster.read_bytes()
+    rec.poster(poster, times=[0.1, 0.5, 1.0], size=(600, 200), trails=True, force=True)
+    assert poster.read_bytes() == first  # no date or version in the file: the same poster, the same bytes
     assert sorted(p.name for p in tmp_path.iterdir()) == ["run.mp4", "run.png"]
     with pytest.raises(ValueError, match="already exists"):
         rec.movie(tmp_path / "run.mp4", size=(320, 180))

@@ -34,6 +34,7 @@ import numpy as np
 
 from rrbody.integrate.events import E_SECDIR, E_SECTION, new_event_state
 from rrbody.integrate.loop import L_NOUT, L_T, STEP_METHODS, advance_for, new_loop_state
+from rrbody.integrate.ode import driven_steps
 from rrbody.model.checks import check
 from rrbody.model.scene import Scene
 from rrbody.physics import params as P
@@ -108,14 +109,11 @@ class _Run:
         self.p, self.S = ode_params(scene)
         system = system_from_params(self.p, SYSTEM_DRIVEN)
         self.run, self.rhs = advance_for(system), tangent_rhs_for(system)
-        omega = scene.omega
         self.y = np.array(y, dtype=float)
         self.f = np.empty_like(self.y)
         self.rhs(0.0, self.y, self.p, self.S, self.f)
-        yscale = max(abs(omega), abs(self.y[1]))
-        self.scale = rtol * np.concatenate([[math.pi, yscale], np.ones(len(y) - 2)])
-        self.hmax = 0.125 * 2.0 * math.pi / abs(omega)
-        h0 = min(1e-3 / max(abs(omega), abs(self.y[1]), 1e-300), 1e-2 * 2.0 * math.pi / abs(omega))
+        yscale, self.hmax, h0 = driven_steps(scene.omega, float(self.y[1]))  # as integrate_driven's
+        self.scale = rtol * np.concatenate([[math.pi, yscale], np.ones(len(y) - 2)])  # tangent vectors: O(1)
         self.st = new_loop_state(h0, mode, yscale=yscale)
         self.ev = new_event_state(float(y[0]), float(y[1]))
         self.minima = np.empty((16, 2))

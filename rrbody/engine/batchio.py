@@ -14,12 +14,19 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["BatchIO", "READ_COLUMNS", "POSE_COLUMNS"]
+__all__ = ["BatchIO", "READ_COLUMNS", "POSE_COLUMNS", "body_uid"]
 
 #: columns of the array :meth:`BatchIO.read` returns (pymunk.batch writes fields in this order)
 READ_COLUMNS = ("angle", "vx", "vy", "spin", "fx", "fy", "torque")
 #: the columns of a reader made with ``poses=True`` (the recorder's): position, angle, velocity, spin
 POSE_COLUMNS = ("x", "y", "angle", "vx", "vy", "spin")
+
+
+def body_uid(body: Any) -> int:
+    """A pymunk body's id (a pointer, uintptr) as the int64 with the same bits, as :meth:`BatchIO.read`
+    reads the ids."""
+    uid = int(body.id)
+    return uid - (1 << 64) if uid >= 1 << 63 else uid
 
 
 class BatchIO:

@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from rrbody.engine import kernel as K
-from rrbody.engine.batchio import BatchIO
+from rrbody.engine.batchio import BatchIO, body_uid
 from rrbody.engine.shapes import body_footprint
 from rrbody.model.checks import check
 from rrbody.model.friction import check_mu_static
@@ -225,8 +225,7 @@ class PlaneFriction:
         j = self._slots.get(body)
         if j is None:
             j = self._rows.append_one(row)
-            uid = body.id  # a pointer (uintptr): stored as the int64 with the same bits, as pymunk.batch reads it
-            self._idrows.append_one(uid - (1 << 64) if uid >= 1 << 63 else uid)
+            self._idrows.append_one(body_uid(body))
             self._slots[body] = j
             self._list.append(body)
             self._geo.append((shapes, geo))

@@ -43,7 +43,7 @@ from rrbody.physics import params as P
 from rrbody.physics.dynamics import SYSTEM_DRIVEN, driven_kinematics, jacobian, rhs, system_from_params
 from rrbody.physics.effects import compiled_code
 
-__all__ = ["DrivenResult", "integrate_driven", "STOP_RULES", "STEP_METHODS"]
+__all__ = ["DrivenResult", "integrate_driven", "driven_steps", "STOP_RULES", "STEP_METHODS"]
 
 STOP_RULES = {"t_end": 0, "flip": 1, "rr": 2}
 STATUS = {0: "reached t_end", 1: "flip settled", 2: "RR decided", 3: "max_steps reached",
@@ -109,6 +109,18 @@ def _start_for(system: int) -> Any:
     return _STARTS[code]
 
 
+def driven_steps(omega: float, phid0: float) -> tuple[float, float, float]:
+    """The driven loop's scales from the drive rate omega (rad/s, > 0) and phi'(0) (rad/s): phi''s
+    error scale (rad/s; phi is an angle that grows without bound, so its own scale is absolute, pi,
+    and phi' tracks its running maximum from this), the largest step (s: an event needs at least 8
+    steps per driving period) and the first trial step (s: a small fraction of the fastest time
+    scale; the controller adapts at once)."""
+    yscale = max(omega, abs(phid0))
+    hmax = 0.125 * 2.0 * math.pi / omega
+    h0 = min(1e-3 * (1.0 / max(omega, abs(phid0), 1e-300)), 1e-2 * (2.0 * math.pi / omega))
+    return yscale, hmax, h0
+
+
 def integrate_driven(p: np.ndarray, S: np.ndarray, y0: tuple[float, float], *, t_end: float, rtol: float,
                      stop: str = "t_end", dt_out: float = 0.0, settle_turns: float = 2.0,
                      settle_periods: float = 3.0, max_steps: int = 50_000_000, max_minima: int = 200_000,
@@ -134,12 +146,8 @@ def integrate_driven(p: np.ndarray, S: np.ndarray, y0: tuple[float, float], *, t
     y = np.array((phi0, phid0))
     f = np.empty(2)
     ev = new_event_state(phi0, phid0)
-    # phi is an angle that grows without bound: absolute scale; phi' tracks its running maximum
-    yscale = max(omega, abs(phid0))
+    yscale, hmax, h0 = driven_steps(omega, phid0)
     scale = np.array((rtol * math.pi, rtol * yscale))
-    hmax = 0.125 * 2.0 * math.pi / omega  # an event needs at least 8 steps per driving period
-    # initial step: a small fraction of the fastest time scale; the controller adapts at once
-    h0 = min(1e-3 * (1.0 / max(omega, abs(phid0), 1e-300)), 1e-2 * (2.0 * math.pi / omega))
     system = system_from_params(p, SYSTEM_DRIVEN)
     stiff = _start_for(system)(y, f, p, S, h0)
     st = new_loop_state(h0, mode, yscale=yscale)

@@ -41,6 +41,7 @@ from typing import Any
 import numpy as np
 
 from rrbody.engine import kernel as K
+from rrbody.engine.batchio import BatchIO, body_uid
 from rrbody.model.checks import check, check_int, check_positive, check_real
 from rrbody.model.io import atomic_path, check_writable
 from rrbody.render.movie_figure import check_size
@@ -108,10 +109,15 @@ def _to_world(o: np.ndarray, x: float, y: float, ang: float) -> np.ndarray:
     return np.column_stack([x + c * o[:, 0] - s * o[:, 1], y + s * o[:, 0] + c * o[:, 1]])
 
 
-def _uid(body: Any) -> int:
-    """pymunk's body id (a uintptr) as the int64 with the same bits, as ``pymunk.batch`` reads it."""
-    uid = int(body.id)
-    return uid - (1 << 64) if uid >= 1 << 63 else uid
+def _rows_of(keys: np.ndarray, rows: np.ndarray, want: np.ndarray) -> np.ndarray:
+    """The row of each id of ``want`` in a table of ids ``keys`` (sorted) and their ``rows``; -1 where
+    it is absent."""
+    out = np.full(len(want), -1, dtype=np.int64)
+    if len(keys):
+        pos = np.minimum(np.searchsorted(keys, want), len(keys) - 1)
+        hit = keys[pos] == want
+        out[hit] = rows[pos[hit]]
+    return out
 
 
 class Recorder:
@@ -180,7 +186,7 @@ class Recorder:
                                 for outs, c in zip(self._outlines, self._cog)])
         self._static = [o for b in [space.static_body, *[x for x in space.bodies if x.body_type == pymunk.Body.STATIC]]
                         for o in [_to_world(p, b.position.x, b.position.y, b.angle) for p in shape_outlines(b)]]
-        ids = np.array([_uid(b) for b in self.bodies], dtype=np.int64)
+        ids = np.array([body_uid(b) for b in self.bodies], dtype=np.int64)
         self._ids = ids
         # the driven point P (body coordinates) and the drive's sense, for bodies rrbody's builder drives
         self._anchor = np.full((len(self.bodies), 2), np.nan)
@@ -201,8 +207,6 @@ class Recorder:
         self._rows = np.full(len(self.bodies), -1, dtype=np.int64)  # their rows in the space's bulk read
         self._prow: tuple[int, np.ndarray] | None = None  # (plane.members, their rows in the plane's arrays)
         self._no_plane = np.full(len(self.bodies), -1, dtype=np.int64)
-        from rrbody.engine.batchio import BatchIO
-
         self._io = BatchIO(space, poses=True)
 
     # ---- capture ---------------------------------------------------------------------------------
@@ -256,14 +260,12 @@ class Recorder:
         if not ok:
             # the space's order changed (bodies added or removed): find the filmed bodies again
             order = np.argsort(ids)
-            pos = np.minimum(np.searchsorted(ids[order], self._ids), max(len(ids) - 1, 0))
-            rows = order[pos] if len(ids) else pos
-            found = ids[rows] == self._ids if len(ids) else np.zeros(len(self._ids), bool)
-            if not found.all():
-                k = int(np.flatnonzero(~found)[0])
+            rows = _rows_of(ids[order], order, self._ids)
+            if (rows < 0).any():
+                k = int(np.flatnonzero(rows < 0)[0])
                 raise ValueError(f"bodies[{k}] ({self.labels[k]}) is no longer in the space (frame {n}): a filmed "
                                  f"body must stay in the space; the {n} frames captured are kept")
-            self._rows = np.ascontiguousarray(rows, dtype=np.int64)
+            self._rows = rows
             K.capture_rows(got, ids, self._ids, self._rows, bodies, prow, self._data[n])
         self._times[n] = t
         self.n_frames = n + 1
@@ -278,12 +280,7 @@ class Recorder:
             if pf._dirty:
                 pf._relink()
             look = pf._k_lookup
-            prow = np.full(len(self._ids), -1, dtype=np.int64)
-            if look.shape[1]:
-                pos = np.minimum(np.searchsorted(look[0], self._ids), look.shape[1] - 1)
-                hit = look[0, pos] == self._ids
-                prow[hit] = look[1, pos[hit]]
-            self._prow = (pf.members, prow)
+            self._prow = (pf.members, _rows_of(look[0], look[1], self._ids))
         return self._prow[1]
 
     # ---- derived quantities ----------------------------------------------------------------------
@@ -373,13 +370,19 @@ class Recorder:
         elif trails is False or trails is None:
             mask = np.zeros(len(self.bodies), bool)
         else:
-            index = {b: k for k, b in enumerate(self.bodies)}
             mask = np.zeros(len(self.bodies), bool)
-            for b in trails:
-                if b not in index:
-                    raise ValueError(f"trails must be True, False or filmed bodies, got {b!r} (not filmed)")
-                mask[index[b]] = True
+            mask[self._indices(trails, "trails must be True, False or filmed bodies")] = True
         return color, arrows, mask
+
+    def _indices(self, bodies: Iterable[Any], what: str) -> list[int]:
+        """The filmed bodies' indices of ``bodies``; ValueError starting with ``what`` for one not filmed."""
+        index = {b: k for k, b in enumerate(self.bodies)}
+        out = []
+        for b in bodies:
+            if b not in index:
+                raise ValueError(f"{what}, got {b!r} (not filmed)")
+            out.append(index[b])
+        return out
 
     def image(self, t: float | None = None, *, size: tuple[int, int] = (1280, 720), box: Sequence[float] | None = None,
               color: Any = "body", arrows: Iterable[str] = (), trails: Any = False, title: str | None = None
@@ -471,8 +474,10 @@ class Recorder:
             art = _Picture(self, size=(w, size[1]), box=view, color=color, arrows=arrows, trails=mask,
                            title=title, fig=fig, rect=(i / len(ks), 0.0, 1.0 / len(ks), 1.0))
             art.update(k)
+        from rrbody.render.figures import savefig_reproducible
+
         with atomic_path(final, force=force, name="poster") as tmp:
-            fig.savefig(tmp, format="png", dpi=100)
+            savefig_reproducible(fig, tmp, fmt="png", dpi=100)  # no date or version: the same poster, the same bytes
         return final
 
     def rerun(self, path: str | Path | None, *, spawn: bool = False, plots: Sequence[Any] | None = None,
@@ -490,11 +495,7 @@ class Recorder:
         if plots is None:
             chosen = list(range(len(self.bodies))) if len(self.bodies) <= 8 else []
         else:
-            index = {b: k for k, b in enumerate(self.bodies)}
-            bad = [b for b in plots if b not in index]
-            if bad:
-                raise ValueError(f"plots must list filmed bodies, got {bad[0]!r} (not filmed)")
-            chosen = [index[b] for b in plots]
+            chosen = self._indices(plots, "plots must list filmed bodies")
         if chosen:
             self._need_motion("plots")
         from rrbody.render.recorder_rerun import blueprint, send
@@ -519,8 +520,9 @@ class Recorder:
 
 class _Picture:
     """The artists of one picture of a Recorder's frames, updated in place frame by frame (matplotlib,
-    Agg): the static shapes and scale bar in a cached background; the bodies (one PolyCollection), P,
-    arrows (quivers), torque arcs and trails (LineCollections) and the time label drawn each frame."""
+    Agg): the static shapes and scale bar in a cached background; the bodies (one compound path per
+    colour), P and its link, arrows (quivers), torque arcs and trails (LineCollections) and the time
+    label drawn each frame."""
 
     def __init__(self, rec: Recorder, *, size: tuple[int, int], box: tuple[float, ...], color: Any,
                  arrows: tuple[str, ...], trails: np.ndarray, title: str | None, fig: Any = None,
