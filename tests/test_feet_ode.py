@@ -11,9 +11,10 @@ Tolerances and where they come from:
 - the ODE path's own error: rtol 1e-12 against 1e-13 (measured ~1e-14 on the free runs, ~5e-12 on
   the driven one, whose feet pass near rest and cost DOP853 its smoothness there);
 - the plugin and the engine path: their convergence to the ODE path, measured at halving dt: second
-  order for the driven body and for a free body before it pivots; FIRST order through a pivot (the
-  plugin follows the sliding mode by the per-step friction of a foot whose velocity flips each step,
-  a leak of O(mu g dt) per step: the measured orders are 0.7-1.3, overall 1.0 over a factor 16 in dt);
+  order for the driven body and for a free body before it pivots; FIRST order at worst through a
+  pivot (the plugin holds the foot exactly at rest, rrbody.engine.feet, but the pivot's start, its
+  release and the stop fall on step boundaries: err <= 0.05 dt and <= 0.15 dt on the two cases below,
+  the measured maxima 0.040 dt and 0.12 dt);
 - exact references (constant deceleration while pinned): to 1e-12 relative, DOP853 integrating a
   constant right-hand side to rounding and the stop completed analytically; the pivot foot's world
   position to 1e-15 m (rounding of positions ~0.1 m).
@@ -49,8 +50,10 @@ def _free(feet: list[tuple[float, float, float]], *, v0: tuple[float, float], w0
 
 
 def _plugin(feet: list[tuple[float, float, float]], *, v0: tuple[float, float], w0: float, T: float, dt: float,
-            mu: float = 0.3) -> tuple[np.ndarray, float | None]:
-    """(x, y, angle) at T and the stop time of the same disk on the same feet in the plugin."""
+            mu: float = 0.3, mu_static: float | None = None,
+            pivots: list[list[float]] | None = None) -> tuple[np.ndarray, float | None]:
+    """(x, y, angle) at T and the stop time of the same disk on the same feet in the plugin; the
+    pivots it reports (``pf.held_foot``) appended to ``pivots`` as [foot, start, end] (s)."""
     space = pymunk.Space()
     pf = PlaneFriction(space, g=G)
     b = pymunk.Body()
@@ -58,9 +61,18 @@ def _plugin(feet: list[tuple[float, float, float]], *, v0: tuple[float, float], 
     s.density = 1.0
     space.add(b, s)
     b.velocity, b.angular_velocity = v0, w0
-    pf.add(b, mu=mu, pressure=rp.points(feet))
+    pf.add(b, mu=mu, pressure=rp.points(feet), mu_static=mu_static)
+    last = None
     for _ in range(round(T / dt)):
+        t0 = pf.t
         pf.step(dt)
+        foot = pf.held_foot(b)
+        if pivots is not None and foot != last:
+            if last is not None:
+                pivots[-1][2] = t0  # held through the last step, not through this one
+            if foot is not None:
+                pivots.append([foot, t0, math.inf])
+        last = foot
     return np.array([b.position.x, b.position.y, b.angle]), pf.stop_time(b)
 
 
@@ -104,8 +116,8 @@ def test_free_body_on_feet_pivots_on_one_foot_then_stops() -> None:
 def test_free_body_on_feet_ode_and_plugin_agree_at_the_measured_orders() -> None:
     """The plugin against the ODE path: second order in dt while every foot slides (measured
     1.93-1.98 at T = 0.2 s, before the pivot at 0.216 s), first order through the pivot and the stop
-    (at T = 0.5 s, after it; measured 0.7-1.3 per halving, 1.0 overall), the stop times within two
-    steps of the plugin's."""
+    (at T = 0.5 s, after it: see the module docstring), the stop times within two steps of the
+    plugin's."""
     v0, w0 = (0.5, 0.1), 8.0
     before = _free(TWO, v0=v0, w0=w0, T=0.2)
     assert not before.events["pivots"]
@@ -119,10 +131,9 @@ def test_free_body_on_feet_ode_and_plugin_agree_at_the_measured_orders() -> None
         want = np.array([tr.x_cm[-1], tr.y_cm[-1], tr.body_angle[-1]])
         runs = [_plugin(feet, v0=v0, w0=w0, T=0.5, dt=dt) for dt in dts]
         errs = [float(np.max(np.abs(end - want))) for end, _ in runs]
-        overall = math.log2(errs[0] / errs[-1]) / (len(dts) - 1)
-        assert 0.8 < overall < 1.3, (errs, overall)
-        assert all(0.5 < math.log2(errs[i] / errs[i + 1]) < 1.6 for i in range(len(dts) - 1)), errs
-        assert errs[-1] < 5e-4
+        # first order at worst (measured err/dt 0.035-0.040 for two feet, at most 0.005 for three)
+        assert all(err <= 0.05 * dt for err, dt in zip(errs, dts)), errs
+        assert errs[-1] < errs[0] / 8, errs  # over a factor 16 in dt: an order of 0.75 at least
         for dt, (_, t_stop) in zip(dts, runs):
             assert t_stop is not None and abs(t_stop - tr.events["t_stop"]) <= 2.0 * dt
 
@@ -182,3 +193,30 @@ def test_a_light_pivot_foot_breaks_away_when_its_reaction_leaves_the_static_disc
     q = _foot_world(tr, feet[0], later & (tr.t < tr.events["t_stop"]))
     assert np.max(np.ptp(q, axis=0)) > 1e-4
     assert tr.events["t_stop"] is not None and tr.events["t_stop"] > t_rel
+
+
+def test_plugin_holds_a_pivot_foot_with_static_friction_as_the_ode_path_does() -> None:
+    """The light-foot case above in the plugin (rrbody.engine.feet): foot A held from the start, released
+    where its reaction leaves the static disc, foot B held later until the stop, every event within
+    two steps of the ODE path's and the final pose within 0.15 dt (at worst first order: the events
+    fall on step boundaries; measured 0.009-0.12 dt). With mu_static = mu both paths release A
+    earlier (0.047 s against 0.074 s): the plugin follows that too, so it does hold with mu_static."""
+    a, e, mu, w0 = 0.05, 0.04, 0.3, 5.0
+    feet = [(-a, -e, 1.0), (a, -e, 4.0)]
+    v0 = (w0 * -e, -w0 * -a)  # foot A at rest
+    for mus in (0.45, mu):
+        tr = _free(feet, v0=v0, w0=w0, T=0.5, mu=mu, mu_static=mus)
+        want = np.array([tr.x_cm[-1], tr.y_cm[-1], tr.body_angle[-1]])
+        ode = [[p["foot"], p["start"], p["end"]] for p in tr.events["pivots"]]
+        assert [p[0] for p in ode] == [0, 1]
+        dts = (4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4) if mus > mu else (1e-3,)
+        for dt in dts:
+            pivots: list[list[float]] = []
+            end, t_stop = _plugin(feet, v0=v0, w0=w0, T=0.5, dt=dt, mu=mu, mu_static=mus, pivots=pivots)
+            assert [p[0] for p in pivots] == [0, 1], (dt, pivots)
+            for got, ref in zip(pivots, ode):
+                assert abs(got[1] - ref[1]) <= 2 * dt and abs(got[2] - ref[2]) <= 2 * dt, (dt, got, ref)
+            assert t_stop is not None and abs(t_stop - tr.events["t_stop"]) <= 2 * dt
+            if mus > mu:  # (at mu_static = mu A slips from its disc's rim, at a rate growing from zero:
+                # the events still agree, the pose only to ~dt, measured 1.1e-3 at dt = 1e-3)
+                assert float(np.max(np.abs(end - want))) <= 0.15 * dt

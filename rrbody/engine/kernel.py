@@ -22,7 +22,9 @@ in-plane part on a tilted plane, m/s^2, world frame), and the last load static f
 HY, HT (per unit mass, world frame) at the angle HA, HELD = 1.0 (the next step with the same load
 and angle needs no new test); FFX, FFY, FFT: the friction the last step applied (N, world frame, and
 N m about the centre of gravity; static friction and the rest rule's stopping impulse included), for
-readers such as the recorder.
+readers such as the recorder; FEET (1.0: a body on two or more point feet, whose foot static friction
+holds at rest: :mod:`rrbody.engine.feet`), PIN (1 + the index of the foot held since the last step, 0:
+none).
 ``shapes`` (float, per footprint part) and ``geo``: the footprint rows of :mod:`rrbody.physics.contact`.
 ``lookup``: row 0 the plugin bodies' ids (int64 view of pymunk's uintptr ids) sorted, row 1 their rows.
 ``cache`` (int64, rows ROWMAP, ROW_ID, STATUS): the plugin row of each row of the space's bulk read,
@@ -37,12 +39,14 @@ from typing import Any
 import numpy as np
 from numba import njit
 
+from rrbody.engine.feet import feet_step
 from rrbody.physics.contact import footprint_wrench
 from rrbody.physics.limit import at_rest
 
 (MASS, IPM, LAW, COEFF, REACH, SNAP, S0, S1, VEPS, VGX, VGY, VJ, STAG, PVX, PVY, PW, GAP, STOP, EA,
- EW, DRV, OMG, DD, ANX, ANY, T0, DPX, DPY, DVX, DVY, MUS, GTX, GTY, HX, HY, HT, HA, HELD, FFX, FFY, FFT) = range(41)
-N_BODY = 41
+ EW, DRV, OMG, DD, ANX, ANY, T0, DPX, DPY, DVX, DVY, MUS, GTX, GTY, HX, HY, HT, HA, HELD, FFX, FFY, FFT, FEET,
+ PIN) = range(43)
+N_BODY = 43
 #: STOP values: the rest rule cancels the velocity in this step, or (the step after) sets it exactly zero
 STOPPING, ZEROED = 1.0, 2.0
 LAW_DRY, LAW_VISCOUS = 1.0, 2.0
@@ -286,6 +290,28 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.n
 
 
 @njit(cache=True, inline="always")
+def _stop(i: int, j: int, was: float, static: bool, vx: float, vy: float, w: float, dt: float, bodies: np.ndarray,
+          out: np.ndarray) -> None:
+    """The rest rule stops body j (row i of the read) in this step, its load held if ``static``: the
+    positions still move with this step's velocity (as the exact motion would, to O(mu g dt^2)); the
+    impulse cancels it, and the next step (``was`` > 0) sets the rounding residue exactly to zero."""
+    if static:  # the load is held: at rest, no force but the stopping impulse
+        out[i, 0] = 0.0
+        out[i, 1] = 0.0
+        out[i, 2] = 0.0
+    if was > 0.0:
+        bodies[j, STOP] = ZEROED
+        bodies[j, PVX] = 0.0
+        bodies[j, PVY] = 0.0
+        bodies[j, PW] = 0.0
+        return
+    bodies[j, STOP] = STOPPING
+    out[i, 0] -= bodies[j, MASS] * vx / dt
+    out[i, 1] -= bodies[j, MASS] * vy / dt
+    out[i, 2] -= bodies[j, MASS] * bodies[j, IPM] * w / dt
+
+
+@njit(cache=True, inline="always")
 def _friction(i: int, j: int, got: np.ndarray, bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray, t: float,
               dt: float, out: np.ndarray) -> int:
     """Add this step's friction on plugin body ``j`` (row ``i`` of the space's read) to ``out[i]``, which
@@ -323,33 +349,41 @@ def _friction(i: int, j: int, got: np.ndarray, bodies: np.ndarray, shapes: np.nd
             _hold_or_break(i, j, got[i, 0], bodies, shapes, geo, out)
         return 0
     m0 = bodies[j, MASS]
+    if static and bodies[j, FEET] > 0.0 and was == 0.0:  # (after a stop: the rest rule zeroes the residue)
+        # on feet: a foot at rest is held by static friction while the body turns about it. Near the
+        # spin's stop the extrapolated spin passes zero before the spin does: the current one then
+        if ew * w <= 0.0:
+            ex = vx
+            ey = vy
+            ew = w
+        # (pymunk moves the pose with the velocity read, from got[i, 0] to alpha, then updates the
+        # velocity, which moves the pose in the next step: its lever halfway through that one)
+        foot, fx, fy, tq = feet_step(shapes, int(bodies[j, S0]), int(bodies[j, S1]), alpha, alpha + 0.5 * w * dt,
+                                     got[i, 0] + 0.5 * w * dt, vx, vy, w, ex, ey, ew, out[i, 0] / m0, out[i, 1] / m0, out[i, 2] / m0,
+                                     bodies[j, COEFF], bodies[j, MUS], bodies[j, IPM], bodies[j, VEPS], dt,
+                                     bodies[j, REACH], int(bodies[j, PIN]) - 1)
+        if foot >= 0 and w * (w + dt * (out[i, 2] / m0 + tq) / bodies[j, IPM]) <= 0.0:
+            # held, its spin runs out in this step: the whole body at rest, where static friction holds
+            # its load (else, on a tilt, it swings back: the usual friction below)
+            bodies[j, PIN] = 0.0
+            if _held(i, j, got[i, 0], bodies, shapes, geo, out):
+                _stop(i, j, was, static, vx, vy, w, dt, bodies, out)
+                return 1
+        elif foot != -1:
+            bodies[j, PIN] = foot + 1.0 if foot >= 0 else 0.0
+            out[i, 0] += m0 * fx
+            out[i, 1] += m0 * fy
+            out[i, 2] += m0 * tq
+            return 0
+        bodies[j, PIN] = 0.0
     ax, ay, aw, s = limited(j, alpha, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo, out[i, 0] / m0,
                             out[i, 1] / m0, out[i, 2] / (m0 * bodies[j, IPM]))
     if s < 1.0 and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY \
             and _slow_enough(i, j, vx, vy, w, dt, bodies, out) \
             and (not static or _held(i, j, got[i, 0], bodies, shapes, geo, out)):
         # every point slower than decel dt: friction stops the body within this step (if a load
-        # acts, only where static friction then holds it; else it slides on). The positions
-        # still move with this step's velocity (as the exact motion would, to O(mu g dt^2)); the
-        # impulse cancels it, and the next step sets the rounding residue exactly to zero.
-        if was > 0.0:
-            bodies[j, STOP] = ZEROED
-            bodies[j, PVX] = 0.0
-            bodies[j, PVY] = 0.0
-            bodies[j, PW] = 0.0
-            if static:  # its velocity is set to zero before this step: at rest, its load held
-                out[i, 0] = 0.0
-                out[i, 1] = 0.0
-                out[i, 2] = 0.0
-            return 1
-        bodies[j, STOP] = STOPPING
-        if static:  # the body comes to rest in this step, its load held
-            out[i, 0] = 0.0
-            out[i, 1] = 0.0
-            out[i, 2] = 0.0
-        out[i, 0] -= bodies[j, MASS] * vx / dt
-        out[i, 1] -= bodies[j, MASS] * vy / dt
-        out[i, 2] -= bodies[j, MASS] * bodies[j, IPM] * w / dt
+        # acts, only where static friction then holds it; else it slides on)
+        _stop(i, j, was, static, vx, vy, w, dt, bodies, out)
         return 1
     m = bodies[j, MASS] * s
     out[i, 0] += m * ax

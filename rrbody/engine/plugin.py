@@ -27,6 +27,7 @@ import numpy as np
 
 from rrbody.engine import kernel as K
 from rrbody.engine.batchio import BatchIO, body_uid
+from rrbody.engine.feet import feet_step
 from rrbody.engine.shapes import body_footprint
 from rrbody.model.checks import check
 from rrbody.model.friction import check_mu_static
@@ -220,6 +221,8 @@ class PlaneFriction:
             m, moment / m, law, coeff, reach, 1.0 if snap else 0.0, v_eps, gx, gy, jj, 1.0 if staggered else 0.0
         row[[K.MUS, K.GTX, K.GTY]] = (coeff if law == K.LAW_DRY else 0.0) if static is None else static, *self._g_plane
         row[K.HELD] = -1.0  # no load tested yet
+        # two or more point feet: a foot at rest is held by static friction (rrbody.engine.feet)
+        row[K.FEET] = 1.0 if shapes.shape[0] > 1 and bool(np.all(shapes[:, C.KIND] == C.POINT)) else 0.0
         if history is not None:
             row[[K.PVX, K.PVY, K.PW, K.GAP]] = history
         j = self._slots.get(body)
@@ -327,8 +330,21 @@ class PlaneFriction:
             vx, vy, w = float(v.x), float(v.y), float(body.angular_velocity)
             if (vx, vy, w) != (0.0, 0.0, 0.0):
                 gx, gy = self._g_plane  # gravity along a tilted plane: half a kick of it too
-                ax, ay, aw, s = K.limited(j, float(body.angle), vx, vy, w, vx, vy, w, 0.5 * dt, self._bodies,
-                                          self._k_shapes, self._k_geo, gx, gy, 0.0)
+                row = self._bodies[j]
+                alpha = float(body.angle)
+                foot = -1
+                if row[K.FEET] > 0.0 and row[K.MUS] > 0.0 and row[K.SNAP] > 0.0:
+                    # on feet, launched with a foot at rest (or arriving there in the half step): held
+                    # (the kicked velocity moves the pose in the first step: its lever halfway through it)
+                    foot, ax, ay, tq = feet_step(self._k_shapes, int(row[K.S0]), int(row[K.S1]), alpha,
+                                                 alpha + 0.5 * w * dt, alpha, vx, vy, w, vx, vy, w, gx, gy, 0.0,
+                                                 row[K.COEFF], row[K.MUS], row[K.IPM], row[K.VEPS], 0.5 * dt,
+                                                 row[K.REACH], -1)
+                    aw, s = tq / row[K.IPM], 1.0
+                    row[K.PIN] = foot + 1.0 if foot >= 0 else 0.0
+                if foot == -1:
+                    ax, ay, aw, s = K.limited(j, alpha, vx, vy, w, vx, vy, w, 0.5 * dt, self._bodies,
+                                              self._k_shapes, self._k_geo, gx, gy, 0.0)
                 h = 0.5 * dt * s
                 body.velocity = (vx + h * ax + 0.5 * dt * gx, vy + h * ay + 0.5 * dt * gy)
                 body.angular_velocity = w + h * aw
@@ -420,6 +436,13 @@ class PlaneFriction:
         if self._bodies[j, K.STOP] > 0.0 or (body.velocity == (0.0, 0.0) and body.angular_velocity == 0.0):
             return self._t_stop.get(body)
         return None
+
+    def held_foot(self, body: Any) -> int | None:
+        """For a body on point feet (``pressure=rrbody.pressure.points(...)``, two or more): the index of
+        the foot static friction held at rest in the last step, the body turning about it (docs:
+        Contacts, "Pivoting on a foot"); None while every foot slides, or at rest."""
+        pin = int(self._bodies[self._slots[body], K.PIN])
+        return pin - 1 if pin > 0 else None
 
     # ---- readers -----------------------------------------------------------------------------
     def velocity(self, body: Any) -> tuple[float, float, float]:
