@@ -77,6 +77,7 @@ def _plugin_workload() -> None:
         shape.density = 800.0
         body.position = (0.3 * k, 0.0)
         tilted.space.add(body, shape)
+        body.velocity, body.angular_velocity = (0.2, 0.0), 1.0  # (a moving body on feet: its first half kick)
         tilted.add(body, mu=0.2, mu_static=0.5, pressure=pr)
     for _ in range(3):
         pf.step(1 / 240)
