@@ -256,6 +256,10 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
             hh = min(hh, rest_step_limit(y, f, icm))
         # the smallest step that still moves t (a few ulps); below it the problem is singular
         if hh <= 4e-16 * abs(t) + 1e-300:
+            if t_end - t <= 4e-16 * abs(t) + 1e-300:
+                # the last step landed within rounding of t_end (t + (t_end - t) rounds short): reached
+                t = t_end
+                break
             code = 4
             break
         if track >= 0:
