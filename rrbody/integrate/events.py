@@ -106,7 +106,7 @@ GO_ON, FLIP_SETTLED, RR_DECIDED = 0, 1, 2
 
 __all__ += ["new_event_state", "crossings", "record_minimum", "stop_reached", "on_step", "hermite",
             "E_PHIMIN", "E_TMIN", "E_HAVEMIN", "E_THETA0", "E_T1", "E_NMIN", "E_TSTOP", "E_SECTION", "E_SECDIR", "EV_SIZE",
-            "section_crossings",
+            "section_crossings", "section_gap",
             "STOP_T_END", "STOP_FLIP", "STOP_RR", "STOP_REST", "GO_ON", "FLIP_SETTLED", "RR_DECIDED"]
 
 
@@ -153,14 +153,20 @@ def crossings(t1_open, target, t0, phi0, phid0, t1, phi1, phid1, omega):  # noqa
 
 
 @njit(cache=True, inline="always")
+def section_gap(phi, t, omega, surf):  # noqa: ANN001
+    """theta - surf (rad) at phi (rad) and t (s): theta = phi - omega t + pi, the section's coordinate."""
+    return phi - omega * t + math.pi - surf
+
+
+@njit(cache=True, inline="always")
 def section_crossings(theta_s, direction, t0, phi0, t1, phi1, omega):  # noqa: ANN001
     """The Poincare section theta = theta_s (mod 2 pi) crossed in ``direction`` (1: upwards,
     theta' > 0; -1: downwards) inside the step [t0, t1], theta = phi - omega t + pi: (first, last)
     integers k of the surfaces theta = theta_s + 2 pi k crossed (last < first: none). The end
     states decide; a step is short enough (hmax, an eighth of a period) for theta not to turn back
     across a surface within it but where it turns at the surface itself."""
-    g0 = (phi0 - omega * t0 + math.pi - theta_s) / (2.0 * math.pi)
-    g1 = (phi1 - omega * t1 + math.pi - theta_s) / (2.0 * math.pi)
+    g0 = section_gap(phi0, t0, omega, theta_s) / (2.0 * math.pi)
+    g1 = section_gap(phi1, t1, omega, theta_s) / (2.0 * math.pi)
     # surfaces k with g0 < k <= g1 (upwards) or g1 <= k < g0 (downwards): a start on a surface is
     # not a crossing, an end on one is
     if direction > 0.0:

@@ -44,7 +44,7 @@ from numba import literally, njit
 
 from rrbody.integrate.dop853 import TABLEAU, step_factor, trial_step
 from rrbody.integrate.events import (E_HAVEMIN, E_PHIMIN, E_SECDIR, E_SECTION, E_T1, E_THETA0, E_TMIN, E_TSTOP, STOP_REST, crossings,
-                                     record_minimum, rest_admissible, rest_reached, rest_step_limit, section_crossings,
+                                     record_minimum, rest_admissible, rest_reached, rest_step_limit, section_crossings, section_gap,
                                      stop_reached)
 from rrbody.integrate.radau import radau_step
 from rrbody.integrate.rodas import ros_step, spectral_radius
@@ -338,8 +338,8 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
                     if st[L_NOUT] >= out.shape[0]:
                         break
                     surf = theta_s + 2.0 * math.pi * kk
-                    g0 = y[0] - omega * t + math.pi - surf
-                    g1 = ynew[0] - omega * (t + hh) + math.pi - surf
+                    g0 = section_gap(y[0], t, omega, surf)
+                    g1 = section_gap(ynew[0], t + hh, omega, surf)
                     hm, phis, phids = _refine(meth, system, t, y, f, hh * g0 / (g0 - g1), hh, 2, p, S, J, fx, K2, y2,
                                               ytmp, scale, A, B, C, E3, E5, omega, surf, rtol)
                     k = int(st[L_NOUT])
