@@ -117,6 +117,10 @@ def gather(dof: np.ndarray, qadr: np.ndarray, ids: np.ndarray, ipos: np.ndarray,
             got[i, 1] = 0.0
             got[i, 2] = 0.0
             got[i, 3] = 0.0
+        # MuJoCo moves the velocity first, then the positions with it: its qvel after a step belongs to half
+        # a step before data.time (pymunk's to half a step after), so friction for the coming step acts at
+        # the current angle, which the kernel reaches from this one by its prediction alpha + w dt
+        got[i, 0] -= got[i, 3] * dt
         qx = qfrc_constraint[a]
         qy = qfrc_constraint[a + 1]
         qz = qfrc_constraint[a + 2]

@@ -193,6 +193,7 @@ class PlaneFriction:
         self._fresh = True
         self.n_stopped = 0
         self._t_stop = np.full(n, np.nan)
+        self._moving = np.zeros(n, dtype=bool)
 
     # ---- set-up ------------------------------------------------------------------------------
     def _body_ids(self, bodies: Sequence[int | str] | None) -> list[int]:
@@ -305,20 +306,24 @@ class PlaneFriction:
                   float(m.opt.timestep))
 
     def _kick(self, dt: float) -> None:
-        """Half kick (the plugin's): each body's velocity becomes the one at t + dt/2 (staggered scheme)."""
+        """Half a kick back: each body's velocity becomes the one at t - dt/2, as MuJoCo's semi-implicit step
+        (velocity first, then positions with it) reads it, and its history the one a step earlier, so the
+        kernel's extrapolation finds the velocity you set at t (second order from the first step)."""
         d = self.data
         self._gather()
         for i in range(self.n):
             alpha, vx, vy, w, lx, ly, lt = self._got[i]
             m, ipm = self._bodies[i, K.MASS], self._bodies[i, K.IPM]
-            lx, ly, lw = lx / m, ly / m, lt / (m * ipm)
+            ax, ay, aw = lx / m, ly / m, lt / (m * ipm)
             if (vx, vy, w) != (0.0, 0.0, 0.0):
-                ax, ay, aw, s = K.limited(i, alpha, vx, vy, w, vx, vy, w, 0.5 * dt, self._bodies, self._shapes,
-                                          self._geo, lx, ly, lw)
-                h = 0.5 * dt * s
-                MK.set_planar(i, vx + h * ax + 0.5 * dt * lx, vy + h * ay + 0.5 * dt * ly, w + h * aw + 0.5 * dt * lw,
-                              self._dof, self._qadr, self._ipos, self._frame, d.qpos, d.qvel)
-            self._bodies[i, [K.PVX, K.PVY, K.PW, K.GAP]] = vx, vy, w, 0.5 * dt
+                fx, fy, fw = K.body_accel(i, alpha + w * dt, vx, vy, w, self._bodies, self._shapes, self._geo)
+                ax, ay, aw = ax + fx, ay + fy, aw + fw
+                MK.set_planar(i, vx - 0.5 * dt * ax, vy - 0.5 * dt * ay, w - 0.5 * dt * aw, self._dof, self._qadr,
+                              self._ipos, self._frame, d.qpos, d.qvel)
+                self._bodies[i, [K.PVX, K.PVY, K.PW]] = vx - 1.5 * dt * ax, vy - 1.5 * dt * ay, w - 1.5 * dt * aw
+            else:
+                self._bodies[i, [K.PVX, K.PVY, K.PW]] = 0.0
+            self._bodies[i, K.GAP] = dt
         self._fresh = False
 
     def restart(self) -> None:
@@ -350,10 +355,17 @@ class PlaneFriction:
                                  f"got {self._got[i, :4].tolist()}; the step was refused and nothing changed")
             MK.scatter(self._dof, self._qadr, self._ids, self._ipos, self._frame, self._bodies, d.qpos, d.qvel,
                        d.xfrc_applied, self._applied)
-            if n_flag:
-                new = self._bodies[:, K.STOP] == K.STOPPING
+            # stops: by the rest rule in this step, or (the limiter's impulse having left only MuJoCo's
+            # residue, read as rest) in the last one; the velocity read belongs to data.time - dt/2, so the
+            # stop lies within half a step of data.time + dt/2 (the rest rule) or data.time - dt/2
+            moving = self._got[:, 1:4].any(axis=1)
+            came = self._moving & ~moving
+            if n_flag or came.any():
+                new = (self._bodies[:, K.STOP] == K.STOPPING) | came
                 self.n_stopped += int(new.sum())
-                self._t_stop[new] = d.time + dt
+                self._t_stop[came] = d.time - 0.5 * dt
+                self._t_stop[self._bodies[:, K.STOP] == K.STOPPING] = d.time + 0.5 * dt
+            self._moving = moving
             mujoco.mj_step(m, d)
             d.xfrc_applied[self._ids] -= self._applied
 
@@ -372,15 +384,16 @@ class PlaneFriction:
 
     def velocity(self, body: int | str) -> tuple[float, float, float]:
         """(vx, vy, spin) of ``body``'s centre of gravity in the plane's axes at ``data.time`` (m/s,
-        rad/s): the mean of MuJoCo's velocity, which after a step belongs to half a step later, and
-        the one before the step (second-order accurate, as the plugin's ``velocity``)."""
+        rad/s): MuJoCo's velocity after a step belongs to half a step before it, so this is it
+        extrapolated by half a step with the one of the step before (second-order accurate, as the
+        plugin's ``velocity``); in the step the rest rule stops the body, MuJoCo's own."""
         i = self._row(body)
         self._gather()
         v = self._got[i, 1:4]
         p = self._bodies[i]
-        if p[K.GAP] <= 0.0 or self._fresh:
+        if p[K.GAP] <= 0.0 or self._fresh or p[K.STOP] > 0.0 or not v.any():
             return float(v[0]), float(v[1]), float(v[2])
-        return 0.5 * (p[K.PVX] + v[0]), 0.5 * (p[K.PVY] + v[1]), 0.5 * (p[K.PW] + v[2])
+        return 1.5 * v[0] - 0.5 * p[K.PVX], 1.5 * v[1] - 0.5 * p[K.PVY], 1.5 * v[2] - 0.5 * p[K.PW]
 
     def normal_force(self, body: int | str) -> float:
         """The normal force (N) of ``body``'s contacts with the plane in MuJoCo's last step."""
@@ -395,7 +408,7 @@ class PlaneFriction:
         return float(p[K.FFX]), float(p[K.FFY]), float(p[K.FFT])
 
     def stop_time(self, body: int | str) -> float | None:
-        """When the rest rule last stopped ``body`` (s, ``data.time``), if it is at rest in the plane now."""
+        """When ``body`` last came to rest in the plane (s, ``data.time``; within a step), if it is at rest now."""
         i = self._row(body)
         self._gather()
         if np.any(self._got[i, 1:4] != 0.0) and self._bodies[i, K.STOP] == 0.0:
