@@ -202,7 +202,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     if quick:
         targets = [Target(t.name, t.target, t.measured + " [quick]", None) for t in targets]
     table = md_table(["friction", "body", "spin-down / exact", "stop ratio v/(R Omega)"],
-                     [(r["friction"], r["body"], fmt(r["spin-down / exact"]), fmt(r["stop ratio v/(R Omega)"]))
+                     [(r["friction"], r["body"], f"{r['spin-down / exact']:.4f}",
+                       "-" if math.isnan(r["stop ratio v/(R Omega)"]) else f"{r['stop ratio v/(R Omega)']:.4g}")
                       for r in rows])
     md = [f"## {TITLE}", "", __doc__.split("\n\n", 1)[1].strip(), "", machine_text(), "", table, "",
           md_table(["phase", "MuJoCo step (us)", "adapter step (us)", "ratio"],

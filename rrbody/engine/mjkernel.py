@@ -18,7 +18,7 @@ from numba import njit
 
 from rrbody.engine import kernel as K
 
-__all__ = ["gather", "scatter", "set_planar", "RESIDUE"]
+__all__ = ["gather", "scatter", "unapply", "set_planar", "RESIDUE"]
 
 #: what counts as MuJoCo's numerical residue on a body at rest (its normal contacts' solver, the
 #: tipping it keeps; measured 1e-12 to 1e-8 m/s on boxes): in-plane motion with every point slower
@@ -173,10 +173,16 @@ def set_planar(i: int, vx: float, vy: float, w: float, dof: np.ndarray, qadr: np
 
 @njit(cache=True)
 def scatter(dof: np.ndarray, qadr: np.ndarray, ids: np.ndarray, ipos: np.ndarray, frame: np.ndarray,
-            bodies: np.ndarray, qpos: np.ndarray, qvel: np.ndarray, xfrc: np.ndarray, applied: np.ndarray) -> None:
+            bodies: np.ndarray, qpos: np.ndarray, qvel: np.ndarray, xfrc: np.ndarray, applied: np.ndarray,
+            got: np.ndarray, moving: np.ndarray, t_stop: np.ndarray, t: float, dt: float) -> int:
     """After the plugin kernel: add each body's friction (its FFX, FFY, FFT: in-plane force, N, and
     torque about the normal, N m) to ``xfrc_applied`` and keep it in ``applied`` (world frame, to take
-    out after the step), and set exactly zero the in-plane motion of the bodies the rest rule zeroes."""
+    out after the step: :func:`unapply`), and set exactly zero the in-plane motion of the bodies the
+    rest rule zeroes. Stops: the rest rule's in this step, or (the limiter's impulse having left only
+    MuJoCo's residue, read as rest) in the last one; ``got``'s velocities belong to t - dt/2, so the stop
+    lies within half a step of t + dt/2 (the rest rule) or t - dt/2, written to ``t_stop`` (s).
+    ``moving`` keeps whether each body moved at this read. Returns the number of new stops."""
+    n_new = 0
     for i in range(dof.shape[0]):
         b = ids[i]
         f1 = bodies[i, K.FFX]
@@ -187,5 +193,23 @@ def scatter(dof: np.ndarray, qadr: np.ndarray, ids: np.ndarray, ipos: np.ndarray
             applied[i, 3 + c] = tq * frame[2, c]
             xfrc[b, c] += applied[i, c]
             xfrc[b, 3 + c] += applied[i, 3 + c]
-        if bodies[i, K.STOP] == K.ZEROED:
+        stop = bodies[i, K.STOP]
+        if stop == K.ZEROED:
             set_planar(i, 0.0, 0.0, 0.0, dof, qadr, ipos, frame, qpos, qvel)
+        now = got[i, 1] != 0.0 or got[i, 2] != 0.0 or got[i, 3] != 0.0
+        if stop == K.STOPPING:
+            t_stop[i] = t + 0.5 * dt
+            n_new += 1
+        elif moving[i] and not now:
+            t_stop[i] = t - 0.5 * dt
+            n_new += 1
+        moving[i] = now
+    return n_new
+
+
+@njit(cache=True)
+def unapply(ids: np.ndarray, xfrc: np.ndarray, applied: np.ndarray) -> None:
+    """Take the friction :func:`scatter` added back out of ``xfrc_applied`` (after the step)."""
+    for i in range(ids.shape[0]):
+        for c in range(6):
+            xfrc[ids[i], c] -= applied[i, c]

@@ -189,7 +189,7 @@ class PlaneFriction:
         self._load = np.zeros(n)
         self._applied = np.zeros((n, 6))
         self._gvec = np.ascontiguousarray(model.opt.gravity, dtype=float)
-        self._kernel: Any = None
+        self._entries: dict[str, Any] = {}  # compiled entry points (kernel.fast_entry), found on first use
         self._fresh = True
         self.n_stopped = 0
         self._t_stop = np.full(n, np.nan)
@@ -300,10 +300,28 @@ class PlaneFriction:
     def _gather(self) -> None:
         m, d = self.model, self.data
         c = d.contact
-        MK.gather(self._dof, self._qadr, self._ids, self._ipos, self._ref, self._frame, self._gvec, self._mu,
-                  self._mus, self._geom_row, self.plane, d.qpos, d.qvel, d.qfrc_constraint, d.xfrc_applied,
-                  d.efc_force, c.geom1, c.geom2, c.efc_address, d.ncon, self._bodies, self._got, self._load,
-                  float(m.opt.timestep))
+        args = (self._dof, self._qadr, self._ids, self._ipos, self._ref, self._frame, self._gvec, self._mu, self._mus,
+                self._geom_row, self.plane, d.qpos, d.qvel, d.qfrc_constraint, d.xfrc_applied, d.efc_force, c.geom1,
+                c.geom2, c.efc_address, d.ncon, self._bodies, self._got, self._load, float(m.opt.timestep))
+        if self._entries.get("gather") is None:  # the compiled entry point: no type dispatch per call
+            self._entries["gather"], _ = K.fast_entry(MK.gather, *args)
+        else:
+            self._entries["gather"](*args)
+
+    def _call(self, name: str, *args: Any) -> Any:
+        """``rrbody.engine.mjkernel.<name>(*args)`` through its compiled entry point (found on the first call)."""
+        entry = self._entries.get(name)
+        if entry is None:
+            self._entries[name], result = K.fast_entry(getattr(MK, name) if name != "plane_step" else K.plane_step,
+                                                       *args)
+            return result
+        return entry(*args)
+
+    def _refuse(self) -> None:
+        m = self.model
+        i = int(self._cache[K.STATUS, K.FIRST_BAD])
+        raise ValueError(f"body {_name(m, 'body', self._ids[i])}: angle, velocity and spin must be finite, "
+                         f"got {self._got[i, :4].tolist()}; the step was refused and nothing changed")
 
     def _kick(self, dt: float) -> None:
         """Half a kick back: each body's velocity becomes the one at t - dt/2, as MuJoCo's semi-implicit step
@@ -341,33 +359,20 @@ class PlaneFriction:
         dt = float(m.opt.timestep)
         for _ in range(n):
             if self._fresh:
+                self._gather()
+                if not K.plane_check(self._got, self._k_ids, self._lookup, self._cache, self.n):
+                    self._refuse()
                 self._kick(dt)
             self._gather()
-            args = (self._got, self._k_ids, self._lookup, self._cache, self._bodies, self._shapes, self._geo,
-                    float(d.time), dt, self._out)
-            if self._kernel is None:
-                self._kernel, n_flag = K.fast_entry(K.plane_step, *args)
-            else:
-                n_flag = self._kernel(*args)
+            n_flag = self._call("plane_step", self._got, self._k_ids, self._lookup, self._cache, self._bodies,
+                                self._shapes, self._geo, float(d.time), dt, self._out)
             if n_flag < 0:
-                i = int(self._cache[K.STATUS, K.FIRST_BAD])
-                raise ValueError(f"body {_name(m, 'body', self._ids[i])}: angle, velocity and spin must be finite, "
-                                 f"got {self._got[i, :4].tolist()}; the step was refused and nothing changed")
-            MK.scatter(self._dof, self._qadr, self._ids, self._ipos, self._frame, self._bodies, d.qpos, d.qvel,
-                       d.xfrc_applied, self._applied)
-            # stops: by the rest rule in this step, or (the limiter's impulse having left only MuJoCo's
-            # residue, read as rest) in the last one; the velocity read belongs to data.time - dt/2, so the
-            # stop lies within half a step of data.time + dt/2 (the rest rule) or data.time - dt/2
-            moving = self._got[:, 1:4].any(axis=1)
-            came = self._moving & ~moving
-            if n_flag or came.any():
-                new = (self._bodies[:, K.STOP] == K.STOPPING) | came
-                self.n_stopped += int(new.sum())
-                self._t_stop[came] = d.time - 0.5 * dt
-                self._t_stop[self._bodies[:, K.STOP] == K.STOPPING] = d.time + 0.5 * dt
-            self._moving = moving
+                self._refuse()
+            self.n_stopped += self._call("scatter", self._dof, self._qadr, self._ids, self._ipos, self._frame,
+                                         self._bodies, d.qpos, d.qvel, d.xfrc_applied, self._applied, self._got,
+                                         self._moving, self._t_stop, float(d.time), dt)
             mujoco.mj_step(m, d)
-            d.xfrc_applied[self._ids] -= self._applied
+            self._call("unapply", self._ids, d.xfrc_applied, self._applied)
 
     # ---- readers -----------------------------------------------------------------------------
     @property
