@@ -72,7 +72,8 @@ def _run(shape: str, condim: int, cone: str, adapter: bool, v0: float, w0: float
     d.qvel[0], d.qvel[5] = v0, w0
     t0 = d.time
     if adapter:
-        f = PlaneFriction(m, d, plane="floor", mu=MU, footprints={"b": planar.circle(R)} if shape == "prism" else None)
+        feet = {"b": planar.circle(R)} if shape == "prism" else None
+        f = PlaneFriction(m, d, plane="floor", mu=MU, footprints=feet)
         step = f.step
 
         def vel() -> tuple[float, float, float]:

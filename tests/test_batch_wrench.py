@@ -29,7 +29,8 @@ def _brute(vertices: np.ndarray, v: tuple[float, float], w: float, k: int) -> np
     i, j = np.meshgrid(np.arange(k), np.arange(k), indexing="ij")
     up = i + j < k  # the upward sub-triangles (i, j) and the downward ones (i + j < k - 1)
     down = i + j < k - 1
-    bary = np.concatenate([np.stack([i[up] + 1 / 3, j[up] + 1 / 3], 1), np.stack([i[down] + 2 / 3, j[down] + 2 / 3], 1)]) / k
+    bary = np.concatenate([np.stack([i[up] + 1 / 3, j[up] + 1 / 3], 1),
+                           np.stack([i[down] + 2 / 3, j[down] + 2 / 3], 1)]) / k
     total = np.zeros(3)
     area = 0.0
     p0 = vertices[0]
@@ -50,7 +51,8 @@ def test_random_convex_polygons_match_a_brute_force_quadrature() -> None:
     """The centroid rule converges at second order (v_hat is smooth but at the instantaneous centre,
     whose cell adds O(h^2) of either sign): its error at 2k is about its change from k to 2k over 3.
     The cell holding the centre makes single components converge unevenly, so the tolerance is the
-    largest component's change (max norm), measured per case: the ratio is 1/3 (second order) in 9 of the 12 cases, 0.76 at worst."""
+    largest component's change (max norm), measured per case: the ratio is 1/3 (second order) in 9
+    of the 12 cases, 0.76 at worst."""
     rng = np.random.default_rng(27)
     polys, cases = [], []
     for _ in range(12):

@@ -57,7 +57,8 @@ def _run(f: PlaneFriction, name: str, steps: int) -> np.ndarray:
     return np.array(out)
 
 
-def _launched(body: str, name: str, v: tuple[float, float], w: float, *, footprint=None, **kw) -> PlaneFriction:  # noqa: ANN001
+def _launched(body: str, name: str, v: tuple[float, float], w: float, *, footprint=None,  # noqa: ANN001
+              **kw) -> PlaneFriction:
     m, d = _model(body, **{k: kw.pop(k) for k in ("tilt", "extra") if k in kw})
     for _ in range(300):  # settle on the plane (MuJoCo's soft contact)
         mujoco.mj_step(m, d)
@@ -110,6 +111,12 @@ def test_pure_slide_stops_at_v0_squared_over_2_mu_g() -> None:
     assert d == pytest.approx(exact, abs=MU * G * DT ** 2 / 8 + 1e-6)
     assert abs(d / exact - 1.0) < 0.01  # the bound
     assert f.stop_time("plate") - 0.3 == pytest.approx(math.hypot(*v0) / (MU * G), abs=DT)  # launched at 0.3 s
+    # launched again by hand: restart() gives it the half kick back, and the slide is exact again
+    f.data.qvel[0:2] = v0
+    f.restart()
+    x0 = f.data.qpos[:2].copy()
+    _run(f, "plate", 400)
+    assert float(np.hypot(*(f.data.qpos[:2] - x0))) == pytest.approx(exact, abs=MU * G * DT ** 2 / 8 + 1e-6)
 
 
 def test_a_tilted_plane_holds_below_mu_static_and_slides_above() -> None:

@@ -39,40 +39,20 @@ import numpy as np
 
 from rrbody.engine import kernel as K
 from rrbody.engine import mjkernel as MK
+from rrbody.engine.mjgeoms import gap, name_of as _name, lookup as _lookup, parts_of
 from rrbody.model.checks import check_nonnegative, check_positive
 from rrbody.model.extras import require
 from rrbody.model.pressure import Pressure, as_pressure
 from rrbody.physics.batch import stack
-from rrbody.physics.footprint import ICR_NODES, Part, apply_pressure, ellipse_part, point_part, polygon_part
+from rrbody.physics.footprint import Part, apply_pressure
 from rrbody.physics.planar import is_part
 
 mujoco = require("mujoco", purpose="the MuJoCo adapter (rrbody.mujoco)")
 
-__all__ = ["PlaneFriction", "TOUCH", "ALIGN"]
+__all__ = ["PlaneFriction", "TOUCH"]
 
 #: default largest distance (m) between a geom's lowest point and the plane for it to rest on it
 TOUCH = 1e-3
-#: how far from 1 |cos| between a box's or cylinder's axis and the plane's normal may be (a face
-#: resting flat): rounding of a pose given as an angle
-ALIGN = 1e-6
-
-
-def _name(model: Any, obj: str, i: int) -> str:
-    name = mujoco.mj_id2name(model, getattr(mujoco.mjtObj, f"mjOBJ_{obj.upper()}"), int(i))
-    return f"{obj} {name!r}" if name else f"{obj} {int(i)}"
-
-
-def _lookup(model: Any, obj: str, key: int | str, what: str) -> int:
-    """The id of ``key`` (a name or an id) among the model's objects of kind ``obj``."""
-    n = {"geom": model.ngeom, "body": model.nbody}[obj]
-    if isinstance(key, str):
-        i = mujoco.mj_name2id(model, getattr(mujoco.mjtObj, f"mjOBJ_{obj.upper()}"), key)
-        if i < 0:
-            raise ValueError(f"{what} must name a {obj} of the model, got {key!r}")
-        return int(i)
-    if isinstance(key, (int, np.integer)) and not isinstance(key, bool) and 0 <= key < n:
-        return int(key)
-    raise ValueError(f"{what} must be a {obj} name or an id in [0, {n - 1}], got {key!r}")
 
 
 def _per_body(name: str, value: Any, n: int) -> np.ndarray:
@@ -170,7 +150,8 @@ class PlaneFriction:
         feet, rows = [], np.zeros((n, K.N_BODY))
         for i, b in enumerate(ids):
             self._geom_row[model.geom_bodyid == b] = i
-            shapes, geo, reach, (gx, gy), jj = apply_pressure(given[b] if b in given else self._parts(b), pressure)
+            parts = given[b] if b in given else parts_of(model, data, b, self._frame, self._height, self.touch)
+            shapes, geo, reach, (gx, gy), jj = apply_pressure(parts, pressure)
             feet.append((shapes, geo))
             m = float(model.body_mass[b])
             Ri = data.ximat[b].reshape(3, 3)
@@ -230,71 +211,16 @@ class PlaneFriction:
             out[b] = parts
         return out
 
+    def _touching(self, b: int) -> bool:
+        m = self.model
+        return any(m.geom_contype[g] | m.geom_conaffinity[g]
+                   and gap(m, self.data, int(g), self._frame, self._height) <= self.touch
+                   for g in np.flatnonzero(m.geom_bodyid == b))
+
     def _is_free(self, b: int) -> bool:
         m = self.model
         return bool(m.body_jntnum[b] == 1 and m.jnt_type[m.body_jntadr[b]] == mujoco.mjtJoint.mjJNT_FREE
                     and not np.any(m.body_parentid[1:] == b))
-
-    def _gap(self, g: int) -> float:
-        """How far the geom's lowest point lies above the plane (m; negative: it presses into it)."""
-        m, d = self.model, self.data
-        n = self._frame[2]
-        R = d.geom_xmat[g].reshape(3, 3)
-        size = m.geom_size[g]
-        c = float(d.geom_xpos[g] @ n) - self._height
-        kind = m.geom_type[g]
-        if kind == mujoco.mjtGeom.mjGEOM_BOX:
-            return c - float(np.abs(R.T @ n) @ size)
-        if kind == mujoco.mjtGeom.mjGEOM_CYLINDER:
-            cz = abs(float(R[:, 2] @ n))
-            return c - size[1] * cz - size[0] * math.sqrt(max(0.0, 1.0 - cz * cz))
-        if kind in (mujoco.mjtGeom.mjGEOM_SPHERE, mujoco.mjtGeom.mjGEOM_CAPSULE):
-            half = size[1] * abs(float(R[:, 2] @ n)) if kind == mujoco.mjtGeom.mjGEOM_CAPSULE else 0.0
-            return c - size[0] - half
-        return c - float(m.geom_rbound[g])  # other kinds: their bounding sphere (they are refused if it touches)
-
-    def _touching(self, b: int) -> bool:
-        m = self.model
-        return any(m.geom_contype[g] | m.geom_conaffinity[g] and self._gap(g) <= self.touch
-                   for g in np.flatnonzero(m.geom_bodyid == b))
-
-    def _parts(self, b: int) -> list[Part]:
-        """The footprint of body b: its geoms resting on the plane, in plane axes from its centre of gravity."""
-        m, d = self.model, self.data
-        t = self._frame
-        com = d.xipos[b]
-        parts: list[Part] = []
-        for g in np.flatnonzero(m.geom_bodyid == b):
-            if not (m.geom_contype[g] | m.geom_conaffinity[g]) or self._gap(g) > self.touch:
-                continue
-            R = d.geom_xmat[g].reshape(3, 3)
-            size = m.geom_size[g]
-            kind = m.geom_type[g]
-            cos = np.abs(R.T @ t[2])  # each geom axis against the normal
-            if kind == mujoco.mjtGeom.mjGEOM_BOX:
-                k = int(np.argmax(cos))
-                if cos[k] < 1.0 - ALIGN:
-                    raise ValueError(f"{_name(m, 'geom', g)} (a box) must rest flat on one of its faces on the plane, "
-                                     f"got its axes at |cos| {np.round(cos, 6).tolist()} to the normal")
-                i, j = [a for a in range(3) if a != k]
-                base = d.geom_xpos[g] - t[2] * (size[k] * cos[k])
-                corners = [base + s1 * size[i] * R[:, i] + s2 * size[j] * R[:, j]
-                           for s1, s2 in ((1, 1), (-1, 1), (-1, -1), (1, -1))]
-                parts.append(polygon_part(np.array([[(c - com) @ t[0], (c - com) @ t[1]] for c in corners])))
-            elif kind == mujoco.mjtGeom.mjGEOM_CYLINDER:
-                if cos[2] < 1.0 - ALIGN:
-                    raise ValueError(f"{_name(m, 'geom', g)} (a cylinder) must stand on a flat end on the plane, "
-                                     f"got its axis at |cos| {cos[2]:.6f} to the normal")
-                o = d.geom_xpos[g] - com
-                parts.append(ellipse_part(float(o @ t[0]), float(o @ t[1]), float(size[0]), float(size[0]), 0.0,
-                                          ICR_NODES))
-            elif kind == mujoco.mjtGeom.mjGEOM_SPHERE:
-                o = d.geom_xpos[g] - com
-                parts.append(point_part(float(o @ t[0]), float(o @ t[1])))
-            else:
-                raise ValueError(f"{_name(m, 'geom', g)} rests on the plane but is a "
-                                 f"{mujoco.mjtGeom(kind).name}: footprints are made of boxes, cylinders and spheres")
-        return parts
 
     # ---- stepping ----------------------------------------------------------------------------
     def _gather(self) -> None:
@@ -391,14 +317,17 @@ class PlaneFriction:
         """(vx, vy, spin) of ``body``'s centre of gravity in the plane's axes at ``data.time`` (m/s,
         rad/s): MuJoCo's velocity after a step belongs to half a step before it, so this is it
         extrapolated by half a step with the one of the step before (second-order accurate, as the
-        plugin's ``velocity``); in the step the rest rule stops the body, MuJoCo's own."""
+        plugin's ``velocity``), 0 where that crosses zero (a stop within the half step); in the step the rest
+        rule stops the body, MuJoCo's own."""
         i = self._row(body)
         self._gather()
         v = self._got[i, 1:4]
         p = self._bodies[i]
         if p[K.GAP] <= 0.0 or self._fresh or p[K.STOP] > 0.0 or not v.any():
             return float(v[0]), float(v[1]), float(v[2])
-        return 1.5 * v[0] - 0.5 * p[K.PVX], 1.5 * v[1] - 0.5 * p[K.PVY], 1.5 * v[2] - 0.5 * p[K.PW]
+        e = 1.5 * v - 0.5 * p[[K.PVX, K.PVY, K.PW]]
+        e[e * v < 0.0] = 0.0  # a stop within the half step: the extrapolation must not overshoot it
+        return float(e[0]), float(e[1]), float(e[2])
 
     def normal_force(self, body: int | str) -> float:
         """The normal force (N) of ``body``'s contacts with the plane in MuJoCo's last step."""

@@ -161,7 +161,8 @@ class Footprints:
         except (TypeError, ValueError):
             raise ValueError(f"velocity must be an array of shape ({n}, 2) (m/s), got {velocity!r}") from None
         if v.shape != (n, 2):
-            raise ValueError(f"velocity must have shape ({n}, 2) (m/s, world frame, one row per body), got shape {v.shape}")
+            raise ValueError(f"velocity must have shape ({n}, 2) (m/s, world frame, one row per body), "
+                             f"got shape {v.shape}")
         a = _column("angle", angle, n, "rad")
         vx = _column("velocity[:, 0]", v[:, 0], n, "m/s")
         vy = _column("velocity[:, 1]", v[:, 1], n, "m/s")
