@@ -119,6 +119,25 @@ def test_pure_slide_stops_at_v0_squared_over_2_mu_g() -> None:
     assert float(np.hypot(*(f.data.qpos[:2] - x0))) == pytest.approx(exact, abs=MU * G * DT ** 2 / 8 + 1e-6)
 
 
+def test_a_push_on_the_plane_adds_to_the_load_and_your_xfrc_stays_yours() -> None:
+    """A box sliding under a steady downward push F (your xfrc_applied) decelerates at mu (g + F/m): the
+    normal load is MuJoCo's contact force, m g + F (to its fluctuation, measured < 1e-6); after every step
+    xfrc_applied holds your push bit for bit."""
+    m, d = _model(PLATE)
+    mass = float(m.body_mass[1])
+    push = np.array([0.0, 0.0, -2.0 * mass * G, 0.0, 0.0, 0.0])  # pressing down with twice the weight
+    d.xfrc_applied[1] = push
+    for _ in range(300):  # MuJoCo's soft contact takes the load
+        mujoco.mj_step(m, d)
+    d.qvel[0] = 1.0
+    f = PlaneFriction(m, d, plane="floor", mu=MU)
+    f.step()
+    assert f.normal_force("plate") == pytest.approx(3.0 * mass * G, rel=1e-6)
+    h = _run(f, "plate", 40)
+    assert np.median(np.diff(h[:, 1]) / DT) == pytest.approx(-3.0 * MU * G, rel=1e-4)
+    assert np.array_equal(d.xfrc_applied[1], push)
+
+
 def test_a_tilted_plane_holds_below_mu_static_and_slides_above() -> None:
     """On a plane tilted by theta, a box stays at rest if tan(theta) < mu_static; with tan(theta) > mu it
     slides down at g (sin - mu cos): the load is MuJoCo's normal force, m g cos (staggered scheme: exact

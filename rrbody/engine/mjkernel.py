@@ -173,11 +173,11 @@ def set_planar(i: int, vx: float, vy: float, w: float, dof: np.ndarray, qadr: np
 
 @njit(cache=True)
 def scatter(dof: np.ndarray, qadr: np.ndarray, ids: np.ndarray, ipos: np.ndarray, frame: np.ndarray,
-            bodies: np.ndarray, qpos: np.ndarray, qvel: np.ndarray, xfrc: np.ndarray, applied: np.ndarray,
+            bodies: np.ndarray, qpos: np.ndarray, qvel: np.ndarray, xfrc: np.ndarray, user: np.ndarray,
             got: np.ndarray, moving: np.ndarray, t_stop: np.ndarray, t: float, dt: float) -> int:
     """After the plugin kernel: add each body's friction (its FFX, FFY, FFT: in-plane force, N, and
-    torque about the normal, N m) to ``xfrc_applied`` and keep it in ``applied`` (world frame, to take
-    out after the step: :func:`unapply`), and set exactly zero the in-plane motion of the bodies the
+    torque about the normal, N m) to ``xfrc_applied``, keeping the user's own rows in ``user`` (put back
+    after the step, bit for bit: :func:`unapply`), and set exactly zero the in-plane motion of the bodies the
     rest rule zeroes. Stops: the rest rule's in this step, or (the limiter's impulse having left only
     MuJoCo's residue, read as rest) in the last one; ``got``'s velocities belong to t - dt/2, so the stop
     lies within half a step of t + dt/2 (the rest rule) or t - dt/2, written to ``t_stop`` (s).
@@ -188,11 +188,11 @@ def scatter(dof: np.ndarray, qadr: np.ndarray, ids: np.ndarray, ipos: np.ndarray
         f1 = bodies[i, K.FFX]
         f2 = bodies[i, K.FFY]
         tq = bodies[i, K.FFT]
+        for c in range(6):
+            user[i, c] = xfrc[b, c]
         for c in range(3):
-            applied[i, c] = f1 * frame[0, c] + f2 * frame[1, c]
-            applied[i, 3 + c] = tq * frame[2, c]
-            xfrc[b, c] += applied[i, c]
-            xfrc[b, 3 + c] += applied[i, 3 + c]
+            xfrc[b, c] += f1 * frame[0, c] + f2 * frame[1, c]
+            xfrc[b, 3 + c] += tq * frame[2, c]
         stop = bodies[i, K.STOP]
         if stop == K.ZEROED:
             set_planar(i, 0.0, 0.0, 0.0, dof, qadr, ipos, frame, qpos, qvel)
@@ -208,8 +208,8 @@ def scatter(dof: np.ndarray, qadr: np.ndarray, ids: np.ndarray, ipos: np.ndarray
 
 
 @njit(cache=True)
-def unapply(ids: np.ndarray, xfrc: np.ndarray, applied: np.ndarray) -> None:
-    """Take the friction :func:`scatter` added back out of ``xfrc_applied`` (after the step)."""
+def unapply(ids: np.ndarray, xfrc: np.ndarray, user: np.ndarray) -> None:
+    """Put the user's own ``xfrc_applied`` rows back after the step (:func:`scatter` kept them)."""
     for i in range(ids.shape[0]):
         for c in range(6):
-            xfrc[ids[i], c] -= applied[i, c]
+            xfrc[ids[i], c] = user[i, c]

@@ -168,7 +168,7 @@ class PlaneFriction:
         self._got = np.zeros((n, 7))
         self._out = np.zeros((n, 3))
         self._load = np.zeros(n)
-        self._applied = np.zeros((n, 6))
+        self._user = np.zeros((n, 6))
         self._gvec = np.ascontiguousarray(model.opt.gravity, dtype=float)
         self._entries: dict[str, Any] = {}  # compiled entry points (kernel.fast_entry), found on first use
         self._fresh = True
@@ -295,10 +295,10 @@ class PlaneFriction:
             if n_flag < 0:
                 self._refuse()
             self.n_stopped += self._call("scatter", self._dof, self._qadr, self._ids, self._ipos, self._frame,
-                                         self._bodies, d.qpos, d.qvel, d.xfrc_applied, self._applied, self._got,
+                                         self._bodies, d.qpos, d.qvel, d.xfrc_applied, self._user, self._got,
                                          self._moving, self._t_stop, float(d.time), dt)
             mujoco.mj_step(m, d)
-            self._call("unapply", self._ids, d.xfrc_applied, self._applied)
+            self._call("unapply", self._ids, d.xfrc_applied, self._user)
 
     # ---- readers -----------------------------------------------------------------------------
     @property
