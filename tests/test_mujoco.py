@@ -101,7 +101,8 @@ def test_disk_stops_sliding_and_spinning_together_near_0653() -> None:
 
 
 def test_pure_slide_stops_at_v0_squared_over_2_mu_g() -> None:
-    """Second order in dt (the plugin's test): within mu g dt^2/8 plus MuJoCo's settling (< 1e-6 m)."""
+    """Second order in dt (the plugin's test): within mu g dt^2/8 (6e-7 m; measured 4.4e-8 m), plus 1e-6 m
+    for MuJoCo's settling on its soft contact."""
     v0 = (1.0, 0.7)
     f = _launched(PLATE, "plate", v0, 0.0)
     x0 = f.data.qpos[:2].copy()
