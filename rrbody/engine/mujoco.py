@@ -133,8 +133,8 @@ class PlaneFriction:
         self._ids_list = ids
         n = len(ids)
         self.n = n
-        self._mu = _per_body("mu", mu, n)
-        self._mus = self._mu.copy() if mu_static is None else _per_body("mu_static", mu_static, n)
+        self._mu = np.ascontiguousarray(_per_body("mu", mu, n))
+        self._mus = self._mu.copy() if mu_static is None else np.ascontiguousarray(_per_body("mu_static", mu_static, n))
         if np.any(self._mus < self._mu):
             i = int(np.flatnonzero(self._mus < self._mu)[0])
             raise ValueError(f"mu_static must be >= mu ({self._mu[i]:g}), got {self._mus[i]:g}")
@@ -226,9 +226,13 @@ class PlaneFriction:
     def _gather(self) -> None:
         m, d = self.model, self.data
         c = d.contact
+        # MuJoCo's contact fields are strided views (contiguous when they hold one contact or none): copied
+        # contiguous, every call has the types of the first, as the compiled entry point requires
+        cg = np.ascontiguousarray
         args = (self._dof, self._qadr, self._ids, self._ipos, self._ref, self._frame, self._gvec, self._mu, self._mus,
-                self._geom_row, self.plane, d.qpos, d.qvel, d.qfrc_constraint, d.xfrc_applied, d.efc_force, c.geom1,
-                c.geom2, c.efc_address, d.ncon, self._bodies, self._got, self._load, float(m.opt.timestep))
+                self._geom_row, self.plane, d.qpos, d.qvel, d.qfrc_constraint, d.xfrc_applied, d.efc_force,
+                cg(c.geom1), cg(c.geom2), cg(c.efc_address), int(d.ncon), self._bodies, self._got, self._load,
+                float(m.opt.timestep))
         if self._entries.get("gather") is None:  # the compiled entry point: no type dispatch per call
             self._entries["gather"], _ = K.fast_entry(MK.gather, *args)
         else:
