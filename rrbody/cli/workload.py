@@ -110,12 +110,12 @@ def _planar_workload() -> None:
     types the adapter passes (MuJoCo's own: float64 and int32), so they compile without MuJoCo installed."""
     import numpy as np
 
-    from rrbody import planar
     from rrbody.engine import kernel as K
     from rrbody.engine import mjkernel as MK
     from rrbody.physics.batch import stack
-    from rrbody.physics.footprint import apply_pressure
     from rrbody.model.pressure import uniform
+    from rrbody.physics import planar
+    from rrbody.physics.footprint import apply_pressure
 
     planar.Footprints([planar.circle(0.1), planar.box(0.2, 0.1)]).wrench(0.0, [[1.0, 0.0], [0.0, 1.0]], 2.0)
     shapes, geo, ranges = stack([apply_pressure([planar.box(0.2, 0.2)], uniform())[:2]])
