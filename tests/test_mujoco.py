@@ -208,12 +208,15 @@ def test_footprints_come_from_boxes_and_cylinders() -> None:
     ({"plane": "floor", "mu": 0.5, "mu_static": 0.2}, ["mu_static", ">= mu"]),
     ({"plane": "floor", "mu": 0.5, "bodies": ["ghost"]}, ["bodies[0]", "'ghost'"]),
     ({"plane": "floor", "mu": 0.5, "touch": 0.0}, ["touch", "0"]),
+    ({"plane": "floor", "mu": 0.5, "footprints": {"plate": "square"}}, ["footprints['plate']", "part"]),
+    ({"plane": "floor", "mu": [0.5, 0.2]}, ["mu", "one per body (1)", "(2,)"]),
 ])
 def test_bad_arguments_are_named(kw: dict, words: list[str]) -> None:
     m, d = _model(PLATE)
     with pytest.raises(ValueError) as e:
         PlaneFriction(m, d, **{"mu": 0.5, **kw})
     assert all(w in str(e.value) for w in words), str(e.value)
+    assert list(m.geom_condim) == [3, 3] and list(m.geom_priority) == [0, 0]  # the model is left as it was
 
 
 def test_the_plane_must_be_a_plane_and_rk4_is_refused() -> None:

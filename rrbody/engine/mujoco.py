@@ -122,10 +122,7 @@ class PlaneFriction:
                              f"overrides the plane's)")
         self.touch = check_positive("touch", touch, unit="m")
         pressure = as_pressure(pressure)
-        # the plane's contacts keep their normal row only: its condim wins over every other geom's
-        model.geom_condim[p] = 1
-        model.geom_priority[p] = int(np.max(model.geom_priority)) + 1
-        mujoco.mj_forward(model, data)  # poses, contacts and their normal forces for the first step
+        mujoco.mj_forward(model, data)  # poses (derived data only: the model is changed once all is checked)
         R = data.geom_xmat[p].reshape(3, 3)
         self._frame = np.ascontiguousarray(R.T)  # rows t1, t2, n (world)
         self._height = float(data.geom_xpos[p] @ R[:, 2])
@@ -137,7 +134,8 @@ class PlaneFriction:
         self._mus = self._mu.copy() if mu_static is None else np.ascontiguousarray(_per_body("mu_static", mu_static, n))
         if np.any(self._mus < self._mu):
             i = int(np.flatnonzero(self._mus < self._mu)[0])
-            raise ValueError(f"mu_static must be >= mu ({self._mu[i]:g}), got {self._mus[i]:g}")
+            raise ValueError(f"mu_static{f'[{i}]' if n > 1 else ''} must be >= mu ({self._mu[i]:g}), "
+                             f"got {self._mus[i]:g}")
         self._ids = np.array(ids, dtype=np.int64)
         jnt = model.body_jntadr[self._ids]
         self._dof = np.ascontiguousarray(model.jnt_dofadr[jnt], dtype=np.int64)
@@ -159,6 +157,11 @@ class PlaneFriction:
             inertia = float(nb @ (model.body_inertia[b] * nb))
             rows[i, [K.MASS, K.IPM, K.LAW, K.REACH, K.SNAP, K.VGX, K.VGY, K.VJ, K.STAG, K.HELD]] = \
                 m, inertia / m, K.LAW_DRY, reach, 1.0, gx, gy, jj, 1.0, -1.0
+        # every argument checked: the plane's contacts keep their normal row only (its condim wins over every
+        # other geom's), and MuJoCo's contact forces for the first step
+        model.geom_condim[p] = 1
+        model.geom_priority[p] = int(np.max(model.geom_priority)) + 1
+        mujoco.mj_forward(model, data)
         self._shapes, self._geo, ranges = stack(feet)
         rows[:, K.S0], rows[:, K.S1] = ranges[:, 0], ranges[:, 1]
         self._bodies = rows
