@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 # extras each target installs (pyproject.toml, [project.optional-dependencies]); the core alone
 # (numpy, scipy, numba, tqdm) computes flip times and trajectories
 DEMO_EXTRAS := movie
-TEST_EXTRAS := test,engine,movie,rerun,dask,data
+TEST_EXTRAS := test,engine,movie,rerun,dask,data,mujoco
 DOCS_EXTRAS := docs,movie
 
 .PHONY: demo test bench scenes docs docs-check clean venv

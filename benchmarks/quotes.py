@@ -16,7 +16,8 @@ Quote names:
   ``head.STUDY.N`` its leading figure (before the first `` (``, ``;`` or `` over``);
   ``paren.STUDY.N`` the text of its first parentheses; ``verdict.STUDY.N``: met / not met;
 - ``table.targets`` (every target, as in ``SUMMARY.md``), ``table.targets-brief`` (without the
-  notes), ``table.plugin`` (``engine_plugin.csv``), ``table.rhs`` (``core_rhs.csv``): block quotes,
+  notes), ``table.plugin`` (``engine_plugin.csv``), ``table.rhs`` (``core_rhs.csv``), ``table.mujoco``
+  and ``table.mujoco-cost`` (``mujoco.csv``, ``mujoco_cost.csv``): block quotes,
   a table with a blank line either side;
 - the named quotes of :data:`NAMED` (figures read from one file each, documented there).
 """
@@ -126,6 +127,22 @@ def _coldstart_table(results: Path) -> str:
                      for r in _rows(results, "coldstart.csv")])
 
 
+def _mujoco_table(results: Path) -> str:
+    """MuJoCo's own plane friction and the adapter's: spin-down over the exact rate, the disk's stop ratio."""
+    def num(x: str, digits: str) -> str:
+        return "-" if x in ("", "nan") else format(float(x), digits)
+
+    return md_table(["friction", "body", "spin-down / exact", "stop ratio v/(R Omega) (exact 0.653)"],
+                    [(r["friction"], r["body"], num(r["spin-down / exact"], ".4f"), num(r["stop ratio v/(R Omega)"], ".4g"))
+                     for r in _rows(results, "mujoco.csv")])
+
+
+def _mujoco_cost_table(results: Path) -> str:
+    return md_table(["100 bodies", "MuJoCo's own step (us)", "with the adapter (us)", "ratio"],
+                    [(r["phase"], float(r["mujoco_step_us"]), float(r["adapter_step_us"]), float(r["ratio"]))
+                     for r in _rows(results, "mujoco_cost.csv")])
+
+
 # ------------------------------------------------------------------------------ named quotes
 
 
@@ -227,6 +244,8 @@ _TABLES: dict[str, Callable[[Path], str]] = {
     "table.plugin": _plugin_table,
     "table.rhs": _rhs_table,
     "table.coldstart": _coldstart_table,
+    "table.mujoco": _mujoco_table,
+    "table.mujoco-cost": _mujoco_cost_table,
 }
 
 _OF_TARGET: dict[str, Callable[[Target], str]] = {

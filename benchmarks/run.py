@@ -37,6 +37,7 @@ STUDIES: dict[str, str] = {
     "recorder": "benchmarks.recorder",
     "startup": "benchmarks.startup",
     "coldstart": "benchmarks.coldstart",
+    "mujoco": "benchmarks.mujoco",
 }
 
 DEFAULT_OUT = Path(__file__).resolve().parent / "results"

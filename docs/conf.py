@@ -37,6 +37,8 @@ html_favicon = "_static/favicon.svg"
 # no "last updated" date, no build timestamp: the site depends on the sources only
 html_last_updated_fmt = None
 autodoc_member_order = "bysource"
+# the MuJoCo adapter's page documents without the [mujoco] extra (the docs build does not install it)
+autodoc_mock_imports = ["mujoco"]
 autodoc_typehints = "description"
 autodoc_default_options = {"members": True, "undoc-members": False, "show-inheritance": False}
 napoleon_numpy_docstring = True

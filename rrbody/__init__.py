@@ -23,8 +23,8 @@ _LAZY = {
     "PlaneFriction": "rrbody.engine.plugin",
 }
 
-#: sub-modules reachable as attributes (``rrbody.pressure.ring(0.05)``)
-_MODULES = {"pressure": "rrbody.model.pressure"}
+#: sub-modules reachable as attributes (``rrbody.pressure.ring(0.05)``, ``rrbody.planar.circle(0.1)``)
+_MODULES = {"pressure": "rrbody.model.pressure", "planar": "rrbody.physics.planar"}
 
 __all__ = ["__version__", *_LAZY, *_MODULES]
 

@@ -106,10 +106,47 @@ def _rhs_workload() -> None:
         free_rhs(0.0, np.array([0.0, 0.0, 0.0, 1.0, 0.0, 2.0]), p, S, np.empty(6))
 
 
+def _planar_workload() -> None:
+    """The batched wrench (``rrbody.planar``) and the MuJoCo adapter's kernels, called with arrays of the
+    types the adapter passes (MuJoCo's own: float64 and int32), so they compile without MuJoCo installed."""
+    import numpy as np
+
+    from rrbody.engine import kernel as K
+    from rrbody.engine import mjkernel as MK
+    from rrbody.physics.batch import stack
+    from rrbody.model.pressure import uniform
+    from rrbody.physics import planar
+    from rrbody.physics.footprint import apply_pressure
+
+    planar.Footprints([planar.circle(0.1), planar.box(0.2, 0.1)]).wrench(0.0, [[1.0, 0.0], [0.0, 1.0]], 2.0)
+    shapes, geo, ranges = stack([apply_pressure([planar.box(0.2, 0.2)], uniform())[:2]])
+    bodies = np.zeros((1, K.N_BODY))
+    bodies[0, [K.MASS, K.IPM, K.LAW, K.REACH, K.SNAP, K.S0, K.S1, K.STAG, K.HELD]] = \
+        1.0, 0.0067, K.LAW_DRY, 0.15, 1.0, ranges[0, 0], ranges[0, 1], 1.0, -1.0
+    i64 = np.zeros(1, dtype=np.int64)
+    qpos, qvel = np.array([0.0, 0.0, 0.01, 1.0, 0.0, 0.0, 0.0]), np.array([1.0, 0.0, 0.0, 0.0, 0.0, 2.0])
+    frame, xfrc, user = np.eye(3), np.zeros((1, 6)), np.zeros((1, 6))
+    contacts = np.zeros(1, dtype=np.int32)  # MuJoCo's contact fields (int32), copied contiguous by the adapter
+    got, load = np.zeros((1, 7)), np.zeros(1)
+    MK.gather(i64, i64, i64, np.zeros((1, 3)), np.array([[1.0, 0.0, 0.0]]), frame, np.array([0.0, 0.0, -9.81]),
+              np.full(1, 0.5), np.full(1, 0.5), np.full(2, -1, dtype=np.int64), 0, qpos, qvel, np.zeros(6), xfrc,
+              np.zeros(1), contacts, contacts, contacts, 1, bodies, got, load, 1e-3)
+    MK.set_planar(0, got[0, 1], got[0, 2], got[0, 3], i64, i64, np.zeros((1, 3)), frame, qpos, qvel)
+    K.body_accel(0, got[0, 0], got[0, 1], got[0, 2], got[0, 3], bodies, shapes, geo)
+    cache = np.zeros((3, K.N_STATUS), dtype=np.int64)
+    ids = np.ones(1, dtype=np.int64)
+    lookup = np.array([[1], [0]], dtype=np.int64)
+    K.plane_step(got, ids, lookup, cache, bodies, shapes, geo, 0.0, 1e-3, np.zeros((1, 3)))
+    MK.scatter(i64, i64, i64, np.zeros((1, 3)), frame, bodies, qpos, qvel, xfrc, user, got, np.zeros(1, dtype=bool),
+               np.zeros(1), 0.0, 1e-3)
+    MK.unapply(i64, xfrc, user)
+
+
 def run_extras() -> None:
-    """The workload outside the command line (the plugin, the stand-alone right-hand sides), in this
-    process."""
+    """The workload outside the command line (the plugin, the batched wrench and the MuJoCo adapter's
+    kernels, the stand-alone right-hand sides), in this process."""
     _plugin_workload()
+    _planar_workload()
     _rhs_workload()
 
 

@@ -11,6 +11,7 @@ movie      matplotlib, imageio, imageio-ffmpeg    MP4 movies, posters, every sce
 rerun      rerun-sdk                              ``.rrd`` recordings, the rerun viewer
 dask       dask[distributed]                      sweeps on a Dask cluster
 data       xarray                                 NetCDF (``.nc``) sweep output
+mujoco     mujoco                                 the MuJoCo adapter (``rrbody.mujoco``)
 docs       sphinx, furo, myst-parser, selenium    ``make docs`` and its browser check
 test       pytest, hypothesis, pytest-xdist       ``make test``
 all        every extra above
@@ -40,6 +41,7 @@ EXTRA_OF: dict[str, str] = {
     "rerun": "rerun", "pyarrow": "rerun",
     "dask": "dask", "distributed": "dask",
     "xarray": "data", "netCDF4": "data", "h5netcdf": "data",
+    "mujoco": "mujoco",
     "sphinx": "docs", "furo": "docs", "myst_parser": "docs", "selenium": "docs",
 }
 
