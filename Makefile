@@ -65,7 +65,7 @@ venv: $(VENV)/.installed-test
 demo: $(VENV)/.installed-demo
 	$(BIN)/rrbody demo
 
-## make test: set up (test, engine, movie, rerun, dask, data extras), then the whole test suite (2 workers)
+## make test: set up (test, engine, movie, rerun, dask, data, mujoco extras), then the whole test suite (2 workers)
 test: $(VENV)/.installed-test $(VENV)/.kernels
 	$(BIN)/python -m pytest -n 2 --durations=15 tests
 
