@@ -95,7 +95,8 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     y = np.array([0.0, 0.0, body.alpha0, v0[0], v0[1], w0])
     f = np.empty(6)
     free_rhs(0.0, y, p, S, f)
-    dry = scene.friction.active and scene.friction.law == "dry"
+    # the rest rule (a stop in finite time) is dry friction's; an active body is driven on by its propulsion
+    dry = scene.friction.active and scene.friction.law == "dry" and scene.active is None
     pull = math.hypot(p[P.GTX], p[P.GTY])  # gravity along a tilted plane (m/s^2)
     t_start = 0.0
     if dry and pull > 0.0 and v0[0] == v0[1] == w0 == 0.0:
@@ -109,6 +110,11 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     # speed scale: translation plus rotation (gyration radius for bodies with inertia), and what the
     # tilt's pull adds over the run
     u0 = math.hypot(v0[0], v0[1]) + math.sqrt(icm) * abs(w0)
+    if scene.active is not None:  # what the propulsion adds over the run (or up to its drag's terminal speed)
+        gam = max(scene.active.drag, 1.0 / t_max)
+        u0 = max(u0, scene.active.force / (body.mass * gam))
+        if icm > 0.0:
+            w0 = max(abs(w0), abs(scene.active.torque) / (body.mass * icm * max(scene.active.rot_drag, 1.0 / t_max)))
     if pull > (p[P.COEFF] if dry else 0.0):  # kinetic friction cannot stop it: it speeds up downhill
         u0 = max(u0, (pull - (p[P.COEFF] if dry else 0.0)) * t_max)
     decel = scene.friction.coeff if dry else (scene.friction.coeff * max(u0, 1e-300) if scene.friction.active else 0.0)
