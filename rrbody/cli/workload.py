@@ -68,6 +68,9 @@ def _plugin_workload() -> None:
         space.add(body, shape)
         body.velocity, body.angular_velocity = (1.0, 0.2), 5.0
         pf.add(body, mu=0.3)
+    from rrbody.model.active import Active
+
+    pf.activate(pf.bodies[0], Active(force=0.01, point=(0.01, 0.0), rot_drag=1.0, rot_diffusion=0.1))  # active rows
     from rrbody.model import pressure as rp
 
     tilted = PlaneFriction(pymunk.Space(), g=9.81, tilt=0.3)  # static friction and the tilt's pull

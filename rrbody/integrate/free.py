@@ -86,6 +86,13 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     if stepper not in FREE_STEPPERS:
         raise ValueError(f"stepper must be one of {', '.join(repr(m) for m in FREE_STEPPERS)} for a free body "
                          f"(Radau IIA is the driven body's stiff method), got {stepper!r}")
+    a = scene.active
+    if a is not None and scene.friction.active and scene.friction.law == "dry" and a.force <= scene.friction.coeff * \
+            math.cos(scene.tilt) * scene.body.mass:
+        # an active body the plane's dry friction can stop has no rest rule here: the plugin path has one
+        raise ValueError(f"active force must exceed the dry friction mu g m = "
+                         f"{scene.friction.coeff * math.cos(scene.tilt) * scene.body.mass!r} N on the ODE path (which "
+                         f"has no rest rule for an active body; run it with method='engine'), got {a.force!r} N")
     p, S = ode_params(scene)
     body = scene.body
     icm = body.inertia_per_mass
