@@ -4,19 +4,20 @@ A colliding space: N bodies, half disks (r = 0.1 m), half L-shapes (two boxes 0.
 0.16 m on one body), density 20 kg/m^2, placed on a jittered grid in a walled square box at packing
 fraction 0.35, launched at 0.3 m/s in random directions; pymunk's default spatial index, 10 solver
 iterations, dt = 1/120 s. Every body is active (:class:`rrbody.plugin.Active`): propulsion F = 2 mu g m
-fixed in the body frame, through the centre for a disk, 0.03 m off it for an L (chiral: it turns),
-rotational drag 2/s and rotational noise D_r = 0.2 rad^2/s (one seeded PCG64 draw per step); dry plane
-friction mu = 0.1.
+fixed in the body frame, through the centre for a disk, 0.03 m off it for an L (chiral: it turns), the
+medium's drag 2/s and rotational drag 2/s, rotational noise D_r = 0.2 rad^2/s (one seeded PCG64 draw per
+step); dry plane friction mu = 0.1 (terminal speed (F/m - mu g) / 2/s = 0.5 m/s).
 
 Three variants step the same space, in one run, interleaved (blocks of ``BLOCK`` steps of each in
 turn, best block of each kind, after a warm-up): ``pymunk`` (``space.step`` alone: pymunk's own step
 of the colliding space, no friction, no propulsion), ``active`` (``pf.step``: the active effect and
 plane friction, one compiled call for all bodies, then the same ``space.step``) and, as a breakdown,
 ``alone`` (a second plugin on the same space whose bodies have mu = 0: the active effect, the noise
-draw and the plugin's bulk read and write, without friction's area integrals). Both keep colliding (the
-bodies drift at their speed under the bare step; under ``pf.step`` propulsion and friction hold them at
-~F/(m gamma)-like speeds). N = 100, 300, 1,000, 3,000, 10,000; the fitted exponents are least-squares
-slopes of log(cost per step) against log N.
+draw and the plugin's bulk read and write, without friction's area integrals). All keep colliding (under
+the bare step the bodies coast at their speed; under ``pf.step`` propulsion, drag and friction hold them
+near 0.5 m/s). A breakdown on one frozen state: the plugin's compiled call with and without the
+``active`` arrays, and the noise draw. N = 100, 300, 1,000, 3,000, 10,000; the fitted exponents are
+least-squares slopes of log(cost per step) against log N.
 """
 
 from __future__ import annotations
@@ -72,8 +73,8 @@ def build(n: int, *, seed: int = 1, packing: float = PACKING, mu: float = MU) ->
         a = rng.uniform(0, 2 * math.pi)
         b.velocity = (0.3 * math.cos(a), 0.3 * math.sin(a))
         space.add(b, *shapes)
-        act = Active(force=2.0 * MU * 9.81 * b.mass, point=(0.0, 0.0) if i % 2 else (0.0, 0.03), rot_drag=2.0,
-                     rot_diffusion=0.2)
+        act = Active(force=2.0 * MU * 9.81 * b.mass, point=(0.0, 0.0) if i % 2 else (0.0, 0.03), drag=2.0,
+                     rot_drag=2.0, rot_diffusion=0.2)
         for plane, m in ((pf, mu), (pf0, 0.0)):
             plane.add(b, mu=m)
             plane.activate(b, act)

@@ -68,31 +68,13 @@ def _build() -> tuple[Any, Any, list[tuple[str, Any, Any]], list[tuple[str, Any]
     return space, pf, driven, free
 
 
-def _episodes(t: np.ndarray, phi: np.ndarray, phid: np.ndarray, hits: list[float]) -> list[dict]:
-    """Reverse-rotation episodes: runs of phi' < 0 in which phi falls by more than pi."""
-    out, i = [], 0
-    while i < len(t):
-        if phid[i] < 0.0:
-            j = i
-            while j + 1 < len(t) and phid[j + 1] < 0.0:
-                j += 1
-            drop = phi[i] - phi[j]
-            if drop > math.pi:
-                at_hit = any(t[i] - COLLISION_WINDOW <= h <= t[i] + 1e-9 for h in hits)
-                out.append({"t_start": float(t[i]), "t_end": float(t[j]), "turns_back": drop / (2 * math.pi),
-                            "starts_at_collision": at_hit})
-            i = j + 1
-        else:
-            i += 1
-    return out
-
-
 def main(out_dir: Path, *, force: bool = True) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from rrbody.analysis.episodes import reverse_episodes
     from rrbody.analysis.flip import flip_time
     from rrbody.analysis.report import write_summary
     from rrbody.render.figures import save_figure
@@ -127,7 +109,7 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     # episodes per driven body, and whether each body reverse-rotates alone (ODE path, no collisions)
     summary = {"dt": DT, "t_end": T_END, "k": K, "collision_window_s": COLLISION_WINDOW, "bodies": {}}
     for j, (name, sc, _) in enumerate(driven):
-        eps = _episodes(t, phi[:, j, 0], phi[:, j, 1], hits[j])
+        eps = reverse_episodes(t, phi[:, j, 0], phi[:, j, 1], hits=hits[j], window=COLLISION_WINDOW)
         summary["bodies"][name] = {"H": sc.H, "omega": sc.omega, "d": sc.d,
                                    "reverse_rotation_alone": flip_time(sc).reverse_rotation,
                                    "collisions": len(hits[j]), "rr_episodes": len(eps),
