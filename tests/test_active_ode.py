@@ -68,3 +68,9 @@ def test_noise_and_drive_are_refused_on_the_ode_path() -> None:
         Scene(body=Disk(R=0.05), drive=None, active=Active(force=1.0, rot_drag=1.0, rot_diffusion=0.1))
     with pytest.raises(ValueError, match="active applies to a free body"):
         Scene(body=Disk(R=0.05, l=0.02), drive=CircularDrive(omega=1.0, d=1.0), active=Active(force=1.0))
+
+
+def test_an_active_scene_describes_and_reloads_itself() -> None:
+    sc = _scene("viscous", 2.0)
+    again = Scene.from_description(sc.describe())
+    assert again.describe() == sc.describe() and again.active == ACT  # (phi_dot0 is written resolved)
