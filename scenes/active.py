@@ -67,6 +67,8 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     ck.parent.mkdir(exist_ok=True)
     rows = ensemble(points, checkpoint=ck)
     ck.unlink()
+    if not any(ck.parent.iterdir()):
+        ck.parent.rmdir()
     table = {}
     for (p, a), grp in itertools.groupby(rows, key=lambda r: (r["packing"], r["activity"])):
         grp = list(grp)
@@ -122,7 +124,7 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     s = head["side"]
     rec.movie(movies / "active.mp4", fps=20, speed=2.0, size=(480, 480), color=marks, box=(-0.2, s + 0.2, -0.2, s + 0.2),
               t_end=MOVIE_T, title="red: in an RR episode; blue: with its orbit; grey: neither", force=force)
-    rrd.rerun(out_dir / "active.rrd", color=marks[::RRD_EVERY], force=force)  # 5 samples per s (~20 MB: not in git)
+    rrd.rerun(out_dir / "active.rrd", color=marks[::RRD_EVERY], force=force)  # 5 samples per s (~14 MB: not in git)
 
 
 if __name__ == "__main__":

@@ -59,5 +59,5 @@ def section_active(L: list[str], res: Path) -> None:
     L.append(img("active", "active", res))
     L.append("")
     L.append("Movie: [movies/active.mp4](../movies/active.mp4) (red only inside the episodes found above); the rerun "
-             "recording `results/active/active.rrd` is written by the scene (not kept in git: ~20 MB).")
+             "recording `results/active/active.rrd` is written by the scene (not kept in git: ~14 MB).")
     L.append("")
