@@ -68,13 +68,20 @@ def _build() -> tuple[Any, Any, list[tuple[str, Any, Any]], list[tuple[str, Any]
     return space, pf, driven, free
 
 
+def _episodes(t: np.ndarray, phi: np.ndarray, phid: np.ndarray, hits: list[float]) -> list[dict]:
+    """Reverse-rotation episodes of a driven body (orbit counter-clockwise): runs of phi' < 0 in which phi
+    falls by more than pi (:func:`rrbody.analysis.episodes.reverse_episodes`)."""
+    from rrbody.analysis.episodes import reverse_episodes
+
+    return reverse_episodes(t, phi, phid, hits=hits, window=COLLISION_WINDOW)
+
+
 def main(out_dir: Path, *, force: bool = True) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from rrbody.analysis.episodes import reverse_episodes
     from rrbody.analysis.flip import flip_time
     from rrbody.analysis.report import write_summary
     from rrbody.render.figures import save_figure
@@ -109,7 +116,7 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     # episodes per driven body, and whether each body reverse-rotates alone (ODE path, no collisions)
     summary = {"dt": DT, "t_end": T_END, "k": K, "collision_window_s": COLLISION_WINDOW, "bodies": {}}
     for j, (name, sc, _) in enumerate(driven):
-        eps = reverse_episodes(t, phi[:, j, 0], phi[:, j, 1], hits=hits[j], window=COLLISION_WINDOW)
+        eps = _episodes(t, phi[:, j, 0], phi[:, j, 1], hits[j])
         summary["bodies"][name] = {"H": sc.H, "omega": sc.omega, "d": sc.d,
                                    "reverse_rotation_alone": flip_time(sc).reverse_rotation,
                                    "collisions": len(hits[j]), "rr_episodes": len(eps),
