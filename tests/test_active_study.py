@@ -67,6 +67,15 @@ def test_the_ensemble_does_not_depend_on_the_number_of_workers() -> None:
     assert here[0]["packing"] == asdict(points[0])["packing"]
 
 
+def test_the_ensemble_on_dask_gives_the_same_rows() -> None:
+    from distributed import Client, LocalCluster
+
+    points = [Box(n=12, packing=0.3, activity=3.0, seed=s, t_end=1.0) for s in (0, 1)]
+    with LocalCluster(processes=False, n_workers=1, threads_per_worker=1, dashboard_address=None) as cluster, \
+            Client(cluster) as client:
+        assert ensemble(points, scheduler=client) == ensemble(points, workers=0)
+
+
 def test_an_interrupted_ensemble_resumes_from_its_checkpoint(tmp_path: Path) -> None:
     points = [Box(n=12, packing=0.3, activity=3.0, seed=s, t_end=1.0) for s in (0, 1, 2)]
     ck = tmp_path / "ens.jsonl"

@@ -18,8 +18,8 @@ rotational noise D_r = 0.2 rad^2/s, dry plane friction mu = 0.1 (:class:`rrbody.
 episodes per body: :func:`rrbody.analysis.episodes.reverse_episodes` on its unwrapped angle and spin,
 the orbital sense the sign of its propulsion's torque, min_turn = pi, collision window 0.5 s (contacts
 with another body; walls are counted apart). A run is deterministic from its seed (placement and
-noise), so an ensemble (:func:`ensemble`, local processes, resumable from a checkpoint) gives the same
-rows whatever the number of workers.
+noise), so an ensemble (:func:`ensemble`: local processes or a Dask cluster, resumable from a
+checkpoint) gives the same rows whatever the number of workers.
 """
 
 from __future__ import annotations
@@ -244,8 +244,8 @@ def _run_points(spec: dict[str, Any], batch: list[int]) -> list[dict[str, Any]]:
     return rows
 
 
-def ensemble(points: list[Box], *, workers: int | None = None,
-             checkpoint: str | os.PathLike[str] | None = None) -> list[dict[str, Any]]:
+def ensemble(points: list[Box], *, workers: int | None = None, checkpoint: str | os.PathLike[str] | None = None,
+             scheduler: Any = None) -> list[dict[str, Any]]:
     """Every point's statistics (``i``, its parameters, ``stats``), in the points' order, computed on
     local processes (:func:`rrbody.analysis.pool.iter_local`; ``workers=0``: in this process). Each point
     is deterministic, so the rows do not depend on ``workers``.
@@ -253,21 +253,33 @@ def ensemble(points: list[Box], *, workers: int | None = None,
     ``checkpoint``: a JSON-lines file (the sweeps' format, :mod:`rrbody.analysis.sweep_store`) that
     finished points are appended to as they finish; an existing one written for the same points and
     rrbody version is resumed (only the missing points are computed), one for other points refused
-    (ValueError). The caller deletes it when the ensemble is no longer needed."""
+    (ValueError). The caller deletes it when the ensemble is no longer needed. ``scheduler``: a Dask
+    scheduler's address or a ``distributed.Client`` (:func:`rrbody.analysis.pool.iter_dask`; overrides
+    ``workers``), as for the sweeps."""
     from rrbody._version import __version__
-    from rrbody.analysis.pool import iter_local, plan_batches, plan_workers
+    from rrbody.analysis.pool import check_scheduler, connect_scheduler, iter_dask, iter_local, plan_batches, \
+        plan_workers
     from rrbody.analysis.sweep_store import read_checkpoint, stream_checkpoint
 
     spec = {"kind": "active_study", "rrbody_version": __version__, "points": [asdict(p) for p in points]}
     path = None if checkpoint is None else Path(checkpoint)
     done: dict[int, dict[str, Any]] = read_checkpoint(path, spec) if path is not None and path.exists() else {}
     todo = [i for i in range(len(points)) if i not in done]
-    w = plan_workers(workers, len(todo)) if todo else 0
-    results = iter_local(_run_points, spec, plan_batches(todo, 1, w), w)
-    if path is not None:
-        for _ in stream_checkpoint(path, spec, results, done):
-            pass
-    else:
-        for rows in results:
-            done.update((r["i"], r) for r in rows)
+    if scheduler is not None:
+        check_scheduler(scheduler)
+    client = connect_scheduler(scheduler) if isinstance(scheduler, str) and todo else scheduler
+    try:
+        w = 0 if client is not None or not todo else plan_workers(workers, len(todo))
+        batches = plan_batches(todo, 1, w)
+        results = iter_dask(_run_points, spec, batches, client) if client is not None and todo \
+            else iter_local(_run_points, spec, batches, w)
+        if path is not None:
+            for _ in stream_checkpoint(path, spec, results, done):
+                pass
+        else:
+            for rows in results:
+                done.update((r["i"], r) for r in rows)
+    finally:
+        if client is not None and client is not scheduler:
+            client.close()
     return [done[i] for i in range(len(points))]
