@@ -199,6 +199,32 @@ def test_rotational_noise_decorrelates_the_orientation_as_exp_minus_dr_t() -> No
     assert abs(w2[-1] / (D * G) - 1) < 0.05, w2
 
 
+def test_translational_noise_gives_the_ornstein_uhlenbeck_spread() -> None:
+    """Translational noise with drag g only, from rest: each velocity component is an OU process, and
+    each displacement component is Gaussian with variance V(t) (the formula of the rotational test, D_t
+    in place of D_r), so the mean squared displacement is 2 V(t) -> 4 D_t t."""
+    N, D, G, dt = 1000, 1e-4, 20.0, 1e-3
+    space = pymunk.Space()
+    pf = PlaneFriction(space)
+    pf.seed(11)
+    bodies = [_disk(space, pf, pos=(k % 40, k // 40)) for k in range(N)]  # 1 m apart, ~0.03 m of spread
+    for b in bodies:
+        pf.activate(b, Active(force=0.0, drag=G, diffusion=D))
+    x0 = np.array([tuple(b.position) for b in bodies])
+    for k in range(1, 2001):
+        pf.step(dt)
+        if k in (500, 2000):
+            t = k * dt
+            d2 = ((np.array([tuple(b.position) for b in bodies]) - x0) ** 2).sum(1)
+            V = 2 * D * (t - 2 * (1 - math.exp(-G * t)) / G + (1 - math.exp(-2 * G * t)) / (2 * G))
+            se = d2.std(ddof=1) / math.sqrt(N)  # the statistical error of the mean over N independent bodies
+            assert abs(d2.mean() - 2 * V) < 4 * se, (t, d2.mean(), 2 * V, se)
+    v2 = np.mean([b.velocity.length_squared for b in bodies])
+    # stationary OU: <v^2> = 2 D_t g (two components); Euler-Maruyama's bias g dt / 2 = 1 %, statistics ~4.5 %
+    assert abs(v2 / (2 * D * G) - 1) < 0.15, v2
+    assert all(b.angular_velocity == 0.0 for b in bodies)  # no torque: no spin
+
+
 def _noisy_run(seed: int, steps: int = 200) -> np.ndarray:
     space = pymunk.Space()
     pf = PlaneFriction(space)
