@@ -35,6 +35,7 @@ STUDIES: dict[str, str] = {
     "sweeps": "benchmarks.sweeps",
     "render": "benchmarks.render",
     "recorder": "benchmarks.recorder",
+    "active": "benchmarks.active",
     "startup": "benchmarks.startup",
     "coldstart": "benchmarks.coldstart",
     "mujoco": "benchmarks.mujoco",

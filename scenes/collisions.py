@@ -69,22 +69,11 @@ def _build() -> tuple[Any, Any, list[tuple[str, Any, Any]], list[tuple[str, Any]
 
 
 def _episodes(t: np.ndarray, phi: np.ndarray, phid: np.ndarray, hits: list[float]) -> list[dict]:
-    """Reverse-rotation episodes: runs of phi' < 0 in which phi falls by more than pi."""
-    out, i = [], 0
-    while i < len(t):
-        if phid[i] < 0.0:
-            j = i
-            while j + 1 < len(t) and phid[j + 1] < 0.0:
-                j += 1
-            drop = phi[i] - phi[j]
-            if drop > math.pi:
-                at_hit = any(t[i] - COLLISION_WINDOW <= h <= t[i] + 1e-9 for h in hits)
-                out.append({"t_start": float(t[i]), "t_end": float(t[j]), "turns_back": drop / (2 * math.pi),
-                            "starts_at_collision": at_hit})
-            i = j + 1
-        else:
-            i += 1
-    return out
+    """Reverse-rotation episodes of a driven body (orbit counter-clockwise): runs of phi' < 0 in which phi
+    falls by more than pi (:func:`rrbody.analysis.episodes.reverse_episodes`)."""
+    from rrbody.analysis.episodes import reverse_episodes
+
+    return reverse_episodes(t, phi, phid, hits=hits, window=COLLISION_WINDOW)
 
 
 def main(out_dir: Path, *, force: bool = True) -> None:

@@ -169,6 +169,9 @@ def write_report(results: str | Path = "results", *, out: str | Path | None = No
     section_pressure(L, res)
     section_incline(L, res)
     section_polygon(L, res)
+    from rrbody.analysis.report_active import section_active
+
+    section_active(L, res)
     _section_others(L, res)
     path = Path(out) if out is not None else res / "REPORT.md"
     return atomic_write_text(path, "\n".join(L) + "\n", force=force, name="REPORT.md")
@@ -334,7 +337,7 @@ def _section_contour(L: list[str], res: Path) -> None:
 
 
 MY_SCENES = ("phixtpm", "sss", "seco1", "normal-and-phase-portrait", "tfxwpm2", "hc", "tfvshvsomega", "pressure", "incline",
-             "polygon")
+             "polygon", "active")
 
 
 def _section_others(L: list[str], res: Path) -> None:

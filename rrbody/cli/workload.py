@@ -68,6 +68,9 @@ def _plugin_workload() -> None:
         space.add(body, shape)
         body.velocity, body.angular_velocity = (1.0, 0.2), 5.0
         pf.add(body, mu=0.3)
+    from rrbody.model.active import Active
+
+    pf.activate(pf.bodies[0], Active(force=0.01, point=(0.01, 0.0), rot_drag=1.0, rot_diffusion=0.1))  # active rows
     from rrbody.model import pressure as rp
 
     tilted = PlaneFriction(pymunk.Space(), g=9.81, tilt=0.3)  # static friction and the tilt's pull
@@ -113,6 +116,7 @@ def _planar_workload() -> None:
 
     from rrbody.engine import kernel as K
     from rrbody.engine import mjkernel as MK
+    from rrbody.engine.active import NO_ACTIVE
     from rrbody.physics.batch import stack
     from rrbody.model.pressure import uniform
     from rrbody.physics import planar
@@ -136,7 +140,7 @@ def _planar_workload() -> None:
     cache = np.zeros((3, K.N_STATUS), dtype=np.int64)
     ids = np.ones(1, dtype=np.int64)
     lookup = np.array([[1], [0]], dtype=np.int64)
-    K.plane_step(got, ids, lookup, cache, bodies, shapes, geo, 0.0, 1e-3, np.zeros((1, 3)))
+    K.plane_step(got, ids, lookup, cache, bodies, shapes, geo, 0.0, 1e-3, np.zeros((1, 3)), *NO_ACTIVE)
     MK.scatter(i64, i64, i64, np.zeros((1, 3)), frame, bodies, qpos, qvel, xfrc, user, got, np.zeros(1, dtype=bool),
                np.zeros(1), 0.0, 1e-3)
     MK.unapply(i64, xfrc, user)

@@ -148,6 +148,8 @@ class EngineHandle:
         # the rest rule is for free bodies: a driven body's joint decides its velocity
         self.plane._add(self.body, law=law, coeff=coeff, footprint=fp, snap=scene.drive is None, history=history,
                         v_eps=1e-12 * scene.velocity_scale(), staggered=self._staggered, static=static)
+        if scene.active is not None:  # a free body's propulsion and its medium (rrbody.engine.active)
+            self.plane.activate(self.body, scene.active)
         if self.driver is not None:
             j = self.plane._slots[self.body]
             self.plane._bodies[j, [K.DRV, K.OMG, K.DD, K.ANX, K.ANY, K.T0]] = \

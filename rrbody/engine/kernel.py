@@ -41,6 +41,7 @@ from numba import njit
 
 from rrbody.engine.feet import feet_step
 from rrbody.physics.contact import footprint_wrench
+from rrbody.physics.effects import active as act
 from rrbody.physics.limit import at_rest
 
 (MASS, IPM, LAW, COEFF, REACH, SNAP, S0, S1, VEPS, VGX, VGY, VJ, STAG, PVX, PVY, PW, GAP, STOP, EA,
@@ -250,7 +251,8 @@ def _hold_or_break(i: int, j: int, alpha: float, bodies: np.ndarray, shapes: np.
 
 @njit(cache=True)
 def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.ndarray, bodies: np.ndarray,
-               shapes: np.ndarray, geo: np.ndarray, t: float, dt: float, out: np.ndarray) -> int:
+               shapes: np.ndarray, geo: np.ndarray, t: float, dt: float, out: np.ndarray, active: np.ndarray,
+               noise: np.ndarray) -> int:
     """One step of plane friction for every plugin body in a space, from the plugin's time t (s).
 
     ``got`` has a row per body of the space (pymunk.batch order: angle, vx, vy, w, fx, fy, torque),
@@ -260,7 +262,9 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.n
     to apply into ``out`` (rows fx, fy, torque: the user's own plus friction), flags the bodies the
     rest rule acts on (column STOP) and returns their count. Velocities are read as belonging to the
     half step (the staggered scheme of docs/engine.md): friction acts at the predicted angle
-    alpha + w dt with the velocity extrapolated from the last two steps.
+    alpha + w dt with the velocity extrapolated from the last two steps. ``active`` (a row per plugin
+    body, or none) and ``noise`` (three standard normal numbers per row) carry the active bodies'
+    propulsion, drag and Langevin noise (:mod:`rrbody.physics.effects.active`), a load like the tilt's.
     """
     if got.shape[0] > cache.shape[1]:
         return -2  # the caller enlarges the cache and calls again
@@ -278,6 +282,13 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.n
         # a tilted plane: gravity's in-plane part acts at the centre of gravity in every step
         out[i, 0] += bodies[j, MASS] * bodies[j, GTX]
         out[i, 1] += bodies[j, MASS] * bodies[j, GTY]
+        if active.shape[0] > 0:  # self-propulsion, a medium's drag and noise: a load as well
+            fa, fb, fc = act.load(j, got[i, 0], got[i, 1], got[i, 2], got[i, 3], bodies[j, PVX], bodies[j, PVY],
+                                  bodies[j, PW], bodies[j, GAP] * bodies[j, STAG], bodies[j, MASS], bodies[j, IPM],
+                                  dt, active, noise)
+            out[i, 0] += fa
+            out[i, 1] += fb
+            out[i, 2] += fc
         lx = out[i, 0]
         ly = out[i, 1]
         lt = out[i, 2]

@@ -39,6 +39,7 @@ import numpy as np
 
 from rrbody.engine import kernel as K
 from rrbody.engine import mjkernel as MK
+from rrbody.engine.active import NO_ACTIVE
 from rrbody.engine.mjgeoms import gap, name_of as _name, lookup as _lookup, parts_of
 from rrbody.model.checks import check_nonnegative, check_positive
 from rrbody.model.extras import require
@@ -298,7 +299,7 @@ class PlaneFriction:
                 self._kick(dt)
             self._gather()
             n_flag = self._call("plane_step", self._got, self._k_ids, self._lookup, self._cache, self._bodies,
-                                self._shapes, self._geo, float(d.time), dt, self._out)
+                                self._shapes, self._geo, float(d.time), dt, self._out, *NO_ACTIVE)
             if n_flag < 0:
                 self._refuse()
             self.n_stopped += self._call("scatter", self._dof, self._qadr, self._ids, self._ipos, self._frame,

@@ -26,16 +26,18 @@ from typing import Any
 import numpy as np
 
 from rrbody.engine import kernel as K
+from rrbody.engine.active import NO_ACTIVE, ActiveSet
 from rrbody.engine.batchio import BatchIO, body_uid
 from rrbody.engine.feet import feet_step
 from rrbody.engine.shapes import body_footprint
+from rrbody.model.active import Active
 from rrbody.model.checks import check
 from rrbody.model.friction import check_mu_static
 from rrbody.model.pressure import PRESSURE_KINDS, Pressure, as_pressure
 from rrbody.physics import contact as C
 from rrbody.physics.footprint import Footprint
 
-__all__ = ["PlaneFriction", "PRESSURES"]
+__all__ = ["PlaneFriction", "PRESSURES", "Active"]
 
 #: normal-pressure profiles PlaneFriction.add accepts (rrbody.pressure; or their text form, "ring:0.05")
 PRESSURES: tuple[str, ...] = PRESSURE_KINDS
@@ -114,6 +116,8 @@ class PlaneFriction:
     (``pf.remove(body)``): ``step`` raises ``ValueError`` naming a body that is no longer in the space,
     and one whose angle, velocity or spin is not finite, before it changes anything.
     """
+
+    _act: ActiveSet | None = None  # the active bodies (activate), made on the first use
 
     def __init__(self, space: Any, g: float = 9.81, *, tilt: float = 0.0, downhill: float = 0.0) -> None:
         import pymunk
@@ -376,7 +380,15 @@ class PlaneFriction:
                     self._refuse(got)
                 self._kick(dt)
                 got, ids, out = self._io.read()
-            args = (got, ids, self._k_lookup, self._cache, self._bodies, self._k_shapes, self._k_geo, self.t, dt, out)
+            if self._act is not None and self._act.pending:  # newly active bodies: their half kick, checked first
+                self._grow_caches(got.shape[0])
+                if not K.plane_check(got, ids, self._k_lookup, self._cache, self._rows.n):
+                    self._refuse(got)
+                self._act.kick(self, dt)
+                got, ids, out = self._io.read()
+            act = NO_ACTIVE if self._act is None else self._act.arrays(self)
+            args = (got, ids, self._k_lookup, self._cache, self._bodies, self._k_shapes, self._k_geo, self.t, dt, out,
+                    *act)
             if self._kernel is None:
                 self._kernel, n_flag = K.fast_entry(K.plane_step, *args)  # runs this step's kernel once
             else:
@@ -397,6 +409,27 @@ class PlaneFriction:
         t = self.t + y
         self._tc = (t - self.t) - y
         self.t = t
+
+    # ---- active bodies (rrbody.engine.active) -------------------------------------------------
+    def activate(self, body: Any, active: Active | None) -> None:
+        """Make plugin body ``body`` self-propelled as ``active`` says (:class:`rrbody.plugin.Active`: a
+        force fixed in the body frame at a body point, a medium's drag, Langevin noise; docs/active.md),
+        or, with None, no longer. Its mass and moment are read at the next step (call ``activate`` again
+        after changing them). The propulsion and drag act as loads, like your own forces: friction,
+        its rest rule and static friction see them. Raises ValueError for a body not in the plugin."""
+        if body not in self._slots:
+            raise ValueError(f"body must be added to the PlaneFriction first (pf.add(body, mu=...)), got {body!r}")
+        if self._act is None:
+            self._act = ActiveSet()
+        self._act.set(body, active)
+
+    def seed(self, seed: int) -> None:
+        """Restart the active bodies' noise from ``seed`` (integer in [0, 2^63 - 1]; the default is 0):
+        the same seed and the same program give bit-identical runs."""
+        if self._act is None:
+            self._act = ActiveSet(seed)
+        else:
+            self._act.seed(seed)
 
     def _grow_caches(self, n: int) -> None:
         """Room in the kernel's row cache for ``n`` bodies of the space (doubling: amortised O(1))."""

@@ -86,6 +86,13 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     if stepper not in FREE_STEPPERS:
         raise ValueError(f"stepper must be one of {', '.join(repr(m) for m in FREE_STEPPERS)} for a free body "
                          f"(Radau IIA is the driven body's stiff method), got {stepper!r}")
+    a = scene.active
+    if a is not None and scene.friction.active and scene.friction.law == "dry" and a.force <= scene.friction.coeff * \
+            math.cos(scene.tilt) * scene.body.mass:
+        # an active body the plane's dry friction can stop has no rest rule here: the plugin path has one
+        raise ValueError(f"active force must exceed the dry friction mu g m = "
+                         f"{scene.friction.coeff * math.cos(scene.tilt) * scene.body.mass!r} N on the ODE path (which "
+                         f"has no rest rule for an active body; run it with method='engine'), got {a.force!r} N")
     p, S = ode_params(scene)
     body = scene.body
     icm = body.inertia_per_mass
@@ -95,7 +102,8 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     y = np.array([0.0, 0.0, body.alpha0, v0[0], v0[1], w0])
     f = np.empty(6)
     free_rhs(0.0, y, p, S, f)
-    dry = scene.friction.active and scene.friction.law == "dry"
+    # the rest rule (a stop in finite time) is dry friction's; an active body is driven on by its propulsion
+    dry = scene.friction.active and scene.friction.law == "dry" and scene.active is None
     pull = math.hypot(p[P.GTX], p[P.GTY])  # gravity along a tilted plane (m/s^2)
     t_start = 0.0
     if dry and pull > 0.0 and v0[0] == v0[1] == w0 == 0.0:
@@ -109,6 +117,11 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     # speed scale: translation plus rotation (gyration radius for bodies with inertia), and what the
     # tilt's pull adds over the run
     u0 = math.hypot(v0[0], v0[1]) + math.sqrt(icm) * abs(w0)
+    if scene.active is not None:  # what the propulsion adds over the run (or up to its drag's terminal speed)
+        gam = max(scene.active.drag, 1.0 / t_max)
+        u0 = max(u0, scene.active.force / (body.mass * gam))
+        if icm > 0.0:
+            w0 = max(abs(w0), abs(scene.active.torque) / (body.mass * icm * max(scene.active.rot_drag, 1.0 / t_max)))
     if pull > (p[P.COEFF] if dry else 0.0):  # kinetic friction cannot stop it: it speeds up downhill
         u0 = max(u0, (pull - (p[P.COEFF] if dry else 0.0)) * t_max)
     decel = scene.friction.coeff if dry else (scene.friction.coeff * max(u0, 1e-300) if scene.friction.active else 0.0)

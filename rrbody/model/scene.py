@@ -13,6 +13,7 @@ import math
 from dataclasses import dataclass, field, replace
 from typing import Any
 
+from rrbody.model.active import Active
 from rrbody.model.checks import LIMITS, MissingParameters, check, check_choice
 from rrbody.model.bodies import BODY_KINDS, Body, Polygon, RodMass
 from rrbody.model.drive import CircularDrive
@@ -86,6 +87,7 @@ class Scene:
     downhill: float = 0.0
     g: float = 9.81
     mu_static: float | None = None
+    active: Active | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.body, Body):
@@ -115,6 +117,15 @@ class Scene:
                 raise ValueError(f"mu_static applies to dry friction only, got friction {self.friction.law!r}")
             object.__setattr__(self, "mu_static", check_mu_static(self.mu_static, self.friction.coeff / self.g,
                                                                        rounding=1e-12))  # mu = (mu g) / g
+        if self.active is not None:
+            if not isinstance(self.active, Active):
+                raise ValueError(f"active must be an rrbody.model.active.Active or None, got {self.active!r}")
+            if self.drive is not None:
+                raise ValueError("active applies to a free body (drive=None): a driven body's pivot holds it")
+            if self.active.noisy:
+                raise ValueError(f"active noise (diffusion, rot_diffusion) runs on the plugin path only "
+                                 f"(PlaneFriction.activate); the ODE path is deterministic, got diffusion "
+                                 f"{self.active.diffusion!r}, rot_diffusion {self.active.rot_diffusion!r}")
         if not self.pressure.is_uniform and self.body.is_point:
             raise ValueError(f"pressure {self.pressure.kind!r} needs an extended body (disk or ellipse): a "
                              f"{self.body.kind} body is a point mass, got body {self.body.kind!r}")
@@ -198,6 +209,7 @@ class Scene:
             **({} if self.pressure.is_uniform else {"pressure": self.pressure.describe()}),
             **({} if self.tilt == 0.0 else {"tilt": self.tilt, "downhill": self.downhill, "g": self.g}),
             **({} if self.mu_static is None else {"mu_static": self.mu_static, "g": self.g}),
+            **({} if self.active is None else {"active": {**vars(self.active), "point": list(self.active.point)}}),
         }
 
     @classmethod
@@ -222,7 +234,9 @@ class Scene:
                    friction_method=desc.get("friction_method", "auto"), samples=desc.get("samples", 4096),
                    v0=tuple(desc.get("v0", (0.0, 0.0))), spin0=desc.get("spin0", 0.0),
                    pressure=pressure_from_description(desc.get("pressure")), tilt=desc.get("tilt", 0.0),
-                   downhill=desc.get("downhill", 0.0), g=desc.get("g", 9.81), mu_static=desc.get("mu_static"))
+                   downhill=desc.get("downhill", 0.0), g=desc.get("g", 9.81), mu_static=desc.get("mu_static"),
+                   active=None if desc.get("active") is None else Active(**{**desc["active"],
+                                                                            "point": tuple(desc["active"]["point"])}))
 
 
 def rod_mass_scene(H: float, k: float, omega: float, phi0: float = math.pi, *, friction: str = "dry",

@@ -106,6 +106,15 @@ def kernel_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
         p[P.TILTED] = 1.0
         p[P.GTX] = pull * math.cos(scene.downhill)
         p[P.GTY] = pull * math.sin(scene.downhill)
+    if scene.active is not None:  # a free body's self-propulsion and its medium's drag (no noise here)
+        a = scene.active
+        m = scene.body.mass
+        p[P.ACTIVE] = 1.0
+        p[P.AFX], p[P.AFY] = (f / m for f in a.body_force)
+        icm = scene.body.inertia_per_mass
+        p[P.AALPHA] = a.torque / (m * icm) if icm > 0.0 else 0.0
+        p[P.ADRAG] = a.drag
+        p[P.ARDRAG] = a.rot_drag if icm > 0.0 else 0.0
     p[P.VEPS] = (DRIVEN_DEAD_BAND if scene.driven else FREE_DEAD_BAND) * scene.velocity_scale()
     ra, rb = scene.body.semi_axes
     p[P.RA] = ra

@@ -17,9 +17,9 @@ Driven body (the impulsive start, docs/physics.md), state y = (phi, phi') with p
 The body angle is alpha = phi - beta, so the same state serves l = 0 (P at the CM), where phi is
 simply the body angle shifted by beta. tau_P is the friction torque about P (world frame).
 
-Free body, y = (x, y, alpha, vx, vy, spin) (m, rad, m/s, rad/s): friction, and on a tilted plane
+Free body, y = (x, y, alpha, vx, vy, spin) (m, rad, m/s, rad/s): friction, on a tilted plane
 gravity's pull along it (:mod:`rrbody.physics.effects.tilt`, which adds its torque about P to a
-driven body's phi'').
+driven body's phi''), and an active body's propulsion and drag (:mod:`rrbody.physics.effects.active`).
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ import numpy as np
 from numba import literally, njit
 
 from rrbody.physics import params as P
-from rrbody.physics.effects import DRIVEN, compiled_code, drive_circular, tangent, tilt
+from rrbody.physics.effects import DRIVEN, active, compiled_code, drive_circular, tangent, tilt
 from rrbody.physics.effects.areas import POINT, body_frame_wrench, body_wrench
 from rrbody.physics.effects.laws import NONE, element_perp
 
@@ -90,12 +90,17 @@ def _free_body(law, area, t, y, p, S):  # noqa: ANN001 (numba)
     extended body calls it through :func:`_free`."""
     fx, fy = tilt.pull(p)  # gravity along a tilted plane (0 on a level one)
     tau = 0.0
+    aw = 0.0
+    if p[P.ACTIVE] != 0.0:  # self-propulsion fixed in the body frame, a medium's drag
+        ax, ay, aw = active.ode_terms(y[2], y[3], y[4], y[5], p)
+        fx += ax
+        fy += ay
     if law != NONE:
         gx, gy, tau = body_wrench(area, law, S, p[P.RA], p[P.RB], int(p[P.NQ]), p[P.ICM], y[2], y[3], y[4], y[5],
                                   p[P.COEFF], p[P.VEPS])
         fx += gx
         fy += gy
-    return fx, fy, (tau / p[P.ICM] if p[P.ICM] > 0.0 else 0.0)
+    return fx, fy, (tau / p[P.ICM] if p[P.ICM] > 0.0 else 0.0) + aw
 
 
 @njit(cache=True, _nrt=False)

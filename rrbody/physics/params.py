@@ -30,7 +30,13 @@ TILTED = 15    # 1.0 on a tilted plane (the tilt effect's terms are evaluated), 
 GTX = 16       # gravity's in-plane pull on a tilted plane (m/s^2, world frame), x
 GTY = 17       # ... and y
 MUS = 18       # static friction per unit mass, mu_static g cos(tilt) (m/s^2; 0: none)
-SIZE = 20
+ACTIVE = 19    # 1.0: a free body's active effect (rrbody.physics.effects.active) is evaluated, else 0.0
+AFX = 20       # its propulsion per unit mass (m/s^2, body frame), x
+AFY = 21       # ... and y
+AALPHA = 22    # its torque about the CM over I_cm (rad/s^2)
+ADRAG = 23     # the medium's translational drag rate gamma_t (1/s)
+ARDRAG = 24    # ... and its rotational one gamma_r (1/s)
+SIZE = 25
 
 # area models: the effects registry's codes (one table; the system code carries the same number)
 BODY_POINT = AREAS["point"]

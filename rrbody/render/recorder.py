@@ -317,6 +317,12 @@ class Recorder:
         orbit[:, driven] = self._drive_sense[driven]
         return np.sign(d[:, :, _VW]) * orbit
 
+    def marks(self, color: Any) -> np.ndarray:
+        """(frames, bodies) of -1 (red), +1 (blue), 0 (grey): ``color`` itself if it is such an array of
+        marks (e.g. only the reverse-rotation episodes an analysis established:
+        :func:`rrbody.analysis.episodes.episode_marks`), else :meth:`senses` (``color="spin"``)."""
+        return color if isinstance(color, np.ndarray) else self.senses()
+
     def _frame_at(self, tau: float) -> int:
         """The last captured frame at or before simulated time ``tau`` (the first one before it all)."""
         t = self._times[:self.n_frames]
@@ -353,7 +359,11 @@ class Recorder:
             raise ValueError(f"arrows must be some of 'velocity', 'friction', 'torque', got {bad[0]!r}")
         if arrows:
             self._need_motion("arrows")
-        if isinstance(color, str) and color == "spin":
+        if isinstance(color, np.ndarray) and color.ndim == 2:  # marks per frame and body (-1, 0, +1)
+            if color.shape != (self.n_frames, len(self.bodies)) or not np.isin(color, (-1.0, 0.0, 1.0)).all():
+                raise ValueError(f"color as marks must be an array (frames, bodies) = ({self.n_frames}, "
+                                 f"{len(self.bodies)}) of -1, 0 and +1, got shape {color.shape}")
+        elif isinstance(color, str) and color == "spin":
             self._need_motion('color="spin"')
         elif not (isinstance(color, str) and color == "body"):
             from matplotlib.colors import is_color_like
@@ -404,7 +414,8 @@ class Recorder:
               t_end: float | None = None, force: bool = False, progress: bool | None = None) -> Path:
         """An MP4 of the captured frames at ``fps`` frames per s of playback, ``speed`` simulated s per s
         (each frame: the last capture at or before its time). ``color``: "body" (one colour each),
-        "spin" (red against the orbit, blue with it, grey neither), a colour, or one per body;
+        "spin" (red against the orbit, blue with it, grey neither), a colour, one per body, or marks
+        (an array (frames, bodies) of -1 red, +1 blue, 0 grey: :meth:`marks`);
         ``arrows``: any of "velocity" (of the centre of gravity), "friction" (the plane's force on
         it) and "torque" (an arc, the friction torque's sense and size); ``trails``: True or the
         bodies whose centre of gravity's path to draw; ``box``: (xmin, xmax, ymin, ymax) in m
@@ -505,11 +516,11 @@ class Recorder:
                                  send=lambda rec: send(rec, self, color=color, trails=mask, plots=chosen))
 
     def colours(self, color: Any) -> Any:
-        """Per-body RGBA (bodies x 4) for a fixed colouring, or None for "spin" (per frame: :meth:`senses`)."""
+        """Per-body RGBA (bodies x 4) for a fixed colouring, or None for "spin" or marks (per frame: :meth:`marks`)."""
         from matplotlib import colormaps
         from matplotlib.colors import to_rgba_array
 
-        if isinstance(color, str) and color == "spin":
+        if (isinstance(color, str) and color == "spin") or isinstance(color, np.ndarray) and color.ndim == 2:
             return None
         if isinstance(color, str) and color == "body":
             cmap = colormaps["tab10"]
@@ -564,7 +575,7 @@ class _Picture:
         self._codes = np.concatenate(codes)
         self._pbody = np.array([k for k, _ in polys])
         self.fixed = rec.colours(color)
-        self.spin = rec.senses() if self.fixed is None else None
+        self.spin = rec.marks(color) if self.fixed is None else None
         if self.fixed is not None:
             faces = _faded(self.fixed)
             palette, which = np.unique(faces, axis=0, return_inverse=True)
@@ -610,7 +621,7 @@ class _Picture:
                 legend.append(f"torque arc: {big:.3g} N m = 270 deg")
         else:
             self.torque = None
-        if self.spin is not None:
+        if self.spin is not None and not isinstance(color, np.ndarray):  # (marks: the caller's title says what they are)
             legend.insert(0, "red: turns against its orbit, blue: with it, grey: neither")
         style = dict(transform=ax.transAxes, fontsize=max(7, min(12, size[1] // 50)),
                      bbox=dict(facecolor="white", alpha=0.8, edgecolor="none", pad=2))

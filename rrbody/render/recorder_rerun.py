@@ -79,7 +79,7 @@ def send(stream: Any, rec: Any, *, color: Any, trails: np.ndarray, plots: list[i
         stream.log("world/static", rr.LineStrips3D([_z(np.vstack([o, o[:1]])) for o in rec._static],
                                                    colors=[(90, 90, 90)], radii=[-1.5]), static=True)
     fixed = rec.colours(color)
-    sense = rec.senses() if fixed is None else None
+    sense = rec.marks(color) if fixed is None else None
     spin_rgb = {-1.0: (214, 39, 40), 1.0: (31, 119, 180), 0.0: (154, 154, 154)}
     half = 0.5 * d[:, :, 2]
     for k, label in enumerate(rec.labels):

@@ -1,0 +1,189 @@
+"""Active bodies at scale: what the active effect and plane friction add to pymunk's own step (issue 26).
+
+A colliding space: N bodies, half disks (r = 0.1 m), half L-shapes (two boxes 0.16 x 0.08 and 0.08 x
+0.16 m on one body), density 20 kg/m^2, placed on a jittered grid in a walled square box at packing
+fraction 0.35, launched at 0.3 m/s in random directions; pymunk's default spatial index, 10 solver
+iterations, dt = 1/120 s. Every body is active (:class:`rrbody.plugin.Active`): propulsion F = 2 mu g m
+fixed in the body frame, through the centre for a disk, 0.03 m off it for an L (chiral: it turns), the
+medium's drag 2/s and rotational drag 2/s, rotational noise D_r = 0.2 rad^2/s (one seeded PCG64 draw per
+step); dry plane friction mu = 0.1 (terminal speed (F/m - mu g) / 2/s = 0.5 m/s).
+
+Three variants step the same space, in one run, interleaved (blocks of ``BLOCK`` steps of each in
+turn, best block of each kind, after a warm-up): ``pymunk`` (``space.step`` alone: pymunk's own step
+of the colliding space, no friction, no propulsion), ``active`` (``pf.step``: the active effect and
+plane friction, one compiled call for all bodies, then the same ``space.step``) and, as a breakdown,
+``alone`` (a second plugin on the same space whose bodies have mu = 0: the active effect, the noise
+draw and the plugin's bulk read and write, without friction's area integrals). All keep colliding (under
+the bare step the bodies coast at their speed; under ``pf.step`` propulsion, drag and friction hold them
+near 0.5 m/s). A breakdown on one frozen state: the plugin's compiled call with and without the
+``active`` arrays, and the noise draw. N = 100, 300, 1,000, 3,000, 10,000; the fitted exponents are
+least-squares slopes of log(cost per step) against log N.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+
+from .common import StudyResult, Target, fmt, loglog_slope, machine_text, md_table, module_available, write_csv
+
+NAME = "active"
+TITLE = "Active bodies: propulsion, noise and plane friction vs pymunk's own step, N = 100 ... 10,000"
+SIZES = (100, 300, 1000, 3000, 10000)
+DT, BLOCK, MU, PACKING = 1.0 / 120.0, 20, 0.1, 0.35
+A = 0.08  # m: the L's leg width
+
+
+def build(n: int, *, seed: int = 1, packing: float = PACKING, mu: float = MU) -> tuple:
+    """(space, pf, bodies): n active disks and L-shapes in a walled box at ``packing`` (area fraction), on
+    a plane of friction coefficient ``mu``; a second plugin ``pf0`` on the same space holds the same
+    bodies with mu = 0 and the same propulsion (the active effect alone): (space, pf, pf0, bodies)."""
+    import numpy as np
+    import pymunk
+
+    from rrbody.plugin import Active, PlaneFriction
+
+    rng = np.random.default_rng(seed)
+    area_disk, area_l = math.pi * 0.1**2, 4 * A * A
+    side = math.sqrt(n * 0.5 * (area_disk + area_l) / packing)
+    space = pymunk.Space()
+    space.iterations = 10
+    pf = PlaneFriction(space, g=9.81)
+    pf0 = PlaneFriction(space, g=9.81)
+    pf.seed(seed)
+    pf0.seed(seed)
+    corners = [(0.0, 0.0), (side, 0.0), (side, side), (0.0, side)]
+    space.add(*[pymunk.Segment(space.static_body, a, b, 0.05) for a, b in zip(corners, corners[1:] + corners[:1])])
+    k = int(math.ceil(math.sqrt(n)))
+    cell = side / k
+    bodies = []
+    for i in range(n):
+        b = pymunk.Body()
+        if i % 2:
+            shapes = [pymunk.Circle(b, 0.1)]
+        else:  # an L about its own origin; pymunk puts the centre of gravity at the shapes' centroid
+            shapes = [pymunk.Poly(b, [(-A, -A), (A, -A), (A, 0), (-A, 0)]),
+                      pymunk.Poly(b, [(-A, 0), (0, 0), (0, A), (-A, A)])]
+        for s in shapes:
+            s.density = 20.0
+            s.friction = 0.3
+        b.position = (cell * (i % k + 0.5) + 0.1 * cell * rng.uniform(-1, 1), cell * (i // k + 0.5))
+        b.angle = rng.uniform(0, 2 * math.pi)
+        a = rng.uniform(0, 2 * math.pi)
+        b.velocity = (0.3 * math.cos(a), 0.3 * math.sin(a))
+        space.add(b, *shapes)
+        act = Active(force=2.0 * MU * 9.81 * b.mass, point=(0.0, 0.0) if i % 2 else (0.0, 0.03), drag=2.0,
+                     rot_drag=2.0, rot_diffusion=0.2)
+        for plane, m in ((pf, mu), (pf0, 0.0)):
+            plane.add(b, mu=m)
+            plane.activate(b, act)
+        bodies.append(b)
+    return space, pf, pf0, bodies
+
+
+def _contacts(space: object) -> int:
+    """Touching pairs in the space now (walls included; each arbiter seen from both bodies)."""
+    seen: list[int] = []
+    for b in space.bodies:  # type: ignore[attr-defined]
+        b.each_arbiter(lambda arb: seen.append(1))
+    return len(seen) // 2
+
+
+def _effect_share(pf: object, reps: int = 7, block: int = 20) -> tuple[float, float]:
+    """(s per step) the active effect adds to the plugin's compiled call, measured on one frozen state
+    (the call with the ``active`` arrays against the same call without them, interleaved, best block),
+    and the noise draw (one vectorised PCG64 call for all bodies)."""
+    from rrbody.engine.active import NO_ACTIVE
+
+    got, ids, out = pf._io.read()  # type: ignore[attr-defined]
+    act = pf._act  # type: ignore[attr-defined]
+    rows, noise = act.arrays(pf)
+    base = (got, ids, pf._k_lookup, pf._cache, pf._bodies, pf._k_shapes, pf._k_geo, pf.t, DT, out)  # type: ignore[attr-defined]
+    kernel = pf._kernel  # type: ignore[attr-defined]
+    saved = pf._bodies.copy()  # type: ignore[attr-defined]
+    best = [math.inf, math.inf, math.inf]
+    for _ in range(reps):
+        for k, call in enumerate((lambda: kernel(*base, rows, noise), lambda: kernel(*base, *NO_ACTIVE),
+                                  lambda: act.rng.standard_normal(out=noise))):
+            w0 = time.perf_counter()
+            for _ in range(block):
+                pf._bodies[:] = saved  # type: ignore[attr-defined]  # the same state every call (the history columns)
+                call()
+            best[k] = min(best[k], (time.perf_counter() - w0) / block)
+    return best[0] - best[1], best[2]
+
+
+def run(out: Path, *, quick: bool = False) -> StudyResult:
+    ok, why = module_available("pymunk")
+    if not ok:
+        return StudyResult(NAME, TITLE, skipped=f"pymunk not importable ({why})")
+    sizes = SIZES[:3] if quick else SIZES
+    rows = []
+    for n in sizes:
+        space, pf, pf0, _ = build(n)
+        for _ in range(5):  # compiled step, first allocations, the half kicks: not counted
+            pf.step(DT)
+            pf0.step(DT)
+        best = {"pymunk": math.inf, "active": math.inf, "alone": math.inf}
+        reps = 3 if quick else (5 if n >= 3000 else 11)
+        block = max(3, BLOCK if n <= 1000 else BLOCK * 1000 // n * 2)
+        contacts = 0
+        for _ in range(reps):
+            for kind, step in (("pymunk", space.step), ("active", pf.step), ("alone", pf0.step)):
+                w0 = time.perf_counter()
+                for _ in range(block):
+                    step(DT)
+                best[kind] = min(best[kind], (time.perf_counter() - w0) / block)
+            contacts = max(contacts, _contacts(space))
+        effect, draw = _effect_share(pf, reps=7 if n >= 10000 else 15)
+        rows.append({"effect_us": effect * 1e6, "draw_us": draw * 1e6, "N": n, "pymunk_ms": best["pymunk"] * 1e3, "active_ms": best["active"] * 1e3,
+                     "added": best["active"] / best["pymunk"] - 1.0, "alone_ms": best["alone"] * 1e3,
+                     "added_alone": best["alone"] / best["pymunk"] - 1.0, "contacts": contacts, "block": block,
+                     "repeats": reps})
+        print(f"[active] N={n}: pymunk {best['pymunk'] * 1e3:.3f} ms, with active + friction "
+              f"{best['active'] * 1e3:.3f} ms (+{rows[-1]['added']:.1%}), active alone (mu = 0) "
+              f"{best['alone'] * 1e3:.3f} ms (+{rows[-1]['added_alone']:.1%}), {contacts} contacts; the effect in "
+              f"the kernel {effect * 1e6:.1f} us, the noise draw {draw * 1e6:.1f} us", flush=True)
+    write_csv(out / "active.csv", rows)
+    ns = [r["N"] for r in rows]
+    e_pm = loglog_slope(ns, [r["pymunk_ms"] for r in rows])
+    e_ac = loglog_slope(ns, [r["active_ms"] for r in rows])
+    at = {r["N"]: r for r in rows}
+    r1k = at.get(1000)
+    targets = []
+    if r1k is not None:
+        share = (r1k["effect_us"] + r1k["draw_us"]) / (1e3 * r1k["pymunk_ms"])
+        targets.append(Target("breakdown at N = 1,000: the active effect's own cost (kernel share + noise draw)",
+                              "(no bound)", f"{share:.1%} of pymunk's step ({r1k['effect_us']:.0f} + "
+                              f"{r1k['draw_us']:.0f} us); the plugin with mu = 0 adds {r1k['added_alone']:.0%}", None))
+        targets.append(Target("active effect + plane friction at N = 1,000, colliding", "<= 30 % added",
+                              f"{r1k['added']:.1%} ({r1k['active_ms']:.3f} vs {r1k['pymunk_ms']:.3f} ms per step)",
+                              None if quick else r1k["added"] <= 0.30))
+    if r1k is not None:  # "1,000 bodies on one core interactively": at least 60 steps per s of computing
+        rate = 1e3 / r1k["active_ms"]
+        targets.append(Target("1,000 active bodies interactively, one core", ">= 60 steps/s (pf.step <= 16.7 ms)",
+                              f"{rate:.0f} steps/s ({r1k['active_ms']:.3f} ms per pf.step; at dt = 1/120 s "
+                              f"{rate * DT:.1f}x real time)", None if quick else rate >= 60.0))
+    # "no faster than pymunk's own": the exponents' difference within 0.05 (the fits' spread between runs)
+    targets.append(Target("cost per step vs N: exponent no larger than pymunk's own",
+                          "exponent(active) <= exponent(pymunk) + 0.05",
+                          f"{e_ac:.3f} vs pymunk {e_pm:.3f} (N = {ns[0]} ... {ns[-1]})",
+                          None if quick else e_ac <= e_pm + 0.05))
+    if quick:
+        targets = [Target(t.name, t.target, t.measured + " [quick]", None) for t in targets]
+    md = [f"## {TITLE}", "", __doc__.split("\n\n", 1)[1].strip(), "", machine_text(), "",
+          md_table(["N", "pymunk (ms/step)", "active + friction (ms/step)", "added", "active alone, mu = 0 (ms/step)",
+                    "added", "effect in the kernel (us)", "noise draw (us)", "effect + draw / pymunk", "contacts"],
+                   [(r["N"], fmt(r["pymunk_ms"]), fmt(r["active_ms"]), f"{r['added']:.1%}", fmt(r["alone_ms"]),
+                     f"{r['added_alone']:.1%}", fmt(r["effect_us"]), fmt(r["draw_us"]),
+                     f"{(r['effect_us'] + r['draw_us']) / (1e3 * r['pymunk_ms']):.1%}", r["contacts"]) for r in rows]), "",
+          f"Fitted exponents of cost per step vs N: pymunk {e_pm:.3f}, active + friction {e_ac:.3f}.", ""]
+    return StudyResult(NAME, TITLE, targets=targets, markdown="\n".join(md), files=["active.csv"],
+                       extra={"highlights": [f"active + plane friction add {r1k['added']:.0%} to pymunk's step at "
+                                             f"N = 1,000 (exponents {e_ac:.2f} vs {e_pm:.2f})"] if r1k else []})
+
+
+if __name__ == "__main__":  # a quick look without the runner
+    t0 = time.perf_counter()
+    print(run(Path("/tmp"), quick=True).markdown, f"\n({time.perf_counter() - t0:.0f} s)")

@@ -1,0 +1,107 @@
+"""Effect ``active``: self-propulsion fixed in the body frame, a medium's drag, Langevin noise.
+
+The model is :mod:`rrbody.model.active` (:class:`rrbody.model.active.Active`). This module holds
+what both paths compile: the layout of the plugin's ``active`` array (one row per plugin body, a
+row of zeros for a body that is not active) and the per-body load :func:`load` that
+:func:`rrbody.engine.kernel.plane_step` adds to each body's force where a tilt's pull is added,
+before friction is evaluated (so the limiter, the rest rule and static friction see it as a load);
+and :func:`ode_terms`, the same deterministic terms for a free body's right-hand side on the ODE
+path (:mod:`rrbody.physics.dynamics`; parameters in ``p``, :mod:`rrbody.physics.params`).
+
+Time stepping on the plugin path (docs/active.md)
+-------------------------------------------------
+pymunk moves positions with the velocity, then kicks the velocity (the staggered scheme of
+docs/engine.md: the velocity read at a step belongs to half a step before the force). The
+propulsion acts at the angle alpha + w dt and the drag at the velocity extrapolated from the last
+two steps, both at the time friction is evaluated: second order in dt for the deterministic part.
+The noise is Euler-Maruyama on the velocities: a force m gamma_t sqrt(2 D_t / dt) xi (world frame,
+two components) and a torque I gamma_r sqrt(2 D_r / dt) xi' held over the step, xi, xi' independent
+standard normal numbers drawn anew each step (``noise``, filled by the plugin from one seeded
+``numpy.random.Generator`` (PCG64) in one vectorised call per step). The velocity increments have
+exactly the Wiener increments' variance 2 gamma^2 D dt; with additive noise the scheme has strong
+and weak order 1 (the drift's own error is second order).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from rrbody.physics import params as P
+
+__all__ = ["FBX", "FBY", "TQ", "DRAG", "RDRAG", "SIG", "RSIG", "N_ACTIVE", "row", "load", "ode_terms"]
+
+NAME = "active"
+
+#: columns of ``active``: the propulsion in the body frame (N) and its torque about the centre of
+#: gravity (N m), the drag rates gamma_t, gamma_r (1/s), the noise's force and torque scales
+#: m gamma_t sqrt(2 D_t) (N s^0.5) and I gamma_r sqrt(2 D_r) (N m s^0.5)
+FBX, FBY, TQ, DRAG, RDRAG, SIG, RSIG = range(7)
+N_ACTIVE = 7
+
+
+def row(force: tuple[float, float], torque: float, drag: float, rot_drag: float, diffusion: float,
+        rot_diffusion: float, mass: float, moment: float) -> np.ndarray:
+    """One row of ``active`` for a body of mass ``mass`` (kg) and moment ``moment`` (kg m^2) about its
+    centre of gravity (units as in :class:`rrbody.model.active.Active`)."""
+    r = np.zeros(N_ACTIVE)
+    r[FBX], r[FBY] = force
+    r[TQ] = torque
+    r[DRAG] = drag
+    r[RDRAG] = rot_drag
+    r[SIG] = mass * drag * math.sqrt(2.0 * diffusion)
+    r[RSIG] = moment * rot_drag * math.sqrt(2.0 * rot_diffusion)
+    return r
+
+
+@njit(cache=True, inline="always")
+def load(j, alpha, vx, vy, w, pvx, pvy, pw, gap, mass, ipm, dt, active, noise):  # noqa: ANN001 (numba)
+    """(fx, fy, torque) of body row ``j``'s active effect for the step of length dt (s): N (world
+    frame) and N m about the centre of gravity. ``alpha`` (rad) is the angle at the step's start,
+    (vx, vy, w) the velocity pymunk holds (m/s, rad/s), (pvx, pvy, pw) the one a step before and
+    ``gap`` (s) the time between them (0: no history, or the plain scheme: no extrapolation);
+    ``noise`` has three standard normal numbers per row (ignored where the noise scales are 0)."""
+    fbx = active[j, FBX]
+    fby = active[j, FBY]
+    a = alpha + w * dt  # the angle friction is evaluated at (kernel._friction)
+    ca = math.cos(a)
+    sa = math.sin(a)
+    fx = ca * fbx - sa * fby
+    fy = sa * fbx + ca * fby
+    tq = active[j, TQ]
+    gt = active[j, DRAG]
+    gr = active[j, RDRAG]
+    if gt != 0.0 or gr != 0.0:
+        ex = vx
+        ey = vy
+        ew = w
+        if gap > 0.0:  # the velocity at the time of the force: extrapolated as friction's is
+            g = 0.5 * dt / gap
+            ex += g * (vx - pvx)
+            ey += g * (vy - pvy)
+            ew += g * (w - pw)
+        fx -= mass * gt * ex
+        fy -= mass * gt * ey
+        tq -= mass * ipm * gr * ew
+    s = active[j, SIG]
+    r = active[j, RSIG]
+    if s != 0.0 or r != 0.0:
+        h = 1.0 / math.sqrt(dt)
+        fx += s * h * noise[j, 0]
+        fy += s * h * noise[j, 1]
+        tq += r * h * noise[j, 2]
+    return fx, fy, tq
+
+
+@njit(cache=True, inline="always")
+def ode_terms(alpha, vx, vy, w, p):  # noqa: ANN001 (numba)
+    """The deterministic active terms of a free body on the ODE path: (ax, ay) (m/s^2, world frame)
+    and the angular acceleration (rad/s^2) at body angle ``alpha`` (rad) and velocity (vx, vy, w)."""
+    ca = math.cos(alpha)
+    sa = math.sin(alpha)
+    fbx = p[P.AFX]
+    fby = p[P.AFY]
+    return (ca * fbx - sa * fby - p[P.ADRAG] * vx, sa * fbx + ca * fby - p[P.ADRAG] * vy,
+            p[P.AALPHA] - p[P.ARDRAG] * w)
