@@ -40,6 +40,7 @@ import math
 import numpy as np
 from numba import njit
 
+from rrbody.engine.lean import NO_REFCOUNT
 from rrbody.physics import contact as C
 from rrbody.physics.effects import law_dry
 
@@ -82,7 +83,7 @@ def breakaway(bx: float, by: float, tx: float, ty: float, j: float, cw: float, d
     return -cw * ux / un, -cw * uy / un
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def feet_step(shapes: np.ndarray, s0: int, s1: int, alpha_e: float, alpha_m: float, alpha_u: float, vx: float, vy: float,
               w: float, ex: float, ey: float, ew: float, lx: float, ly: float, lt: float, ck: float, cs: float,
               j: float, v_eps: float, dt: float, reach: float, held: int) -> tuple[int, float, float, float]:

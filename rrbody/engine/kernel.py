@@ -40,6 +40,7 @@ import numpy as np
 from numba import njit
 
 from rrbody.engine.feet import feet_step
+from rrbody.engine.lean import NO_REFCOUNT
 from rrbody.physics.contact import footprint_wrench
 from rrbody.physics.effects import active as act
 from rrbody.physics.limit import at_rest
@@ -53,7 +54,7 @@ STOPPING, ZEROED = 1.0, 2.0
 LAW_DRY, LAW_VISCOUS = 1.0, 2.0
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def body_accel(j: int, alpha: float, vx: float, vy: float, w: float, bodies: np.ndarray, shapes: np.ndarray,
                geo: np.ndarray) -> tuple[float, float, float]:
     """Friction (ax, ay, alpha_dot) of body ``j`` with angle ``alpha`` (rad), centre-of-gravity velocity
@@ -78,7 +79,7 @@ def body_accel(j: int, alpha: float, vx: float, vy: float, w: float, bodies: np.
     return c * (ca * fx - sa * fy), c * (sa * fx + ca * fy), c * tq / bodies[j, IPM]
 
 
-@njit(cache=True)
+@njit(cache=True, **NO_REFCOUNT)
 def limited(j: int, alpha: float, vx: float, vy: float, w: float, ex: float, ey: float, ew: float, dt: float,
             bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray, lx: float, ly: float,
             lw: float) -> tuple[float, float, float, float]:
