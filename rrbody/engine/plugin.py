@@ -28,6 +28,7 @@ import numpy as np
 from rrbody.engine import kernel as K
 from rrbody.engine.active import NO_ACTIVE, ActiveSet
 from rrbody.engine.batchio import BatchIO, body_uid
+from rrbody.engine.rows import Rows
 from rrbody.engine.feet import feet_step
 from rrbody.engine.shapes import body_footprint
 from rrbody.model.active import Active
@@ -52,44 +53,6 @@ def _not_finite(position: tuple[float, float] | None, angle: float, velocity: tu
         if val is not None and not all(map(math.isfinite, val if isinstance(val, tuple) else (val,))):
             return f"{what} must be finite ({unit}), got {val!r}"
     return ""
-
-
-class _Rows:
-    """The first ``n`` rows of an array whose capacity doubles when full: appending k rows costs O(k)
-    amortised (no copy of the rows already there, except at the log2(n) reallocations)."""
-
-    def __init__(self, width: int | None, dtype: Any = np.float64, capacity: int = 16) -> None:
-        self.buf = np.zeros((capacity,) if width is None else (capacity, width), dtype=dtype)
-        self.n = 0
-        self.reallocs = 0  # how many times the storage moved (tests check it grows like log n)
-
-    def append(self, rows: np.ndarray) -> int:
-        """Append ``rows`` (shape (k, width), or (k,) for a 1-D array); return the first new row's index."""
-        k = rows.shape[0]
-        start = self._reserve(k)
-        self.buf[start:start + k] = rows
-        return start
-
-    def append_one(self, row: Any) -> int:
-        """Append one row (a scalar for a 1-D array); return its index."""
-        start = self._reserve(1)
-        self.buf[start] = row
-        return start
-
-    def _reserve(self, k: int) -> int:
-        start = self.n
-        if start + k > self.buf.shape[0]:
-            new = np.zeros((max(start + k, 2 * self.buf.shape[0]), *self.buf.shape[1:]), dtype=self.buf.dtype)
-            new[:start] = self.buf[:start]
-            self.buf = new
-            self.reallocs += 1
-        self.n = start + k
-        return start
-
-    @property
-    def view(self) -> np.ndarray:
-        """The rows in use (a C-contiguous view: what the compiled kernels take)."""
-        return self.buf[:self.n]
 
 
 class PlaneFriction:
@@ -135,10 +98,10 @@ class PlaneFriction:
         self._io = BatchIO(space)
         self._slots: dict[Any, int] = {}  # body -> row; its keys keep the order bodies were added in
         self._list: list[Any] = []  # row -> body
-        self._rows = _Rows(K.N_BODY)  # the kernel's ``bodies`` rows
-        self._idrows = _Rows(None, np.int64)  # row -> the body's id (int64 view of pymunk's uintptr)
-        self._shrows = _Rows(C.N_SHAPE)  # every body's footprint rows, ranges shifted into ``_georows``
-        self._georows = _Rows(3)
+        self._rows = Rows(K.N_BODY)  # the kernel's ``bodies`` rows
+        self._idrows = Rows(None, np.int64)  # row -> the body's id (int64 view of pymunk's uintptr)
+        self._shrows = Rows(C.N_SHAPE)  # every body's footprint rows, ranges shifted into ``_georows``
+        self._georows = Rows(3)
         self._dead = [0, 0]  # rows of _shrows, _georows no body points to any more (compacted when many)
         self._geo: list[tuple[np.ndarray, np.ndarray]] = []  # row -> its footprint rows and geo block
         self._views()

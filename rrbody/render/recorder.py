@@ -42,6 +42,7 @@ import numpy as np
 
 from rrbody.engine import kernel as K
 from rrbody.engine.batchio import BatchIO, body_uid
+from rrbody.engine.rows import Rows
 from rrbody.model.checks import check, check_int, check_positive, check_real
 from rrbody.model.io import atomic_path, check_writable
 from rrbody.render.movie_figure import check_size
@@ -200,8 +201,8 @@ class Recorder:
         self._width = _WIDTH_MOTION if self.motion else _WIDTH_POSE
         self._frame_bytes = len(self.bodies) * self._width * 8
         self._kernel: Any = None  # capture_rows' compiled entry point, found on the first capture
-        self._data = np.zeros((16, len(self.bodies), self._width))
-        self._times = np.zeros(16)
+        self._store = Rows((len(self.bodies), self._width))  # the frames, and their times (s)
+        self._clock = Rows(None)
         self.n_frames = 0
         self._calls = 0
         self._rows = np.full(len(self.bodies), -1, dtype=np.int64)  # their rows in the space's bulk read
@@ -247,9 +248,8 @@ class Recorder:
                              f"the {n} frames captured are kept: film them, raise max_mb, or capture less "
                              f"often (every=...)")
         got, ids, _ = self._io.read()
-        if n == self._data.shape[0]:
-            self._data = np.concatenate([self._data, np.zeros_like(self._data)])
-            self._times = np.concatenate([self._times, np.zeros_like(self._times)])
+        self._store.ensure(n + 1)
+        self._clock.ensure(n + 1)
         prow = self._plane_rows()
         bodies = self.plane._bodies if self.plane is not None else _NO_ROWS
         args = (got, ids, self._ids, self._rows, bodies, prow, self._data[n])
@@ -268,8 +268,18 @@ class Recorder:
             self._rows = rows
             K.capture_rows(got, ids, self._ids, self._rows, bodies, prow, self._data[n])
         self._times[n] = t
-        self.n_frames = n + 1
+        self.n_frames = self._store.n = self._clock.n = n + 1
         return True
+
+    @property
+    def _data(self) -> np.ndarray:
+        """The frame store (its first ``n_frames`` rows are the frames)."""
+        return self._store.buf
+
+    @property
+    def _times(self) -> np.ndarray:
+        """The frames' times (s; the first ``n_frames``)."""
+        return self._clock.buf
 
     def _plane_rows(self) -> np.ndarray:
         """Each filmed body's row in the plane's arrays, or -1 (cached until the plane's membership changes)."""
