@@ -15,7 +15,9 @@ plane friction, one compiled call for all bodies, then the same ``space.step``) 
 ``alone`` (a second plugin on the same space whose bodies have mu = 0: the active effect, the noise
 draw and the plugin's bulk read and write, without friction's area integrals). All keep colliding (under
 the bare step the bodies coast at their speed; under ``pf.step`` propulsion, drag and friction hold them
-near 0.5 m/s). A breakdown on one frozen state: the plugin's compiled call with and without the
+near 0.5 m/s), so the bare step is lighter than the one ``pf.step`` calls: the time of that inner
+``space.step`` is measured too, and the target is judged on the same states (``pf.step`` over its own
+``space.step``). A breakdown on one frozen state: the plugin's compiled call with and without the
 ``active`` arrays, and the noise draw. N = 100, 300, 1,000, 3,000, 10,000; the fitted exponents are
 least-squares slopes of log(cost per step) against log N.
 """
@@ -129,17 +131,34 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
         reps = 3 if quick else (5 if n >= 3000 else 11)
         block = max(3, BLOCK if n <= 1000 else BLOCK * 1000 // n * 2)
         contacts = 0
+        bare = space.step
+        inner = [0.0]
+
+        def timed(dt: float) -> None:  # pymunk's own step inside pf.step: the same states
+            w = time.perf_counter()
+            bare(dt)
+            inner[0] += time.perf_counter() - w
+
+        best["inside"] = math.inf
         for _ in range(reps):
-            for kind, step in (("pymunk", space.step), ("active", pf.step), ("alone", pf0.step)):
+            for kind, step in (("pymunk", bare), ("active", pf.step), ("alone", pf0.step)):
+                inner[0] = 0.0
+                space.step = timed if kind == "active" else bare
                 w0 = time.perf_counter()
                 for _ in range(block):
                     step(DT)
-                best[kind] = min(best[kind], (time.perf_counter() - w0) / block)
+                took = (time.perf_counter() - w0) / block
+                if took < best[kind]:
+                    best[kind] = took
+                    if kind == "active":
+                        best["inside"] = inner[0] / block
             contacts = max(contacts, _contacts(space))
+        space.step = bare
         effect, draw = _effect_share(pf, reps=7 if n >= 10000 else 15)
         rows.append({"effect_us": effect * 1e6, "draw_us": draw * 1e6, "N": n, "pymunk_ms": best["pymunk"] * 1e3, "active_ms": best["active"] * 1e3,
                      "added": best["active"] / best["pymunk"] - 1.0, "alone_ms": best["alone"] * 1e3,
                      "added_alone": best["alone"] / best["pymunk"] - 1.0, "contacts": contacts, "block": block,
+                     "inside_ms": best["inside"] * 1e3, "added_same": best["active"] / best["inside"] - 1.0,
                      "repeats": reps})
         print(f"[active] N={n}: pymunk {best['pymunk'] * 1e3:.3f} ms, with active + friction "
               f"{best['active'] * 1e3:.3f} ms (+{rows[-1]['added']:.1%}), active alone (mu = 0) "
@@ -157,9 +176,13 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
         targets.append(Target("breakdown at N = 1,000: the active effect's own cost (kernel share + noise draw)",
                               "(no bound)", f"{share:.1%} of pymunk's step ({r1k['effect_us']:.0f} + "
                               f"{r1k['draw_us']:.0f} us); the plugin with mu = 0 adds {r1k['added_alone']:.0%}", None))
+        # judged on the same states: the bare variant's bodies coast (no propulsion), so its contacts and
+        # its pymunk step are lighter than those pf.step drives (both shown)
         targets.append(Target("active effect + plane friction at N = 1,000, colliding", "<= 30 % added",
-                              f"{r1k['added']:.1%} ({r1k['active_ms']:.3f} vs {r1k['pymunk_ms']:.3f} ms per step)",
-                              None if quick else r1k["added"] <= 0.30))
+                              f"{r1k['added_same']:.1%} over pymunk's step of the same states ({r1k['active_ms']:.3f} "
+                              f"vs {r1k['inside_ms']:.3f} ms per step); {r1k['added']:.1%} over the bare space's "
+                              f"step ({r1k['pymunk_ms']:.3f} ms, coasting bodies)",
+                              None if quick else r1k["added_same"] <= 0.30))
     if r1k is not None:  # "1,000 bodies on one core interactively": at least 60 steps per s of computing
         rate = 1e3 / r1k["active_ms"]
         targets.append(Target("1,000 active bodies interactively, one core", ">= 60 steps/s (pf.step <= 16.7 ms)",
@@ -173,9 +196,11 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     if quick:
         targets = [Target(t.name, t.target, t.measured + " [quick]", None) for t in targets]
     md = [f"## {TITLE}", "", __doc__.split("\n\n", 1)[1].strip(), "", machine_text(), "",
-          md_table(["N", "pymunk (ms/step)", "active + friction (ms/step)", "added", "active alone, mu = 0 (ms/step)",
+          md_table(["N", "pymunk (ms/step)", "active + friction (ms/step)", "added", "pymunk inside it (ms/step)",
+                    "added (same states)", "active alone, mu = 0 (ms/step)",
                     "added", "effect in the kernel (us)", "noise draw (us)", "effect + draw / pymunk", "contacts"],
-                   [(r["N"], fmt(r["pymunk_ms"]), fmt(r["active_ms"]), f"{r['added']:.1%}", fmt(r["alone_ms"]),
+                   [(r["N"], fmt(r["pymunk_ms"]), fmt(r["active_ms"]), f"{r['added']:.1%}", fmt(r["inside_ms"]),
+                     f"{r['added_same']:.1%}", fmt(r["alone_ms"]),
                      f"{r['added_alone']:.1%}", fmt(r["effect_us"]), fmt(r["draw_us"]),
                      f"{(r['effect_us'] + r['draw_us']) / (1e3 * r['pymunk_ms']):.1%}", r["contacts"]) for r in rows]), "",
           f"Fitted exponents of cost per step vs N: pymunk {e_pm:.3f}, active + friction {e_ac:.3f}.", ""]
