@@ -36,7 +36,8 @@ import numpy as np
 
 from rrbody.model.checks import check, check_choice, check_int
 
-__all__ = ["CHAOS_COLUMNS", "CHAOS_OPTIONS", "CHAOS_DEFAULTS", "check_chaos_options", "chaos_point"]
+__all__ = ["CHAOS_COLUMNS", "CHAOS_OPTIONS", "CHAOS_DEFAULTS", "check_chaos_options", "check_chaos_scene",
+           "chaos_point"]
 
 CHAOS_COLUMNS: tuple[str, ...] = ("lambda_max", "lambda_2", "method", "lambda_spread", "lambda_floor", "rr_fraction",
                                   "rr_bound", "t_measured")
@@ -62,6 +63,15 @@ def check_chaos_options(options: Mapping[str, Any]) -> dict[str, Any]:
     o["rr_samples"] = check_int("rr_samples", o["rr_samples"], 1, 100_000, unit="per driving period")
     check_choice("estimate", o["estimate"], ("auto", "tangent", "two"))
     return o
+
+
+def check_chaos_scene(scene: Any, options: Mapping[str, Any]) -> None:
+    """Refuse, before any work, an estimate the scene cannot take: tangent under dry friction."""
+    from rrbody.analysis.chaos import auto_method
+
+    if options.get("estimate") == "tangent" and auto_method(scene) == "two":
+        raise ValueError("estimate 'tangent' needs a smooth right-hand side, and dry friction has a kink where the "
+                         "contact stops sliding: use estimate 'two' or 'auto'")
 
 
 def chaos_point(scene: Any, **options: Any) -> dict[str, Any]:

@@ -57,7 +57,7 @@ from typing import Any
 import numpy as np
 
 from rrbody._version import __version__
-from rrbody.analysis.chaos_map import CHAOS_COLUMNS, CHAOS_OPTIONS, check_chaos_options
+from rrbody.analysis.chaos_map import CHAOS_COLUMNS, CHAOS_OPTIONS, check_chaos_options, check_chaos_scene
 from rrbody.analysis.sweep_store import check_outputs, checkpoint_path, count_rows, load_sweep, output_files, \
     read_checkpoint, read_meta, stream_checkpoint, write_output
 from rrbody.model.checks import MissingParameters, check, check_choice
@@ -210,6 +210,8 @@ class Sweep:
                     raise ValueError("quantity 'rest' needs a free body (no_drive=True)")
                 if self.quantity != "rest" and not scene.driven:
                     raise ValueError(f"quantity {self.quantity!r} needs a driven scene; for a free body use 'rest'")
+                if self.quantity == "chaos":
+                    check_chaos_scene(scene, self.options)
 
     @property
     def columns(self) -> tuple[str, ...]:

@@ -87,7 +87,9 @@ _PARAM_OPTIONS: dict[str, str] = {**{p: o for o, p in OPTION_PARAMS.items()}, "R
                                   "orientation": "--orientation", "accuracy": "--accuracy", "method": "--method",
                                   "quantity": "--quantity", "batch": "--batch", "resume": "--resume",
                                   "n_scan": "--n-scan", "stepper": "--stepper", "scheduler": "--scheduler",
-                                  "pressure": "--pressure", "vertices": "--vertices", "polygon": "--body polygon"}
+                                  "pressure": "--pressure", "vertices": "--vertices", "polygon": "--body polygon",
+                                  "periods": "--periods", "transient": "--transient", "rr_samples": "--rr-samples",
+                                  "estimate": "--estimate"}
 
 
 def option_help(param: str, text: str, default: object = None) -> str:
