@@ -49,6 +49,16 @@ def test_points_are_the_direct_computation(tmp_path: Path) -> None:
         assert abs(float(row["lambda_max"]) + float(row["lambda_2"])) < 1e-8
 
 
+def test_span_in_seconds() -> None:
+    """``t_max``: the same span in seconds at every point, as ``rrbody lyapunov --t-max``."""
+    sc = scene_from_params(H=0.5, k=None, omega=2.0, friction="none", tilt=0.5)
+    r = chaos_point(sc, t_max=20.0, transient=1.5, rr_samples=8)
+    ref = lyapunov(sc, t_max=20.0, transient=1.5 * math.pi, rr_samples=8)
+    assert r["lambda_max"] == ref.exponents[0] and r["t_measured"] == 20.0
+    assert r["lambda_floor"] == math.log(20.0) / 20.0
+    assert chaos_point(sc, t_max=5.0)["lambda_spread"] is None  # 2 periods: no last half to compare
+
+
 def test_dry_friction_takes_two_trajectories() -> None:
     sc = scene_from_params(H=0.5, k=0.1, omega=2.0, friction="dry", tilt=0.3)
     r = chaos_point(sc, periods=6, transient=1, rr_samples=8)
@@ -98,8 +108,9 @@ def test_transient_keeps_the_divergence() -> None:
 
 @pytest.mark.parametrize(("options", "word"), [
     ({"periods": 1}, "periods"), ({"periods": 2.5}, "periods"), ({"transient": -1}, "transient"),
+    ({"t_max": 0.0}, "t_max"), ({"t_max": 100.0, "periods": 50}, "t_max and periods"),
     ({"rr_samples": 0}, "rr_samples"), ({"estimate": "qr"}, "estimate"), ({"rtol": 0.0}, "rtol"),
-    ({"d0": 1.0}, "d0"), ({"t_max": 100.0}, "t_max"), ({"accuracy": "draft"}, "accuracy"),
+    ({"d0": 1.0}, "d0"), ({"tol": 1e-6}, "tol"), ({"accuracy": "draft"}, "accuracy"),
 ])
 def test_bad_options_rejected(options: dict, word: str) -> None:
     with pytest.raises(ValueError, match=word):

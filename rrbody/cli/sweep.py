@@ -31,8 +31,7 @@ __all__ = ["add_parser", "cmd_sweep", "QUANTITY_NAMES"]
 #: the sweep engine's quantities (tests check this equals rrbody.analysis.sweep.QUANTITIES)
 QUANTITY_NAMES = ("flip_time", "critical_h", "rr", "rest", "chaos")
 #: options of --quantity chaos only (option -> the quantity's option name)
-_CHAOS_OPTIONS = {"--periods": "periods", "--transient": "transient", "--rr-samples": "rr_samples",
-                  "--estimate": "estimate", "--d0": "d0", "--plot": None}
+_CHAOS_OPTIONS = {"--transient": "transient", "--estimate": "estimate", "--d0": "d0", "--plot": None}
 _ALWAYS = ("phi0", "d", "friction")  # written into every sweep's base, as before any-scene sweeps
 
 
@@ -112,17 +111,14 @@ def add_parser(sub: Any) -> None:
     g = s.add_argument_group("analysis")
     add_accuracy_options(g)
     g.add_argument("--t-max", type=number("--t-max"), default=None,
-                   help=option_help("t_max", "flip_time: horizon cap; rest: horizon (required)"))
+                   help=option_help("t_max", "flip_time: horizon cap; rest: horizon (required); chaos: the span "
+                                             "the exponent is averaged over, at every point (default 200 driving "
+                                             "periods of each point)"))
     g.add_argument("--tol", type=number("--tol"), default=None, help=option_help("tol", "critical_h tolerance on H"))
-    c = s.add_argument_group("chaos (--quantity chaos only; rtol: --rtol, default 1e-10, not --accuracy)")
-    c.add_argument("--periods", type=integer("--periods"), default=None,
-                   help="driving periods the exponent is averaged over, per point; an integer in [2, 10000000]; "
-                        "default 200")
-    c.add_argument("--transient", type=integer("--transient"), default=None,
-                   help="driving periods run first and discarded, per point; an integer in [0, 10000000]; default 20")
-    c.add_argument("--rr-samples", type=integer("--rr-samples"), default=None,
-                   help="samples of the spin per driving period for the reverse-rotation fraction; an integer in "
-                        "[1, 100000]; default 32")
+    c = s.add_argument_group("chaos (--quantity chaos only; its span: --t-max, default 200 driving periods per "
+                                 "point; rtol: --rtol, default 1e-10, not --accuracy)")
+    c.add_argument("--transient", type=number("--transient"), default=None,
+                   help=option_help("settle_periods", "driving periods run first and discarded, per point", 20))
     c.add_argument("--estimate", choices=("auto", "tangent", "two"), default=None,
                    help="tangent (variational equations), two (two trajectories) or auto (default: tangent unless "
                         "the friction is dry)")
@@ -247,7 +243,8 @@ def _chaos_checks(args: argparse.Namespace, axes: dict[str, Any]) -> str | None:
 
 def cmd_sweep(args: argparse.Namespace) -> int:
     """Handler of ``rrbody sweep``."""
-    check_options(args, (*SCENE_OPTIONS, "--rtol", "--t-max", "--tol", "--workers", "--batch-size", "--d0"))
+    check_options(args, (*SCENE_OPTIONS, "--rtol", "--t-max", "--tol", "--workers", "--batch-size", "--d0",
+                         "--transient"))
     axes = parse_axes(args.axis)
     _contradictions(args, axes)
     base = _base(args, axes)
@@ -258,7 +255,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if args.quantity == "chaos":
         options.update({name: getattr(args, name) for name in _CHAOS_OPTIONS.values()
                         if name is not None and getattr(args, name) is not None})
-    if args.t_max is not None and args.quantity in ("flip_time", "rest"):
+    if args.t_max is not None and args.quantity in ("flip_time", "rest", "chaos"):
         options["t_max"] = args.t_max
     if args.tol is not None and args.quantity == "critical_h":
         options["tol"] = args.tol
