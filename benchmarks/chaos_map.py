@@ -106,8 +106,9 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     files = [str(write_csv(out / "chaos_map.csv", rows)), str(write_csv(out / "chaos_map_convergence.csv", conv))]
     projected = wall * TARGET_POINTS / n
     period_range = (2 * math.pi / max(omegas), 2 * math.pi / min(omegas))
-    horizon = (f"{mod.OPTIONS['transient']} + {mod.OPTIONS['periods']} driving periods per point "
-               f"({fmt(mod.OPTIONS['periods'] * period_range[0])} to {fmt(mod.OPTIONS['periods'] * period_range[1])} s)")
+    per = mod.OPTIONS["periods"]
+    horizon = (f"{mod.OPTIONS['transient']} + {per} driving periods per point "
+               f"({fmt(per * period_range[0])} to {fmt(per * period_range[1])} s)")
     conv_text = (f"chaotic sample points: |lambda(200) - lambda({REF_PERIODS})| / lambda({REF_PERIODS}) median "
                  f"{fmt(float(np.median(rel)))}, max {fmt(float(np.max(rel)))} ({len(rel)} points)" if rel else
                  "no chaotic point in the sample")

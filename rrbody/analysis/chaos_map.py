@@ -3,11 +3,11 @@ rotation at one parameter point, for maps over (tilt, omega) or any other pair o
 
 One run per point (:func:`rrbody.analysis.chaos.lyapunov`): ``transient`` driving periods first
 (discarded), then the span over which the exponent is averaged (renormalised once per period) and
-the spin sampled ``rr_samples`` times per period: ``periods`` driving periods of the point's drive,
-or ``t_max`` seconds at every point (as ``rrbody lyapunov --t-max``; the command line's form). The estimate is chosen per
-point as ``rrbody lyapunov --estimate auto`` chooses it (:func:`rrbody.analysis.chaos.auto_method`):
-tangent (the variational equations) where the right-hand side is smooth, two trajectories under dry
-friction.
+the spin sampled ``rr_samples`` times per period: ``periods`` driving periods of the point's
+drive, or ``t_max`` seconds at every point (as ``rrbody lyapunov --t-max``; the command line's
+form). The estimate is chosen per point as ``rrbody lyapunov --estimate auto`` chooses it
+(:func:`rrbody.analysis.chaos.auto_method`): tangent (the variational equations) where the
+right-hand side is smooth, two trajectories under dry friction.
 
 Reverse rotation (RR) here is the paper's: the body spins against its orbit, phi' omega < 0 (the
 movies' dial turns red then). ``rr_fraction`` is the share of the averaging span in RR.

@@ -1,4 +1,4 @@
-"""Parameter sweeps: flip time, H_c, the RR test or the Lyapunov exponent and RR fraction (chaos) over 1-D/2-D grids or lists of scene parameters.
+"""Parameter sweeps: flip time, H_c, the RR test, Lyapunov maps (chaos) over 1-D/2-D grids or lists of scenes.
 
 A :class:`Sweep` names a base scene, the axes to vary and the quantity to compute. :func:`run_sweep`
 evaluates every point on an executor:
@@ -128,8 +128,8 @@ class Sweep:
         fraction of time in reverse rotation (:mod:`rrbody.analysis.chaos_map`).
     options : dict
         Passed to the analysis: ``accuracy``, ``rtol``; ``t_max`` (flip_time, rest); ``tol``,
-        ``H_lo``, ``H_hi``, ``n_scan`` (critical_h); ``periods``, ``transient``, ``rtol``, ``d0``,
-        ``rr_samples``, ``estimate`` (chaos).
+        ``H_lo``, ``H_hi``, ``n_scan`` (critical_h); ``periods`` or ``t_max``, ``transient``,
+        ``rtol``, ``d0``, ``rr_samples``, ``estimate`` (chaos).
     """
 
     base: dict[str, Any]
