@@ -83,7 +83,8 @@ def plot_chaos_map(table: str | os.PathLike[str], path: str | os.PathLike[str], 
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.8), constrained_layout=True)
     spec = a["spec"]
     opts = spec.get("options", {})
-    base = ", ".join(f"{k} = {v}" for k, v in spec["base"].items() if v is not None and k != "scene")
+    base = ", ".join(f"{k} = {v:.4g}" if isinstance(v, float) else f"{k} = {v}" for k, v in spec["base"].items()
+                     if v is not None and k != "scene")
     for ax, z, lab, cmap, lim in ((axes[0], lam, "maximal Lyapunov exponent lambda_max (1/s)", "magma",
                                    (0.0, max(float(np.nanmax(lam)) if np.isfinite(lam).any() else 1.0, 1e-12))),
                                   (axes[1], a["rr_fraction"], "fraction of time in reverse rotation (phi' omega < 0)",
@@ -95,9 +96,10 @@ def plot_chaos_map(table: str | os.PathLike[str], path: str | os.PathLike[str], 
         ax.set(xlabel=_LABELS.get(a["names"][1], a["names"][1]), ylabel=_LABELS.get(a["names"][0], a["names"][0]))
     from rrbody.analysis.chaos_map import CHAOS_DEFAULTS
 
-    per = opts.get("periods", CHAOS_DEFAULTS["periods"])
-    axes[0].set_title(f"lambda_max over {per} driving periods (0 where below log(T)/T)", fontsize=9)
-    axes[1].set_title(f"reverse rotation: share of the same {per} periods", fontsize=9)
+    span = (f"{opts['t_max']:g} s" if opts.get("t_max") is not None else
+            f"{opts.get('periods', CHAOS_DEFAULTS['periods'])} driving periods")
+    axes[0].set_title(f"lambda_max over {span} (0 where below log(T)/T)", fontsize=9)
+    axes[1].set_title(f"reverse rotation: share of the same {span}", fontsize=9)
     fig.suptitle(title if title is not None else f"Chaos map: {base}; {len(a['x'])} x {len(a['y'])} points",
                  fontsize=10)
     with atomic_path(path, force=force, name="plot") as tmp:
