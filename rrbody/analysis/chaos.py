@@ -180,25 +180,36 @@ def _tangent(scene: Scene, y0: tuple[float, float], times: np.ndarray, renorm: f
              bar: Any, transient: float = 0.0, dt_rr: float = 0.0) -> LyapunovResult:
     r = _Run(scene, np.array([y0[0], y0[1], 1.0, 0.0, 0.0, 1.0]), rtol, STEP_METHODS["dop853"], dt_out=dt_rr,
              t_end=float(times[-1]))
-    # the transient: every renorm seconds the perturbations start afresh (unit vectors), and after
-    # it too; their growth is never measured (the loop's error scale for them is absolute, O(1): left
-    # to grow over many intervals they would force ever smaller steps)
-    for t in [*np.arange(renorm, transient - 1e-9 * renorm, renorm), transient] if transient else []:
+    # the tangent vectors are re-orthonormalised at least once a driving period, whatever renorm: the
+    # loop's error scale for them is absolute, O(1), so vectors left to grow by e^(lambda renorm) would
+    # force ever smaller steps. The logarithms of R's diagonal add up over the sub-intervals, so this
+    # changes no exponent (renorm sets where the running estimate is recorded)
+    sub = min(renorm, 2.0 * math.pi / abs(scene.omega))
+
+    def reorthonormalise() -> np.ndarray:
+        D = np.array([[r.y[2], r.y[4]], [r.y[3], r.y[5]]])  # columns: the tangent vectors
+        Q, R = np.linalg.qr(D)
+        sign = np.sign(np.diag(R))
+        sign[sign == 0.0] = 1.0
+        Q = Q * sign
+        r.y[2:] = (Q[0, 0], Q[1, 0], Q[0, 1], Q[1, 1])
+        r.changed()
+        return np.log(np.abs(np.diag(R)))
+
+    # the transient: the perturbations' growth is never measured; they start afresh (unit vectors)
+    # after every sub-interval of it and at its end
+    for t in [*np.arange(sub, transient - 1e-9 * sub, sub), transient] if transient else []:
         r.advance(float(t))
         r.y[2:] = (1.0, 0.0, 0.0, 1.0)
         r.changed()
     sums = np.zeros(2)
     running = np.empty((len(times), 2))
+    t_prev = transient
     for i, t in enumerate(times):
-        r.advance(float(t))
-        D = np.array([[r.y[2], r.y[4]], [r.y[3], r.y[5]]])  # columns: the tangent vectors
-        Q, R = np.linalg.qr(D)
-        sign = np.sign(np.diag(R))
-        sign[sign == 0.0] = 1.0
-        sums += np.log(np.abs(np.diag(R)))
-        Q = Q * sign
-        r.y[2:] = (Q[0, 0], Q[1, 0], Q[0, 1], Q[1, 1])
-        r.changed()
+        for ts in [*np.arange(t_prev + sub, t - 1e-9 * sub, sub), t]:
+            r.advance(float(ts))
+            sums += reorthonormalise()
+        t_prev = float(t)
         running[i] = sums / (t - transient)
         if bar is not None:
             bar.update(1)
