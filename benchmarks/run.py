@@ -33,6 +33,7 @@ STUDIES: dict[str, str] = {
     "engine": "benchmarks.engine",
     "contacts": "benchmarks.contacts",
     "sweeps": "benchmarks.sweeps",
+    "chaos_map": "benchmarks.chaos_map",
     "render": "benchmarks.render",
     "recorder": "benchmarks.recorder",
     "active": "benchmarks.active",

@@ -69,3 +69,44 @@ def test_any_body_and_any_parameter(tmp_path: Path) -> None:
     f = load_sweep(tmp_path / "f.csv")
     assert f[0]["status"] == "came to rest" and float(f[0]["t_stop"]) > 0
     assert float(f[1]["t_stop"]) == json.loads(rs[5].out)["t_stop"]
+
+
+CHAOS = ["sweep", "--quantity", "chaos", "--H", "0.5", "--friction", "none", "--axis", "tilt=0,0.5", "--axis",
+         "omega=1,2", "--workers", "0"]
+
+
+def test_chaos_options_fail_before_any_work(tmp_path: Path) -> None:
+    out = ["--out", str(tmp_path / "c.csv")]
+    cases = [
+        ([*CHAOS, "--t-max", "0", *out], "--t-max"),
+        ([*CHAOS, "--transient", "-1", *out], "--transient"),
+        ([*CHAOS, "--transient", "1e7", *out], "--transient"),
+        ([*CHAOS, "--estimate", "qr", *out], "--estimate"),
+        ([*CHAOS, "--d0", "1", *out], "--d0"),
+        ([*CHAOS, "--accuracy", "draft", *out], "--accuracy"),
+        ([*CHAOS, "--plot", str(tmp_path / "c.svg"), *out], "--plot"),
+        ([*CHAOS, "--list", "--plot", str(tmp_path / "c.png"), *out], "--plot"),
+        ([*ROD, "--transient", "10", *out], "--transient"),
+        (["sweep", "--quantity", "chaos", "--H", "0.5", "--k", "0.1", "--friction", "dry", "--axis", "omega=1,2",
+          "--estimate", "tangent", *out], "--estimate"),
+    ]
+    for r, (_, opt) in zip(run_many([a for a, _ in cases], cwd=tmp_path), cases):
+        assert_bad_input(r, opt, tmp_path, set())  # no checkpoint, no output, no sidecar, no figure
+
+
+def test_chaos_sweep_and_its_plot(tmp_path: Path) -> None:
+    """The command's table is the library's, bit for bit, and --plot writes the map."""
+    from rrbody.analysis.sweep import Sweep, load_sweep, run_sweep
+
+    opts = ["--t-max", "15", "--transient", "1.5"]
+    (r,) = run_many([[*CHAOS, *opts, "--out", str(tmp_path / "c.csv"), "--plot", str(tmp_path / "c.png"),
+                      "--json"]], cwd=tmp_path)
+    assert r.code == 0, r.err
+    assert json.loads(r.out)["plot"] == str(tmp_path / "c.png")
+    assert (tmp_path / "c.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    sw = Sweep(base={"H": 0.5, "friction": "none", "d": 1.0, "phi0": math.pi}, axes={"tilt": (0.0, 0.5),
+               "omega": (1.0, 2.0)}, quantity="chaos", options={"t_max": 15.0, "transient": 1.5})
+    ref = load_sweep(run_sweep(sw, tmp_path / "ref.csv", workers=0, progress=False))
+    got = load_sweep(tmp_path / "c.csv")
+    assert [row["lambda_max"] for row in got] == [row["lambda_max"] for row in ref]
+    assert [row["rr_fraction"] for row in got] == [row["rr_fraction"] for row in ref]

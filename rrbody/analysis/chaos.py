@@ -35,15 +35,21 @@ import numpy as np
 from rrbody.integrate.events import E_SECDIR, E_SECTION, new_event_state
 from rrbody.integrate.loop import L_NOUT, L_T, STEP_METHODS, advance_for, new_loop_state
 from rrbody.integrate.ode import driven_steps
-from rrbody.model.checks import check
+from rrbody.model.checks import MAX_TIME, check, check_int, check_range
 from rrbody.model.scene import Scene
 from rrbody.physics import params as P
 from rrbody.physics.bind import ode_params
 from rrbody.physics.dynamics import SYSTEM_DRIVEN, system_from_params, tangent_rhs_for
 
-__all__ = ["LyapunovResult", "lyapunov", "METHODS", "Section", "poincare", "SECTIONS", "rotating_energy"]
+__all__ = ["LyapunovResult", "lyapunov", "auto_method", "METHODS", "Section", "poincare", "SECTIONS", "rotating_energy"]
 
 METHODS = ("tangent", "two")
+
+
+def auto_method(scene: Scene) -> str:
+    """The estimate for ``scene``: ``"tangent"`` where the right-hand side is smooth (no or viscous
+    friction), ``"two"`` under dry friction (its kink at zero slip speed)."""
+    return "two" if scene.friction.active and scene.friction.law == "dry" else "tangent"
 
 
 @dataclass
@@ -69,10 +75,20 @@ class LyapunovResult:
 
 
 def lyapunov(scene: Scene, *, t_max: float, renorm: float | None = None, rtol: float = 1e-10, method: str = "tangent",
-             d0: float = 1e-8, progress: bool = False) -> LyapunovResult:
-    """Lyapunov exponents of the driven ``scene`` over [0, ``t_max``] (s): the spectrum (``"tangent"``)
-    or the maximal exponent (``"two"``); see the module docstring. ``renorm``: seconds between
-    renormalisations (default one driving period)."""
+             d0: float = 1e-8, progress: bool = False, transient: float = 0.0, rr_samples: int = 0) -> LyapunovResult:
+    """Lyapunov exponents of the driven ``scene`` averaged over [``transient``, ``transient + t_max``]
+    (s): the spectrum (``"tangent"``) or the maximal exponent (``"two"``); see the module docstring.
+    ``renorm``: seconds between renormalisations (default one driving period). ``transient`` (s,
+    default 0): run first and discarded (the perturbations start afresh at its end); ``times`` count
+    from t = 0.
+
+    ``rr_samples`` (default 0: none): also the fraction of the averaging span in reverse rotation,
+    the spin phi' against the orbit (phi' omega < 0), from phi' at ``rr_samples`` equally spaced
+    times per ``renorm`` interval, each a step of the integrator from the last accepted step
+    (the loop's dense output: the trajectory itself is unchanged). Stored in ``meta``:
+    ``rr_fraction`` (the share of samples with phi' omega < 0), ``rr_changes`` (sign changes between
+    samples) and ``rr_bound`` = rr_changes x spacing / span, which bounds the fraction's error when no
+    two sign changes fall within one spacing."""
     if scene.drive is None:
         raise ValueError("scene must be driven (a drive): Lyapunov exponents here are those of the driven body")
     if method not in METHODS:
@@ -82,11 +98,13 @@ def lyapunov(scene: Scene, *, t_max: float, renorm: float | None = None, rtol: f
     renorm = 2.0 * math.pi / abs(omega) if renorm is None else float(check("renorm", renorm))
     rtol = float(check("rtol", rtol))
     d0 = float(check("d0", d0))
+    transient = check_range("transient", transient, 0.0, MAX_TIME, unit="s")
+    rr_samples = check_int("rr_samples", rr_samples, 0, 100_000)
     if method == "tangent" and scene.friction.active and scene.friction.law == "dry":
         raise ValueError("method 'tangent' needs a smooth right-hand side; dry friction has a kink where the contact "
                          "stops sliding: use method 'two' (two nearby trajectories)")
     n_int = int(math.ceil(t_max / renorm - 1e-9))
-    times = np.minimum(renorm * np.arange(1, n_int + 1), t_max)
+    times = transient + np.minimum(renorm * np.arange(1, n_int + 1), t_max)
     y0 = (scene.phi0, scene.initial_phi_dot)
     bar = None
     if progress:
@@ -94,9 +112,14 @@ def lyapunov(scene: Scene, *, t_max: float, renorm: float | None = None, rtol: f
 
         bar = tqdm(total=n_int, desc=f"lyapunov ({method})", unit="period", leave=False)
     try:
+        dt_rr = renorm / rr_samples if rr_samples else 0.0
         if method == "tangent":
-            return _tangent(scene, y0, times, renorm, rtol, bar)
-        return _two(scene, y0, times, renorm, rtol, d0, bar)
+            res = _tangent(scene, y0, times, renorm, rtol, bar, transient, dt_rr)
+        else:
+            res = _two(scene, y0, times, renorm, rtol, d0, bar, transient, dt_rr)
+        if transient:
+            res.meta["transient"] = transient
+        return res
     finally:
         if bar is not None:
             bar.close()
@@ -105,7 +128,8 @@ def lyapunov(scene: Scene, *, t_max: float, renorm: float | None = None, rtol: f
 class _Run:
     """One trajectory on the stepping loop (state y, f = f(t, y), loop and event state)."""
 
-    def __init__(self, scene: Scene, y: np.ndarray, rtol: float, mode: int) -> None:
+    def __init__(self, scene: Scene, y: np.ndarray, rtol: float, mode: int, *, dt_out: float = 0.0,
+                 t_end: float = 0.0) -> None:
         self.p, self.S = ode_params(scene)
         system = system_from_params(self.p, SYSTEM_DRIVEN)
         self.run, self.rhs = advance_for(system), tangent_rhs_for(system)
@@ -117,13 +141,15 @@ class _Run:
         self.st = new_loop_state(h0, mode, yscale=yscale)
         self.ev = new_event_state(float(y[0]), float(y[1]))
         self.minima = np.empty((16, 2))
-        self.out = np.empty((0, len(y) + 1))
-        self.rtol, self.mode = rtol, mode
+        # dense output (rows t, y...) every dt_out s from t = 0 up to t_end; 0: none
+        n_out = int(t_end / dt_out * (1.0 + 1e-12)) + 2 if dt_out > 0.0 else 0
+        self.out = np.empty((n_out, len(y) + 1))
+        self.rtol, self.mode, self.dt_out = rtol, mode, dt_out
 
     def advance(self, t_end: float) -> None:
         while True:
             code = self.run(self.y, self.f, self.st, self.ev, self.p, self.S, t_end, 0, 2.0, 3.0, self.rtol, self.scale,
-                            1, self.hmax, 1_000_000, self.minima, self.out, 0.0, self.mode, 0.0)
+                            1, self.hmax, 1_000_000, self.minima, self.out, self.dt_out, self.mode, 0.0)
             if code == 0:
                 return
             if code == 4 and t_end - self.st[L_T] <= 1e-12 * max(1.0, abs(t_end)):
@@ -133,27 +159,58 @@ class _Run:
             if code != 5:
                 raise RuntimeError(f"integration failed at t={self.st[L_T]:.6g} s (loop status {code})")
 
+    def rr_stats(self, t0: float, t1: float, omega: float) -> dict[str, Any]:
+        """Reverse rotation (phi' omega < 0) over [t0, t1) (s) from the dense output's samples: the
+        share of samples, the sign changes between them and the bound changes x spacing / span."""
+        rows = self.out[:int(self.st[L_NOUT])]
+        keep = (rows[:, 0] >= t0 - 1e-9 * self.dt_out) & (rows[:, 0] < t1 - 1e-9 * self.dt_out)
+        against = rows[keep, 2] * omega < 0.0
+        if not len(against):
+            return {"rr_fraction": None, "rr_changes": 0, "rr_bound": None}
+        changes = int(np.count_nonzero(against[1:] != against[:-1]))
+        return {"rr_fraction": float(np.mean(against)), "rr_changes": changes,
+                "rr_bound": changes * self.dt_out / (t1 - t0)}
+
     def changed(self) -> None:
         """After editing y: f = f(t, y) again (the loop carries f from step to step)."""
         self.rhs(float(self.st[L_T]), self.y, self.p, self.S, self.f)
 
 
 def _tangent(scene: Scene, y0: tuple[float, float], times: np.ndarray, renorm: float, rtol: float,
-             bar: Any) -> LyapunovResult:
-    r = _Run(scene, np.array([y0[0], y0[1], 1.0, 0.0, 0.0, 1.0]), rtol, STEP_METHODS["dop853"])
-    sums = np.zeros(2)
-    running = np.empty((len(times), 2))
-    for i, t in enumerate(times):
-        r.advance(float(t))
+             bar: Any, transient: float = 0.0, dt_rr: float = 0.0) -> LyapunovResult:
+    r = _Run(scene, np.array([y0[0], y0[1], 1.0, 0.0, 0.0, 1.0]), rtol, STEP_METHODS["dop853"], dt_out=dt_rr,
+             t_end=float(times[-1]))
+    # the tangent vectors are re-orthonormalised at least once a driving period, whatever renorm: the
+    # loop's error scale for them is absolute, O(1), so vectors left to grow by e^(lambda renorm) would
+    # force ever smaller steps. The logarithms of R's diagonal add up over the sub-intervals, so this
+    # changes no exponent (renorm sets where the running estimate is recorded)
+    sub = min(renorm, 2.0 * math.pi / abs(scene.omega))
+
+    def reorthonormalise() -> np.ndarray:
         D = np.array([[r.y[2], r.y[4]], [r.y[3], r.y[5]]])  # columns: the tangent vectors
         Q, R = np.linalg.qr(D)
         sign = np.sign(np.diag(R))
         sign[sign == 0.0] = 1.0
-        sums += np.log(np.abs(np.diag(R)))
         Q = Q * sign
         r.y[2:] = (Q[0, 0], Q[1, 0], Q[0, 1], Q[1, 1])
         r.changed()
-        running[i] = sums / t
+        return np.log(np.abs(np.diag(R)))
+
+    # the transient: the perturbations' growth is never measured; they start afresh (unit vectors)
+    # after every sub-interval of it and at its end
+    for t in [*np.arange(sub, transient - 1e-9 * sub, sub), transient] if transient else []:
+        r.advance(float(t))
+        r.y[2:] = (1.0, 0.0, 0.0, 1.0)
+        r.changed()
+    sums = np.zeros(2)
+    running = np.empty((len(times), 2))
+    t_prev = transient
+    for i, t in enumerate(times):
+        for ts in [*np.arange(t_prev + sub, t - 1e-9 * sub, sub), t]:
+            r.advance(float(ts))
+            sums += reorthonormalise()
+        t_prev = float(t)
+        running[i] = sums / (t - transient)
         if bar is not None:
             bar.update(1)
     # the flow's divergence d phi''/d phi': -gamma under viscous friction (its torque about P is
@@ -164,13 +221,19 @@ def _tangent(scene: Scene, y0: tuple[float, float], times: np.ndarray, renorm: f
     elif scene.friction.law == "viscous":
         div = -float(r.p[P.COEFF])
     return LyapunovResult(exponents=running[-1].copy(), times=times, running=running, method="tangent", renorm=renorm,
-                          rtol=rtol, divergence=div)
+                          rtol=rtol, divergence=div,
+                          meta=r.rr_stats(transient, float(times[-1]), scene.omega) if dt_rr else {})
 
 
 def _two(scene: Scene, y0: tuple[float, float], times: np.ndarray, renorm: float, rtol: float, d0: float,
-         bar: Any) -> LyapunovResult:
-    base = _Run(scene, np.array(y0, dtype=float), rtol, STEP_METHODS["auto"])
-    twin = _Run(scene, np.array(y0, dtype=float) + d0 * np.array([1.0, 0.0]), rtol, STEP_METHODS["auto"])
+         bar: Any, transient: float = 0.0, dt_rr: float = 0.0) -> LyapunovResult:
+    base = _Run(scene, np.array(y0, dtype=float), rtol, STEP_METHODS["auto"], dt_out=dt_rr, t_end=float(times[-1]))
+    if transient:
+        base.advance(transient)  # the twin starts d0 away at the transient's end
+    twin = _Run(scene, base.y + d0 * np.array([1.0, 0.0]), rtol, STEP_METHODS["auto"])
+    if transient:
+        twin.st[L_T] = transient
+        twin.changed()
     total = 0.0
     running = np.empty((len(times), 1))
     for i, t in enumerate(times):
@@ -183,11 +246,12 @@ def _two(scene: Scene, y0: tuple[float, float], times: np.ndarray, renorm: float
         total += math.log(dist / d0)
         twin.y[:] = base.y + sep * (d0 / dist)
         twin.changed()
-        running[i, 0] = total / t
+        running[i, 0] = total / (t - transient)
         if bar is not None:
             bar.update(1)
     return LyapunovResult(exponents=running[-1].copy(), times=times, running=running, method="two", renorm=renorm,
-                          rtol=rtol, meta={"d0": d0})
+                          rtol=rtol, meta={"d0": d0, **(base.rr_stats(transient, float(times[-1]), scene.omega)
+                                                        if dt_rr else {})})
 
 
 # ---- Poincare sections -----------------------------------------------------------------------------

@@ -1,4 +1,4 @@
-"""Parameter sweeps: flip time, H_c or the RR test over 1-D/2-D grids or lists of scene parameters.
+"""Parameter sweeps: flip time, H_c, the RR test, Lyapunov maps (chaos) over 1-D/2-D grids or lists of scenes.
 
 A :class:`Sweep` names a base scene, the axes to vary and the quantity to compute. :func:`run_sweep`
 evaluates every point on an executor:
@@ -57,6 +57,7 @@ from typing import Any
 import numpy as np
 
 from rrbody._version import __version__
+from rrbody.analysis.chaos_map import CHAOS_COLUMNS, CHAOS_OPTIONS, check_chaos_options, check_chaos_scene
 from rrbody.analysis.sweep_store import check_outputs, checkpoint_path, count_rows, load_sweep, output_files, \
     read_checkpoint, read_meta, stream_checkpoint, write_output
 from rrbody.model.checks import MissingParameters, check, check_choice
@@ -71,11 +72,13 @@ QUANTITIES: dict[str, tuple[str, ...]] = {
     "critical_h": ("H_c",),
     "rr": ("reverse_rotation",),
     "rest": ("t_stop", "distance", "turn", "status"),
+    "chaos": CHAOS_COLUMNS,
 }
 _OPTION_KEYS = {"flip_time": ("accuracy", "rtol", "t_max"),
                 "critical_h": ("accuracy", "rtol", "tol", "H_lo", "H_hi", "n_scan"),
                 "rr": ("accuracy", "rtol"),
-                "rest": ("accuracy", "rtol", "t_max")}
+                "rest": ("accuracy", "rtol", "t_max"),
+                "chaos": CHAOS_OPTIONS}
 _OPTION_LIMITS = {"rtol": "rtol", "t_max": "t_max", "tol": "tol", "H_lo": "H", "H_hi": "H"}
 
 
@@ -119,12 +122,14 @@ class Sweep:
     axes : dict name -> sequence of float
         The varied parameters, in order. ``mode="grid"``: the Cartesian product (the first axis
         varies slowest); ``mode="list"``: the axes are zipped (equal lengths), one point per index.
-    quantity : {"flip_time", "critical_h", "rr", "rest"}
+    quantity : {"flip_time", "critical_h", "rr", "rest", "chaos"}
         ``critical_h`` varies the rod-mass ``k``, ``omega``, ``phi0``, ``friction`` (H is the answer);
-        ``rest`` is for free bodies (``no_drive``).
+        ``rest`` is for free bodies (``no_drive``); ``chaos``: the maximal Lyapunov exponent and the
+        fraction of time in reverse rotation (:mod:`rrbody.analysis.chaos_map`).
     options : dict
         Passed to the analysis: ``accuracy``, ``rtol``; ``t_max`` (flip_time, rest); ``tol``,
-        ``H_lo``, ``H_hi``, ``n_scan`` (critical_h).
+        ``H_lo``, ``H_hi``, ``n_scan`` (critical_h); ``periods`` or ``t_max``, ``transient``,
+        ``rtol``, ``d0``, ``rr_samples``, ``estimate`` (chaos).
     """
 
     base: dict[str, Any]
@@ -175,6 +180,9 @@ class Sweep:
         if bad:
             raise ValueError(f"options for {self.quantity} must be among {', '.join(_OPTION_KEYS[self.quantity])}, "
                              f"got {bad!r}")
+        if self.quantity == "chaos":  # its own options (periods, transient, ...): rrbody.analysis.chaos_map
+            check_chaos_options(self.options)
+            return
         for k, v in self.options.items():
             if k == "accuracy":
                 check_choice("accuracy", v, ("draft", "default", "paper"))
@@ -202,6 +210,8 @@ class Sweep:
                     raise ValueError("quantity 'rest' needs a free body (no_drive=True)")
                 if self.quantity != "rest" and not scene.driven:
                     raise ValueError(f"quantity {self.quantity!r} needs a driven scene; for a free body use 'rest'")
+                if self.quantity == "chaos":
+                    check_chaos_scene(scene, self.options)
 
     @property
     def columns(self) -> tuple[str, ...]:
@@ -276,6 +286,10 @@ def evaluate_point(sweep: Sweep, values: dict[str, float]) -> dict[str, Any]:
         if sweep.quantity == "critical_h":
             hc = critical_h(scene.k, scene.omega, phi0=scene.phi0, friction=scene.friction.law, **opts)
             return {"H_c": hc, "error": ""}
+        if sweep.quantity == "chaos":
+            from rrbody.analysis.chaos_map import chaos_point
+
+            return {**chaos_point(scene, **opts), "error": ""}
         if sweep.quantity == "rr":
             return {"reverse_rotation": bool(reverse_rotation_exists(scene, **opts)), "error": ""}
         if sweep.quantity == "rest":

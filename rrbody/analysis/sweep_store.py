@@ -183,7 +183,7 @@ def write_output(sweep: Any, done: dict[int, dict[str, Any]], out: Path, *, forc
             if c in sweep.axes:
                 continue
             vals = [r[c] for r in rows]
-            if c in ("regime", "error"):
+            if c in ("regime", "error", "method"):
                 arr = np.asarray(["" if v is None else str(v) for v in vals], dtype=object)
             elif c in ("reverse_rotation", "settled"):
                 arr = np.asarray([-1 if v is None else int(bool(v)) for v in vals], dtype=np.int8)

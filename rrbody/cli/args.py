@@ -78,6 +78,7 @@ OPTION_PARAMS: dict[str, str] = {
     "--movie-speed": "movie_speed", "--workers": "workers", "--batch-size": "batch_size",
     "--tilt": "tilt", "--downhill": "downhill", "--mu-static": "mu_static", "--sides": "sides",
     "--renorm": "renorm", "--d0": "d0", "--points": "points", "--theta-s": "theta_s",
+    "--transient": "settle_periods",
 }
 #: parameter names in library messages -> the option a user typed
 _PARAM_OPTIONS: dict[str, str] = {**{p: o for o, p in OPTION_PARAMS.items()}, "R": "--R0", "v0[0]": "--v0",
@@ -87,7 +88,9 @@ _PARAM_OPTIONS: dict[str, str] = {**{p: o for o, p in OPTION_PARAMS.items()}, "R
                                   "orientation": "--orientation", "accuracy": "--accuracy", "method": "--method",
                                   "quantity": "--quantity", "batch": "--batch", "resume": "--resume",
                                   "n_scan": "--n-scan", "stepper": "--stepper", "scheduler": "--scheduler",
-                                  "pressure": "--pressure", "vertices": "--vertices", "polygon": "--body polygon"}
+                                  "pressure": "--pressure", "vertices": "--vertices", "polygon": "--body polygon",
+                                  "transient": "--transient", "estimate": "--estimate",
+                                  "t_max and periods": "--t-max"}
 
 
 def option_help(param: str, text: str, default: object = None) -> str:

@@ -95,16 +95,16 @@ def cmd_lyapunov(args: argparse.Namespace) -> int:
     scene = scene_from_args(args, required=("--t-max",))
     if not scene.driven:
         raise CliError("--no-drive: Lyapunov exponents are computed for driven scenes (drop --no-drive)")
+    from rrbody.analysis.chaos import auto_method, lyapunov
+
     method = args.estimate
-    dry = scene.friction.active and scene.friction.law == "dry"
+    dry = auto_method(scene) == "two"  # one rule for the command and the sweep quantity chaos
     if method == "tangent" and dry:
         raise CliError("--estimate tangent needs a smooth right-hand side, and dry friction has a kink where the "
                        "contact stops sliding: use --estimate two (or auto)")
     if method == "auto":
         method = "two" if dry else "tangent"
     paths = _outputs(args)
-    from rrbody.analysis.chaos import lyapunov
-
     try:
         res = lyapunov(scene, t_max=scene.t_max, renorm=args.renorm, rtol=args.rtol, method=method, d0=args.d0,
                        progress=not args.json and _tty())

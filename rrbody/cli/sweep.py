@@ -29,7 +29,9 @@ from rrbody.cli.options import SCENE_OPTIONS, add_accuracy_options, add_scene_op
 __all__ = ["add_parser", "cmd_sweep", "QUANTITY_NAMES"]
 
 #: the sweep engine's quantities (tests check this equals rrbody.analysis.sweep.QUANTITIES)
-QUANTITY_NAMES = ("flip_time", "critical_h", "rr", "rest")
+QUANTITY_NAMES = ("flip_time", "critical_h", "rr", "rest", "chaos")
+#: options of --quantity chaos only (option -> the quantity's option name)
+_CHAOS_OPTIONS = {"--transient": "transient", "--estimate": "estimate", "--d0": "d0", "--plot": None}
 _ALWAYS = ("phi0", "d", "friction")  # written into every sweep's base, as before any-scene sweeps
 
 
@@ -97,18 +99,34 @@ def add_parser(sub: Any) -> None:
                                    "--out x.nc for NetCDF)")
     s.add_argument("--quantity", choices=QUANTITY_NAMES, default="flip_time",
                    help="flip_time (default), critical_h (rod: H_c over k, omega, phi0), rr (reverse rotation "
-                        "yes/no), rest (free body: stop time, distance, turn; needs --no-drive and --t-max)")
+                        "yes/no), rest (free body: stop time, distance, turn; needs --no-drive and --t-max), "
+                        "chaos (maximal Lyapunov exponent and fraction of time in reverse rotation; see the group "
+                        "'chaos')")
     s.add_argument("--axis", action="append", required=True, metavar="NAME=VALUES",
                    help="NAME=v1,v2,... or NAME=start:stop:num[:log]; NAME is any numeric scene option (H, l, R0, "
-                        "delta, omega, d, k, mu, g, phi0, phi_dot0, samples, spin0); each value is checked against "
+                        "delta, omega, d, k, mu, g, phi0, phi_dot0, samples, spin0, tilt, downhill, mu_static, sides); "
+                        "each value is checked against "
                         "that option's range; repeat for a 2-D grid")
     s.add_argument("--list", dest="zip_axes", action="store_true", help="zip the axes (one point per index)")
     add_scene_options(s)
     g = s.add_argument_group("analysis")
     add_accuracy_options(g)
     g.add_argument("--t-max", type=number("--t-max"), default=None,
-                   help=option_help("t_max", "flip_time: horizon cap; rest: horizon (required)"))
+                   help=option_help("t_max", "flip_time: horizon cap; rest: horizon (required); chaos: the span "
+                                             "the exponent is averaged over, at every point (default 200 driving "
+                                             "periods of each point)"))
     g.add_argument("--tol", type=number("--tol"), default=None, help=option_help("tol", "critical_h tolerance on H"))
+    c = s.add_argument_group("chaos (--quantity chaos only; its span: --t-max, default 200 driving periods per "
+                                 "point; rtol: --rtol, default 1e-10, not --accuracy)")
+    c.add_argument("--transient", type=number("--transient"), default=None,
+                   help=option_help("settle_periods", "driving periods run first and discarded, per point", 20))
+    c.add_argument("--estimate", choices=("auto", "tangent", "two"), default=None,
+                   help="tangent (variational equations), two (two trajectories) or auto (default: tangent unless "
+                        "the friction is dry)")
+    c.add_argument("--d0", type=number("--d0"), default=None,
+                   help=option_help("d0", "two trajectories' separation in (phi, phi')", "1e-8"))
+    c.add_argument("--plot", default=None,
+                   help="PNG of the two maps, lambda_max and the RR fraction (a 2-D grid: two --axis, no --list)")
     o = s.add_argument_group("output and execution")
     o.add_argument("--out", required=True, help="output .csv or .nc (2-D grids); a regular file or absent")
     o.add_argument("--resume", action="store_true", help="continue an interrupted sweep from its checkpoint "
@@ -198,16 +216,47 @@ def _quiet_dask() -> None:
             logging.getLogger(name).setLevel(logging.CRITICAL + 1)
 
 
+def _chaos_checks(args: argparse.Namespace, axes: dict[str, Any]) -> str | None:
+    """The chaos options only with --quantity chaos, --accuracy not with it; --plot a writable .png of
+    a 2-D grid (checked before any work). Returns the --plot path."""
+    if args.quantity != "chaos":
+        typed = [opt for opt in _CHAOS_OPTIONS if given(args, opt)]
+        if typed:
+            raise CliError(f"{typed[0]} applies only to --quantity chaos, got --quantity {args.quantity}")
+        return None
+    if given(args, "--accuracy"):
+        raise CliError("--accuracy does not apply to --quantity chaos: give --rtol (default 1e-10)")
+    if args.plot is None:
+        return None
+    if args.zip_axes or len(axes) != 2:
+        raise CliError(f"--plot draws a 2-D map: give two --axis and no --list, got {len(axes)} --axis"
+                       f"{' with --list' if args.zip_axes else ''}")
+    if not str(args.plot).lower().endswith(".png"):
+        raise CliError(f"--plot must end in .png, got {args.plot!r}")
+    from rrbody.model.extras import require
+    from rrbody.model.io import check_distinct, check_writable
+
+    check_writable(args.plot, force=args.force or args.resume, name="--plot")
+    check_distinct({"--plot": args.plot, "--out": args.out}, {})
+    require("matplotlib", purpose="a figure (--plot)")
+    return str(args.plot)
+
+
 def cmd_sweep(args: argparse.Namespace) -> int:
     """Handler of ``rrbody sweep``."""
-    check_options(args, (*SCENE_OPTIONS, "--rtol", "--t-max", "--tol", "--workers", "--batch-size"))
+    check_options(args, (*SCENE_OPTIONS, "--rtol", "--t-max", "--tol", "--workers", "--batch-size", "--d0",
+                         "--transient"))
     axes = parse_axes(args.axis)
     _contradictions(args, axes)
     base = _base(args, axes)
-    options: dict[str, Any] = {"accuracy": args.accuracy}
+    plot = _chaos_checks(args, axes)
+    options: dict[str, Any] = {} if args.quantity == "chaos" else {"accuracy": args.accuracy}
     if args.rtol is not None:
         options["rtol"] = args.rtol
-    if args.t_max is not None and args.quantity in ("flip_time", "rest"):
+    if args.quantity == "chaos":
+        options.update({name: getattr(args, name) for name in _CHAOS_OPTIONS.values()
+                        if name is not None and getattr(args, name) is not None})
+    if args.t_max is not None and args.quantity in ("flip_time", "rest", "chaos"):
         options["t_max"] = args.t_max
     if args.tol is not None and args.quantity == "critical_h":
         options["tol"] = args.tol
@@ -244,8 +293,13 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         return 1
     except ValueError as e:
         raise CliError(option_message(str(e), extended=extended)) from None
+    if plot is not None:
+        from rrbody.render.chaos_map import plot_chaos_map
+
+        plot_chaos_map(out, plot, force=args.force or args.resume)
     if args.json:
-        print(json.dumps({"out": str(out), "points": sweep.size, "shape": list(sweep.shape)}))
+        print(json.dumps({"out": str(out), "points": sweep.size, "shape": list(sweep.shape),
+                          **({"plot": plot} if plot is not None else {})}))
     else:
-        print(f"wrote {out} ({sweep.size} points, shape {sweep.shape})")
+        print(f"wrote {out} ({sweep.size} points, shape {sweep.shape})" + (f" and {plot}" if plot else ""))
     return 0
