@@ -152,10 +152,6 @@ class _Run:
                             1, self.hmax, 1_000_000, self.minima, self.out, self.dt_out, self.mode, 0.0)
             if code == 0:
                 return
-            if code == 4 and t_end - self.st[L_T] <= 1e-12 * max(1.0, abs(t_end)):
-                # the last step landed an ulp short of t_end (t + (t_end - t) rounds): it is t_end
-                self.st[L_T] = t_end
-                return
             if code != 5:
                 raise RuntimeError(f"integration failed at t={self.st[L_T]:.6g} s (loop status {code})")
 
