@@ -34,13 +34,11 @@ from typing import Any
 
 from rrbody.model.checks import check
 
-__all__ = ["plan_workers", "plan_batches", "iter_local", "iter_dask", "WATCHDOG_PERIOD_S", "SIGNAL_POLL_S", "ExecutorFault",
+__all__ = ["plan_workers", "plan_batches", "iter_local", "iter_dask", "WATCHDOG_PERIOD_S", "ExecutorFault",
            "check_scheduler", "check_scheduler_address", "connect_scheduler", "SCHEDULER_TIMEOUT_S", "describe_exit"]
 
 #: how often a worker checks that its parent is alive (s); bounds an orphan's life where prctl is missing
 WATCHDOG_PERIOD_S = 0.2
-#: how often (s) a local pool's parent wakes to run signal handlers while it waits for results
-SIGNAL_POLL_S = 0.1
 #: how long a scheduler may take to answer before the sweep is refused (s)
 SCHEDULER_TIMEOUT_S = 5.0
 _PR_SET_PDEATHSIG = 1
@@ -138,7 +136,7 @@ def iter_local(run: Callable[[dict[str, Any], Batch], Rows], spec: dict[str, Any
         for b in batches:
             yield run(spec, b)
         return
-    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+    from concurrent.futures import ProcessPoolExecutor, as_completed
     from concurrent.futures.process import BrokenProcessPool
 
     ex = ProcessPoolExecutor(max_workers=workers, initializer=_worker_init, initargs=(os.getpid(),))
@@ -146,21 +144,15 @@ def iter_local(run: Callable[[dict[str, Any], Batch], Rows], spec: dict[str, Any
     procs = list((getattr(ex, "_processes", None) or {}).values())  # no public handle before Python 3.14
     clean = False
     try:
-        pending = set(futs)
-        while pending:
-            # a timed wait, not as_completed: a signal (Ctrl-C, SIGTERM) may be delivered to one of the
-            # executor's threads, and the main thread, which alone runs Python's handlers, must wake to
-            # run it; a blocking wait would sleep through it until the next point finishes
-            done, pending = wait(pending, timeout=SIGNAL_POLL_S, return_when=FIRST_COMPLETED)
-            for f in done:
-                try:
-                    rows = f.result()
-                except BrokenProcessPool:
-                    codes = [p.exitcode for p in procs]  # before our own termination adds SIGTERMs
-                    _terminate(ex, procs)
-                    codes += [p.exitcode for p in procs]  # the culprit's, if it was not reaped yet above
-                    raise ExecutorFault(f"a worker process died ({_dead_worker(codes)})") from None
-                yield rows
+        for f in as_completed(futs):
+            try:
+                rows = f.result()
+            except BrokenProcessPool:
+                codes = [p.exitcode for p in procs]  # before our own termination adds SIGTERMs
+                _terminate(ex, procs)
+                codes += [p.exitcode for p in procs]  # the culprit's, if it was not reaped yet above
+                raise ExecutorFault(f"a worker process died ({_dead_worker(codes)})") from None
+            yield rows
         clean = True
     finally:
         if clean:
