@@ -23,10 +23,9 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.model.io import check_writable
 from rrbody.model.trajectory import Trajectory
 from rrbody.render.flip import BLUE, RED, FlipMark
-from rrbody.render.movie_figure import TRAIL_FLOOR, MovieFigure, check_size
+from rrbody.render.movie_figure import MovieFigure, check_movie, check_span
 
 __all__ = ["rr_mask", "rr_stretches", "ChaosMovieFigure", "render_chaos_movie"]
 
@@ -83,7 +82,7 @@ class ChaosMovieFigure(MovieFigure):
 
         self._pd = np.asarray(traj.phi_dot, dtype=float)
         self._tall = np.asarray(traj.t, dtype=float)
-        self._rr_rgba = (np.array(to_rgba(RED)), np.array(to_rgba(BLUE)))
+        self._rgba = (np.array(to_rgba(RED)), np.array(to_rgba(BLUE)))  # trail: reverse rotation, not
         lw = 2.0 * self.size[1] / 720.0
         self.A["phi_red"].set_linewidth(lw)
         self.A["rr_text"] = self.axr.text(0.02, 0.89, "reverse rotation", transform=self.axr.transAxes, ha="left",
@@ -103,17 +102,9 @@ class ChaosMovieFigure(MovieFigure):
         """True when the frame at ``tau`` shows reverse rotation: phi'(tau) omega < 0."""
         return self.spin_at(tau) * self.omega < 0.0
 
-    def _trail_segments(self, tau: float) -> tuple[np.ndarray, np.ndarray]:
-        tt, xy = self._cm.upto(tau)
-        if len(tt) < 2:
-            return np.zeros((0, 2, 2)), np.zeros((0, 4))
-        seg = np.stack([xy[:-1], xy[1:]], axis=1)
-        mid = 0.5 * (tt[:-1] + tt[1:])
-        rr = np.interp(mid, self._tall, self._pd) * self.omega < 0.0
-        rgba = np.where(rr[:, None], self._rr_rgba[0], self._rr_rgba[1]).copy()
-        if self.trail_fade is not None:
-            rgba[:, 3] = np.clip(1.0 - (tau - mid) / self.trail_fade, TRAIL_FLOOR, 1.0)
-        return seg, rgba
+    def _trail_first(self, mid: np.ndarray) -> np.ndarray:
+        """Trail segments in red: those whose mid time (s) is in reverse rotation, phi' omega < 0."""
+        return np.interp(mid, self._tall, self._pd) * self.omega < 0.0
 
     def update(self, tau: float, *, banner: bool = False) -> None:
         super().update(tau, banner=banner)
@@ -137,20 +128,11 @@ def render_chaos_movie(traj: Trajectory, path: str | Path, *, force: bool = Fals
                        trail_fade: float | None = None) -> Path:
     """Render the driven run ``traj`` to the MP4 ``path`` with its RR stretches marked; returns the path.
     Options as :func:`rrbody.render.mp4.render_movie` (there is no flip to hold)."""
-    from rrbody.model.checks import check, check_positive, check_real
+    from rrbody.model.checks import check_positive
     from rrbody.render.mp4 import frame_times, write_frames
 
-    final = check_writable(path, force=force, name="movie")
-    if final.suffix.lower() != ".mp4":
-        raise ValueError(f"movie path must end in .mp4, got {str(path)!r}")
-    fps = check("fps", fps)
-    speed = check("movie_speed", speed, label="speed")
-    size = check_size(size)
-    a = float(traj.t[0]) if t_start is None else check_real("t_start", t_start)
-    b = float(traj.t[-1]) if t_end is None else check_real("t_end", t_end)
-    if not (traj.t[0] - 1e-9 <= a < b <= traj.t[-1] + 1e-9):
-        raise ValueError(f"t_start, t_end must satisfy {traj.t[0]:g} <= t_start < t_end <= {traj.t[-1]:g} s, "
-                         f"got {a!r}, {b!r}")
+    final, fps, speed, size = check_movie(path, force=force, fps=fps, speed=speed, size=size)
+    a, b = check_span(traj, t_start, t_end)
     omega = _omega(traj)
     fade = 4.0 * 2.0 * math.pi / abs(omega) if trail_fade is None else check_positive("trail_fade", trail_fade,
                                                                                        unit="s")

@@ -47,6 +47,32 @@ def check_size(size: Sequence[int]) -> tuple[int, int]:
     return w, h
 
 
+def check_movie(path: str | Path, *, force: bool, fps: float, speed: float,
+                size: Sequence[int]) -> tuple[Path, float, float, tuple[int, int]]:
+    """A movie's output and playback, checked before any frame is drawn: (the final path, fps, speed
+    in simulated s per s of playback, (width, height) in pixels). ValueError for a path that exists
+    without ``force`` or does not end in .mp4, and for values outside the limits table's ranges."""
+    from rrbody.model.checks import check
+    from rrbody.model.io import check_writable
+
+    final = check_writable(path, force=force, name="movie")
+    if final.suffix.lower() != ".mp4":
+        raise ValueError(f"movie path must end in .mp4, got {str(path)!r}")
+    return final, check("fps", fps), check("movie_speed", speed, label="speed"), check_size(size)
+
+
+def check_span(traj: Trajectory, t_start: float | None, t_end: float | None) -> tuple[float, float]:
+    """The simulated span (s) a movie of ``traj`` renders: the whole run by default."""
+    from rrbody.model.checks import check_real
+
+    a = float(traj.t[0]) if t_start is None else check_real("t_start", t_start)
+    b = float(traj.t[-1]) if t_end is None else check_real("t_end", t_end)
+    if not (traj.t[0] - 1e-9 <= a < b <= traj.t[-1] + 1e-9):
+        raise ValueError(f"t_start, t_end must satisfy {traj.t[0]:g} <= t_start < t_end <= {traj.t[-1]:g} s, "
+                         f"got {a!r}, {b!r}")
+    return a, b
+
+
 class _Growing:
     """Samples ``(t_i, xy_i)`` revealed up to a time, ending on the exact (linearly interpolated)
     point at that time, so consecutive frames join without gaps."""
@@ -257,15 +283,20 @@ class MovieFigure:
         self.dial = ax
 
     # ------------------------------------------------------------------------------------------
+    def _trail_first(self, mid: np.ndarray) -> np.ndarray:
+        """Which trail segments (their mid times, s) take the first of the two trail colours: those
+        before the flip."""
+        if self.flip.status == "flip" and self.flip.t_f is not None:
+            return mid < self.flip.t_f
+        return np.zeros(len(mid), bool)
+
     def _trail_segments(self, tau: float) -> tuple[np.ndarray, np.ndarray]:
         tt, xy = self._cm.upto(tau)
         if len(tt) < 2:
             return np.zeros((0, 2, 2)), np.zeros((0, 4))
         seg = np.stack([xy[:-1], xy[1:]], axis=1)
         mid = 0.5 * (tt[:-1] + tt[1:])
-        before = self.flip.status == "flip" and self.flip.t_f is not None
-        rgba = np.where((mid < self.flip.t_f)[:, None] if before else np.zeros((len(mid), 1), bool),
-                        self._rgba[0], self._rgba[1]).copy()
+        rgba = np.where(self._trail_first(mid)[:, None], self._rgba[0], self._rgba[1]).copy()
         if self.trail_fade is not None:
             rgba[:, 3] = np.clip(1.0 - (tau - mid) / self.trail_fade, TRAIL_FLOOR, 1.0)
         return seg, rgba

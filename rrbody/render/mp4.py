@@ -29,7 +29,7 @@ from rrbody.model.checks import check, check_positive, check_range, check_real
 from rrbody.model.io import atomic_path, check_writable
 from rrbody.model.trajectory import Trajectory
 from rrbody.render.flip import BLUE, RED, FlipMark, flip_mark
-from rrbody.render.movie_figure import GREEN, MovieFigure, check_size
+from rrbody.render.movie_figure import GREEN, MovieFigure, check_movie, check_span
 
 __all__ = ["render_movie", "render_poster", "write_frames", "frame_times", "frame_schedule", "MovieFigure", "RED", "BLUE", "GREEN"]
 
@@ -120,19 +120,10 @@ def render_movie(traj: Trajectory, path: str | Path, *, force: bool = False, pro
         Overwrite an existing file. Without it an existing ``path`` is an error (checked before
         any frame is drawn).
     """
-    final = check_writable(path, force=force, name="movie")
-    if final.suffix.lower() != ".mp4":
-        raise ValueError(f"movie path must end in .mp4, got {str(path)!r}")
     # the limits table's ranges, the same the CLI applies
-    fps = check("fps", fps)
-    speed = check("movie_speed", speed, label="speed")
+    final, fps, speed, size = check_movie(path, force=force, fps=fps, speed=speed, size=size)
     hold = check_range("hold", hold, 0.0, 60.0)
-    size = check_size(size)
-    a = float(traj.t[0]) if t_start is None else check_real("t_start", t_start)
-    b = float(traj.t[-1]) if t_end is None else check_real("t_end", t_end)
-    if not (traj.t[0] - 1e-9 <= a < b <= traj.t[-1] + 1e-9):
-        raise ValueError(f"t_start, t_end must satisfy {traj.t[0]:g} <= t_start < t_end <= {traj.t[-1]:g} s, "
-                         f"got {a!r}, {b!r}")
+    a, b = check_span(traj, t_start, t_end)
     mark = flip_mark(traj, flip)
     fade = _default_fade(traj) if trail_fade is None else check_positive("trail_fade", trail_fade, unit="s")
     schedule = frame_schedule(frame_times(a, b, fps=fps, speed=speed), mark, fps=fps, hold=hold)

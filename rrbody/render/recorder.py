@@ -43,9 +43,9 @@ import numpy as np
 from rrbody.engine import kernel as K
 from rrbody.engine.batchio import BatchIO, body_uid
 from rrbody.engine.rows import Rows
-from rrbody.model.checks import check, check_int, check_positive, check_real
+from rrbody.model.checks import check_int, check_positive, check_real
 from rrbody.model.io import atomic_path, check_writable
-from rrbody.render.movie_figure import check_size
+from rrbody.render.movie_figure import check_movie, check_size
 from rrbody.render.recorder_picture import (CIRCLE_POINTS, NEUTRAL, PA, PX, PY, REVERSE, VW, VX, VY, WIDTH_MOTION,
                                             WIDTH_POSE, WITH, Picture, shape_outlines, to_world)
 
@@ -381,12 +381,7 @@ class Recorder:
         from rrbody.render.mp4 import frame_times, write_frames
 
         require("imageio_ffmpeg", purpose="a movie")
-        final = check_writable(path, force=force, name="movie")
-        if final.suffix.lower() != ".mp4":
-            raise ValueError(f"movie path must end in .mp4, got {str(path)!r}")
-        fps = check("fps", fps)
-        speed = check("movie_speed", speed, label="speed")
-        size = check_size(size)
+        final, fps, speed, size = check_movie(path, force=force, fps=fps, speed=speed, size=size)
         self._need_frames()
         color, arrows, mask = self._check_look(color, arrows, trails)
         t = self._times[:self.n_frames]
