@@ -34,7 +34,6 @@ the id it was found for, and what the last check found (see :func:`plane_check`)
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 from numba import njit
@@ -402,64 +401,3 @@ def _friction(i: int, j: int, got: np.ndarray, bodies: np.ndarray, shapes: np.nd
     out[i, 1] += m * ay
     out[i, 2] += m * bodies[j, IPM] * aw
     return 0
-
-
-def fast_entry(dispatcher: Any, *args: Any) -> tuple[Any, Any]:
-    """Call ``dispatcher(*args)`` once; return the compiled entry point for these argument types and
-    the call's result.
-
-    Calling the entry point skips numba's per-call type dispatch (about 0.3 us of the ~1 us a
-    many-argument call costs, measured); the arrays passed later must have the same types. Falls
-    back to the dispatcher itself if numba's internals differ."""
-    result = dispatcher(*args)
-    try:
-        sig = tuple(dispatcher.typeof_pyval(a) for a in args)
-        return dispatcher.overloads[sig].entry_point, result
-    except (AttributeError, KeyError, TypeError):  # pragma: no cover - numba internals
-        return dispatcher, result
-
-
-@njit(cache=True)
-def capture_rows(got: np.ndarray, ids: np.ndarray, want: np.ndarray, rows: np.ndarray, bodies: np.ndarray,
-                 prow: np.ndarray, out: np.ndarray) -> bool:
-    """One frame of the recorder: the filmed bodies' state from the space's bulk read ``got`` (rows x,
-    y, angle, vx, vy, spin; ``ids`` their ids) into ``out`` (one row per filmed body: x, y, angle and,
-    if ``out`` has 9 columns, vx, vy, spin at the plugin's time and the friction of its last step).
-    ``rows``: each filmed body's row in ``got`` (found by the caller; ``want`` their ids, to check it);
-    ``prow``: its row in ``bodies`` (the plugin's), or -1. Returns False if ``rows`` no longer points at
-    the filmed bodies (the space changed: the caller finds them again and calls again; what was
-    written meanwhile is overwritten then)."""
-    n = want.shape[0]
-    m = got.shape[0]
-    motion = out.shape[1] >= 9
-    for k in range(n):
-        r = rows[k]
-        if r < 0 or r >= m or ids[r] != want[k]:
-            return False
-        out[k, 0] = got[r, 0]
-        out[k, 1] = got[r, 1]
-        out[k, 2] = got[r, 2]
-        if not motion:
-            continue
-        vx = got[r, 3]
-        vy = got[r, 4]
-        w = got[r, 5]
-        j = prow[k]
-        if j >= 0:
-            if bodies[j, GAP] > 0.0 and bodies[j, STAG] > 0.0:
-                # the staggered scheme's velocity after a step belongs to half a step later: the mean
-                # with the one before is the velocity at the plugin's time (PlaneFriction.velocity)
-                vx = 0.5 * (bodies[j, PVX] + vx)
-                vy = 0.5 * (bodies[j, PVY] + vy)
-                w = 0.5 * (bodies[j, PW] + w)
-            out[k, 6] = bodies[j, FFX]
-            out[k, 7] = bodies[j, FFY]
-            out[k, 8] = bodies[j, FFT]
-        else:
-            out[k, 6] = 0.0
-            out[k, 7] = 0.0
-            out[k, 8] = 0.0
-        out[k, 3] = vx
-        out[k, 4] = vy
-        out[k, 5] = w
-    return True

@@ -40,6 +40,7 @@ import numpy as np
 from rrbody.engine import kernel as K
 from rrbody.engine import mjkernel as MK
 from rrbody.engine.active import NO_ACTIVE
+from rrbody.engine.lean import fast_entry
 from rrbody.engine.mjgeoms import gap, name_of as _name, lookup as _lookup, parts_of
 from rrbody.model.checks import check_nonnegative, check_positive
 from rrbody.model.extras import require
@@ -174,7 +175,7 @@ class PlaneFriction:
         self._load = np.zeros(n)
         self._user = np.zeros((n, 6))
         self._gvec = np.ascontiguousarray(model.opt.gravity, dtype=float)
-        self._entries: dict[str, Any] = {}  # compiled entry points (kernel.fast_entry), found on first use
+        self._entries: dict[str, Any] = {}  # compiled entry points (lean.fast_entry), found on first use
         self._fresh = True
         self.n_stopped = 0
         self._t_stop = np.full(n, np.nan)
@@ -238,7 +239,7 @@ class PlaneFriction:
                 cg(c.geom1), cg(c.geom2), cg(c.efc_address), int(d.ncon), self._bodies, self._got, self._load,
                 float(m.opt.timestep))
         if self._entries.get("gather") is None:  # the compiled entry point: no type dispatch per call
-            self._entries["gather"], _ = K.fast_entry(MK.gather, *args)
+            self._entries["gather"], _ = fast_entry(MK.gather, *args)
         else:
             self._entries["gather"](*args)
 
@@ -246,7 +247,7 @@ class PlaneFriction:
         """``rrbody.engine.mjkernel.<name>(*args)`` through its compiled entry point (found on the first call)."""
         entry = self._entries.get(name)
         if entry is None:
-            self._entries[name], result = K.fast_entry(getattr(MK, name) if name != "plane_step" else K.plane_step,
+            self._entries[name], result = fast_entry(getattr(MK, name) if name != "plane_step" else K.plane_step,
                                                        *args)
             return result
         return entry(*args)

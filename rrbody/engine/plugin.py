@@ -28,8 +28,9 @@ import numpy as np
 from rrbody.engine import kernel as K
 from rrbody.engine.active import NO_ACTIVE, ActiveSet
 from rrbody.engine.batchio import BatchIO, body_uid
-from rrbody.engine.rows import Rows
 from rrbody.engine.feet import feet_step
+from rrbody.engine.lean import fast_entry
+from rrbody.engine.rows import Rows
 from rrbody.engine.shapes import body_footprint
 from rrbody.model.active import Active
 from rrbody.model.checks import check
@@ -353,7 +354,7 @@ class PlaneFriction:
             args = (got, ids, self._k_lookup, self._cache, self._bodies, self._k_shapes, self._k_geo, self.t, dt, out,
                     *act)
             if self._kernel is None:
-                self._kernel, n_flag = K.fast_entry(K.plane_step, *args)  # runs this step's kernel once
+                self._kernel, n_flag = fast_entry(K.plane_step, *args)  # runs this step's kernel once
             else:
                 n_flag = self._kernel(*args)
             if n_flag < 0:  # rare: the space grew past the caches, or the check failed

@@ -42,6 +42,8 @@ import numpy as np
 
 from rrbody.engine import kernel as K
 from rrbody.engine.batchio import BatchIO, body_uid
+from rrbody.engine.capture import capture_rows
+from rrbody.engine.lean import fast_entry
 from rrbody.engine.rows import Rows
 from rrbody.model.checks import check_int, check_positive, check_real
 from rrbody.model.io import atomic_path, check_writable
@@ -201,7 +203,7 @@ class Recorder:
         bodies = self.plane._bodies if self.plane is not None else _NO_ROWS
         args = (got, ids, self._ids, self._rows, bodies, prow, self._data[n])
         if self._kernel is None:
-            self._kernel, ok = K.fast_entry(K.capture_rows, *args)
+            self._kernel, ok = fast_entry(capture_rows, *args)
         else:
             ok = self._kernel(*args)
         if not ok:
@@ -213,7 +215,7 @@ class Recorder:
                 raise ValueError(f"bodies[{k}] ({self.labels[k]}) is no longer in the space (frame {n}): a filmed "
                                  f"body must stay in the space; the {n} frames captured are kept")
             self._rows = rows
-            K.capture_rows(got, ids, self._ids, self._rows, bodies, prow, self._data[n])
+            capture_rows(got, ids, self._ids, self._rows, bodies, prow, self._data[n])
         self._times[n] = t
         self.n_frames = self._store.n = self._clock.n = n + 1
         return True
