@@ -84,17 +84,19 @@ def breakaway(bx: float, by: float, tx: float, ty: float, j: float, cw: float, d
 
 
 @njit(cache=True, **NO_REFCOUNT)
-def feet_step(shapes: np.ndarray, s0: int, s1: int, alpha_e: float, alpha_m: float, alpha_u: float, vx: float, vy: float,
-              w: float, ex: float, ey: float, ew: float, lx: float, ly: float, lt: float, ck: float, cs: float,
-              j: float, v_eps: float, dt: float, reach: float, held: int) -> tuple[int, float, float, float]:
+def feet_step(shapes: np.ndarray, s0: int, s1: int, alpha_e: float, alpha_m: float, alpha_u: float, vx: float,
+              vy: float, w: float, ex: float, ey: float, ew: float, lx: float, ly: float, lt: float, ck: float,
+              cs: float, j: float, v_eps: float, dt: float, reach: float, held: int) -> tuple[int, float, float, float]:
     """One step of friction on a body on the feet ``shapes[s0:s1]`` (POINT rows: CX, CY body frame from
     the centre of gravity, m; WEIGHT the shares), with a foot held or arriving at rest.
 
     Body angle ``alpha_e`` and velocity (ex, ey, ew) (m/s world, rad/s) are where the kernel evaluates
     the sliding feet's friction; ``alpha_m`` the mid-update angle and (vx, vy, w) the velocity the step
-    updates, which belongs to the angle ``alpha_u`` (the staggered reading: half a step back); (lx, ly) (m/s^2, world) and lt (m^2/s^2) the load per unit mass; ck, cs kinetic and
-    static friction per unit mass and load (m/s^2); j = I_cm / m (m^2); ``reach`` the footprint's
-    largest distance from the centre of gravity (m); ``held`` the foot held since the last step, or -1.
+    updates, which belongs to the angle ``alpha_u`` (the staggered reading: the velocity read moves the
+    pose in this step, so it belongs to that move's midpoint); (lx, ly) (m/s^2, world) and lt (m^2/s^2)
+    the load per unit mass; ck, cs kinetic and static friction per unit mass and load (m/s^2);
+    j = I_cm / m (m^2); ``reach`` the footprint's largest distance from the centre of gravity (m);
+    ``held`` the foot held since the last step, or -1.
 
     Returns (foot, fx, fy, tq): the foot now held (-1: none; with fx = fy = tq = 0 then, and the
     caller applies its usual friction) and the friction on the body, force per unit mass (m/s^2,

@@ -370,7 +370,8 @@ def _friction(i: int, j: int, got: np.ndarray, bodies: np.ndarray, shapes: np.nd
         # (pymunk moves the pose with the velocity read, from got[i, 0] to alpha, then updates the
         # velocity, which moves the pose in the next step: its lever halfway through that one)
         foot, fx, fy, tq = feet_step(shapes, int(bodies[j, S0]), int(bodies[j, S1]), alpha, alpha + 0.5 * w * dt,
-                                     got[i, 0] + 0.5 * w * dt, vx, vy, w, ex, ey, ew, out[i, 0] / m0, out[i, 1] / m0, out[i, 2] / m0,
+                                     got[i, 0] + 0.5 * w * dt, vx, vy, w, ex, ey, ew, out[i, 0] / m0, out[i, 1] / m0,
+                                     out[i, 2] / m0,
                                      bodies[j, COEFF], bodies[j, MUS], bodies[j, IPM], bodies[j, VEPS], dt,
                                      bodies[j, REACH], int(bodies[j, PIN]) - 1)
         if foot >= 0 and w * (w + dt * (out[i, 2] / m0 + tq) / bodies[j, IPM]) <= 0.0:

@@ -11,9 +11,10 @@
 A capture stores numbers, not pictures: per captured frame and body its pose (x, y, angle: the
 pymunk body's origin in m, world frame, and its angle in rad) and, with ``motion=True`` (the
 default), the velocity of its centre of gravity and its spin at the same instant (m/s, rad/s: for
-bodies of the plugin the second-order reading :meth:`PlaneFriction.velocity` gives, since pymunk's
-own velocity after a step belongs to half a step later) and the friction the plane applied in the
-last step (N and N m, :meth:`PlaneFriction.friction`). Memory: bodies x frames x 3 numbers (poses
+bodies of the plugin the second-order reading
+:meth:`rrbody.engine.plugin.PlaneFriction.velocity` gives, since pymunk's own velocity after a step
+belongs to half a step later) and the friction the plane applied in the last step (N and N m,
+:meth:`rrbody.engine.plugin.PlaneFriction.friction`). Memory: bodies x frames x 3 numbers (poses
 only) or x 9 (with motion), 8 bytes each; a capture that would pass ``max_mb`` stops with a
 ``ValueError`` and keeps the frames it has.
 
@@ -77,7 +78,7 @@ class Recorder:
     ----------
     space : pymunk.Space
         The space to film. Its static shapes (walls, obstacles) are drawn as they are when filmed.
-    plane : PlaneFriction or None
+    plane : rrbody.engine.plugin.PlaneFriction or None
         The space's plane friction: its clock gives each frame's time, and it gives its bodies'
         velocities at that time and the friction it applied. Without it, give ``capture(t=...)``.
     bodies : sequence of pymunk.Body or None

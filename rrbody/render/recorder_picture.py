@@ -9,8 +9,8 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["shape_outlines", "CIRCLE_POINTS", "REVERSE", "WITH", "NEUTRAL", "Picture", "to_world", "WIDTH_POSE", "WIDTH_MOTION",
-           "PX", "PY", "PA", "VX", "VY", "VW", "FX", "FY", "FT"]
+__all__ = ["shape_outlines", "CIRCLE_POINTS", "REVERSE", "WITH", "NEUTRAL", "Picture", "to_world", "WIDTH_POSE",
+           "WIDTH_MOTION", "PX", "PY", "PA", "VX", "VY", "VW", "FX", "FY", "FT"]
 
 #: points on a circle's rim in its outline (a regular polygon: its centroid is the circle's centre)
 CIRCLE_POINTS = 48
