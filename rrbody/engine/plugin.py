@@ -301,7 +301,7 @@ class PlaneFriction:
                 row = self._bodies[j]
                 alpha = float(body.angle)
                 foot = -1
-                if row[K.FEET] > 0.0 and row[K.MUS] > 0.0 and row[K.SNAP] > 0.0:
+                if row[K.FEET] > 0.0 and row[K.MUS] > 0.0 and row[K.SNAP] > 0.0 and row[K.LAW] == K.LAW_DRY:
                     # on feet, launched with a foot at rest (or arriving there in the half step): held
                     # (the kicked velocity moves the pose in the first step: its lever halfway through it)
                     foot, ax, ay, tq = feet_step(self._k_shapes, int(row[K.S0]), int(row[K.S1]), alpha,

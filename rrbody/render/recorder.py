@@ -153,7 +153,6 @@ class Recorder:
         self._kernel: Any = None  # capture_rows' compiled entry point, found on the first capture
         self._store = Rows((len(self.bodies), self._width))  # the frames, and their times (s)
         self._clock = Rows(None)
-        self.n_frames = 0
         self._calls = 0
         self._rows = np.full(len(self.bodies), -1, dtype=np.int64)  # their rows in the space's bulk read
         self._prow: tuple[int, np.ndarray] | None = None  # (plane.members, their rows in the plane's arrays)
@@ -218,8 +217,13 @@ class Recorder:
             self._rows = rows
             capture_rows(got, ids, self._ids, self._rows, bodies, prow, self._data[n])
         self._times[n] = t
-        self.n_frames = self._store.n = self._clock.n = n + 1
+        self._store.n = self._clock.n = n + 1
         return True
+
+    @property
+    def n_frames(self) -> int:
+        """How many frames were captured."""
+        return self._store.n
 
     @property
     def _data(self) -> np.ndarray:
