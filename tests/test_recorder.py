@@ -257,12 +257,19 @@ def test_rerun_has_one_entity_per_body_with_every_captured_time(tmp_path: Path) 
     ("size", "size"),
     ("suffix", r"\.mp4"),
     ("removed", "no longer in the space"),
+    ("removed, bulk read", "no longer in the space"),
     ("cap", "max_mb"),
+    ("reserve", "reserve must be an integer in \\[1, 3\\] frames"),
+    ("reserve 0", "reserve must be"),
+    ("reserve bool", "reserve must be"),
     ("no motion", "motion=True"),
     ("no frames", "0 frames captured"),
 ])
-def test_bad_input_is_refused_naming_it_and_writes_nothing(tmp_path: Path, case: str, message: str) -> None:
+def test_bad_input_is_refused_naming_it_and_writes_nothing(tmp_path: Path, case: str, message: str,
+                                                          monkeypatch: pytest.MonkeyPatch) -> None:
     space, pf, bodies = _sliding()
+    if case == "removed, bulk read":  # the route taken where the bodies' struct layout is unknown
+        monkeypatch.setattr("rrbody.render.recorder.layout", lambda: None)
     rec = Recorder(space, pf)
     if case != "no frames":
         for _ in range(3):
@@ -280,7 +287,7 @@ def test_bad_input_is_refused_naming_it_and_writes_nothing(tmp_path: Path, case:
             rec.movie(out, size=(321, 180))
         elif case == "suffix":
             rec.movie(tmp_path / "m.avi")
-        elif case == "removed":
+        elif case.startswith("removed"):
             pf.remove(bodies[1])
             space.remove(bodies[1], *bodies[1].shapes)
             pf.step(1e-2)
@@ -289,6 +296,12 @@ def test_bad_input_is_refused_naming_it_and_writes_nothing(tmp_path: Path, case:
             small = Recorder(space, pf, max_mb=3 * 3 * 9 * 8 / 1e6)  # room for 3 frames
             for _ in range(4):
                 small.capture()
+        elif case == "reserve":
+            Recorder(space, pf, max_mb=3 * 3 * 9 * 8 / 1e6, reserve=4)  # room for 3 frames
+        elif case == "reserve 0":
+            Recorder(space, pf, reserve=0)
+        elif case == "reserve bool":
+            Recorder(space, pf, reserve=True)
         elif case == "no motion":
             still = Recorder(space, pf, motion=False)
             still.capture()
@@ -296,7 +309,7 @@ def test_bad_input_is_refused_naming_it_and_writes_nothing(tmp_path: Path, case:
         elif case == "no frames":
             rec.movie(out)
     assert list(tmp_path.iterdir()) == []
-    if case in ("removed", "cap"):
+    if case.startswith("removed") or case == "cap":
         assert rec.n_frames == 3 or case == "cap"  # the frames captured before stay
 
 
@@ -325,3 +338,37 @@ def test_rerun_draws_p_and_its_link_for_a_driven_body(tmp_path: Path) -> None:
     ents = _read_rrd(rec.rerun(tmp_path / "d.rrd"))
     assert {"world/bodies/b0000/P", "world/bodies/b0000/link"} <= set(ents)
     assert entities(rec, plots=[0]) <= set(ents)
+
+
+def test_both_read_routes_capture_the_same_frames(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The capture reads the filmed bodies from their structs (rrbody.engine.bodymem) where pymunk's
+    layout of them is known, as on the pymunk this suite runs (asserted: else the fast route would go
+    untested), and from the space's bulk read otherwise: both give the same numbers, bit for bit,
+    through collisions, a kinematic body, a body outside the plugin, bodies added to and removed from
+    the space (its bulk read's order changes) and ``reserve`` (more frames than reserved: the store
+    grows)."""
+    from rrbody.engine.bodymem import layout
+
+    assert layout() is not None
+    space, pf, bodies = _sliding()
+    free = _body(space, "box", (0.3, 0.05), 0.3)  # overlaps the first square: they collide; not in the plugin
+    free.velocity = (-0.5, 0.2)
+    kin = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+    kin.position, kin.velocity, kin.angular_velocity = (0.2, 0.8), (0.1, 0.0), 1.5
+    space.add(kin, pymunk.Circle(kin, 0.05))
+    fast = Recorder(space, pf, reserve=40)
+    assert fast._store.buf.shape[0] == 40
+    monkeypatch.setattr("rrbody.render.recorder.layout", lambda: None)
+    bulk = Recorder(space, pf)
+    assert fast._io is None and bulk._io is not None
+    extra = []
+    for i in range(50):
+        pf.step(1e-2)
+        if i == 4:  # another body enters and the first extra leaves: the space's order changes
+            extra.append(_body(space, "disk", (2.5, 0.3), 0.0))
+        if i == 8:
+            space.remove(extra[0], *extra[0].shapes)
+        assert fast.capture() and bulk.capture()
+    assert fast.n_frames == bulk.n_frames == 50 and fast._store.reallocs == 2  # reserved 40, then doubled
+    assert np.array_equal(fast.frames, bulk.frames) and np.array_equal(fast.times, bulk.times)
+    assert np.abs(fast.frames[:, :, 3:6]).max() > 0.0  # they moved

@@ -34,11 +34,15 @@ class Rows:
         self.buf[start] = row
         return start
 
-    def ensure(self, rows: int) -> None:
-        """Room for ``rows`` rows in ``buf`` (the capacity doubles; the first ``n`` rows are kept)."""
+    def ensure(self, rows: int, *, touch: bool = False) -> None:
+        """Room for ``rows`` rows in ``buf`` (the capacity doubles; the first ``n`` rows are kept).
+        ``touch``: write every new row now, so that the operating system maps the memory here and not
+        at the first write of each row (a fresh page's first write costs far more than a copy)."""
         if rows > self.buf.shape[0]:
             new = np.zeros((max(rows, 2 * self.buf.shape[0]), *self.buf.shape[1:]), dtype=self.buf.dtype)
             new[:self.n] = self.buf[:self.n]
+            if touch:
+                new[self.n:].fill(0)  # np.zeros maps pages lazily: fault them in now
             self.buf = new
             self.reallocs += 1
 

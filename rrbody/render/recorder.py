@@ -43,7 +43,8 @@ import numpy as np
 
 from rrbody.engine import kernel as K
 from rrbody.engine.batchio import BatchIO, body_uid
-from rrbody.engine.capture import capture_rows
+from rrbody.engine.bodymem import address, layout
+from rrbody.engine.capture import capture_direct, capture_rows
 from rrbody.engine.lean import fast_entry
 from rrbody.engine.rows import Rows
 from rrbody.model.checks import check_int, check_positive, check_real
@@ -93,11 +94,17 @@ class Recorder:
         needed for ``color="spin"``, arrows and the rerun plots.
     max_mb : float
         The captured frames' memory cap in MB (10^6 bytes; default 1000).
+    reserve : int or None
+        Room for this many stored frames, claimed now (>= 1, within ``max_mb``; default None: the
+        store starts small and doubles as it fills). The memory is written once here, so that no
+        capture in the loop waits for the operating system to map a fresh page (on this project's
+        machines the first write of fresh memory costs several times the capture itself). More
+        frames than this can still be captured: the store then doubles.
     """
 
     def __init__(self, space: Any, plane: Any = None, *, bodies: Sequence[Any] | None = None,
                  labels: Sequence[str] | None = None, every: int = 1, motion: bool = True,
-                 max_mb: float = 1000.0) -> None:
+                 max_mb: float = 1000.0, reserve: int | None = None) -> None:
         import pymunk
 
         if not isinstance(space, pymunk.Space):
@@ -150,14 +157,31 @@ class Recorder:
                     self._drive_sense[k] = math.copysign(1.0, plane._bodies[j, K.OMG])
         self._width = WIDTH_MOTION if self.motion else WIDTH_POSE
         self._frame_bytes = len(self.bodies) * self._width * 8
+        #: the most frames max_mb allows
+        self._max_frames = int(self.max_mb * 1e6 // self._frame_bytes)
         self._kernel: Any = None  # capture_rows' compiled entry point, found on the first capture
         self._store = Rows((len(self.bodies), self._width))  # the frames, and their times (s)
         self._clock = Rows(None)
+        if reserve is not None:
+            if self._max_frames < 1:
+                raise ValueError(f"reserve: max_mb={self.max_mb:g} MB holds no frame of {self._frame_bytes} bytes; "
+                                 f"raise max_mb")
+            reserve = check_int("reserve", reserve, 1, self._max_frames,
+                                unit=f"frames (what max_mb={self.max_mb:g} MB holds)")
+            self._store.ensure(reserve, touch=True)
+            self._clock.ensure(reserve, touch=True)
+        self._room = 0  # frames the store holds now (capture's fast test; _make_room updates it)
         self._calls = 0
         self._rows = np.full(len(self.bodies), -1, dtype=np.int64)  # their rows in the space's bulk read
         self._prow: tuple[int, np.ndarray] | None = None  # (plane.members, their rows in the plane's arrays)
         self._no_plane = np.full(len(self.bodies), -1, dtype=np.int64)
-        self._io = BatchIO(space, poses=True)
+        # the bodies' state is read from their structs where pymunk's layout of them is known (about
+        # 2 us per 1,000 bodies), else from the space's bulk read (about 14 us: rrbody.engine.bodymem)
+        self._offs = layout()
+        self._io = BatchIO(space, poses=True) if self._offs is None else None
+        if self._offs is not None:
+            self._addr = np.array([address(b._body) for b in self.bodies], dtype=np.int64)
+            self._space_addr = address(space._space)
 
     # ---- capture ---------------------------------------------------------------------------------
     @property
@@ -190,35 +214,57 @@ class Recorder:
             t = float(self.plane.t)
         else:
             t = check_real("t", t)
-        n = self.n_frames
-        if (n + 1) * self._frame_bytes > self.max_mb * 1e6:
+        n = self._store.n
+        if n >= self._room:
+            self._make_room(n)
+        pf = self.plane
+        if pf is None:
+            prow, bodies = self._no_plane, _NO_ROWS
+        else:
+            prow = self._prow[1] if self._prow is not None and self._prow[0] == pf.members else self._plane_rows()
+            bodies = pf._bodies
+        store = self._store.buf
+        if self._io is None:
+            args = (self._addr, self._offs, self._space_addr, bodies, prow, store, n)
+            if self._kernel is None:
+                self._kernel, gone = fast_entry(capture_direct, *args)
+            else:
+                gone = self._kernel(*args)
+            if gone >= 0:
+                self._gone(gone, n)
+        else:
+            got, ids, _ = self._io.read()
+            if self._kernel is None:
+                self._kernel, ok = fast_entry(capture_rows, got, ids, self._ids, self._rows, bodies, prow, store, n)
+            else:
+                ok = self._kernel(got, ids, self._ids, self._rows, bodies, prow, store, n)
+            if not ok:
+                # the space's order changed (bodies added or removed): find the filmed bodies again
+                order = np.argsort(ids)
+                rows = _rows_of(ids[order], order, self._ids)
+                if (rows < 0).any():
+                    self._gone(int(np.flatnonzero(rows < 0)[0]), n)
+                self._rows = rows
+                capture_rows(got, ids, self._ids, self._rows, bodies, prow, store, n)
+        self._clock.buf[n] = t
+        self._store.n = self._clock.n = n + 1
+        return True
+
+    def _gone(self, k: int, n: int) -> None:
+        """The ValueError for filmed body ``k`` having left the space at frame ``n`` (nothing is stored)."""
+        raise ValueError(f"bodies[{k}] ({self.labels[k]}) is no longer in the space (frame {n}): a filmed "
+                         f"body must stay in the space; the {n} frames captured are kept")
+
+    def _make_room(self, n: int) -> None:
+        """Room for frame ``n`` (the store doubles), or the ValueError of ``max_mb`` (nothing changes)."""
+        if n + 1 > self._max_frames:
             raise ValueError(f"max_mb: frame {n} would take the capture past max_mb={self.max_mb:g} MB "
                              f"({len(self.bodies)} bodies x {self._width} numbers x 8 bytes a frame); "
                              f"the {n} frames captured are kept: film them, raise max_mb, or capture less "
                              f"often (every=...)")
-        got, ids, _ = self._io.read()
         self._store.ensure(n + 1)
         self._clock.ensure(n + 1)
-        prow = self._plane_rows()
-        bodies = self.plane._bodies if self.plane is not None else _NO_ROWS
-        args = (got, ids, self._ids, self._rows, bodies, prow, self._data[n])
-        if self._kernel is None:
-            self._kernel, ok = fast_entry(capture_rows, *args)
-        else:
-            ok = self._kernel(*args)
-        if not ok:
-            # the space's order changed (bodies added or removed): find the filmed bodies again
-            order = np.argsort(ids)
-            rows = _rows_of(ids[order], order, self._ids)
-            if (rows < 0).any():
-                k = int(np.flatnonzero(rows < 0)[0])
-                raise ValueError(f"bodies[{k}] ({self.labels[k]}) is no longer in the space (frame {n}): a filmed "
-                                 f"body must stay in the space; the {n} frames captured are kept")
-            self._rows = rows
-            capture_rows(got, ids, self._ids, self._rows, bodies, prow, self._data[n])
-        self._times[n] = t
-        self._store.n = self._clock.n = n + 1
-        return True
+        self._room = min(self._store.buf.shape[0], self._clock.buf.shape[0], self._max_frames)
 
     @property
     def n_frames(self) -> int:
