@@ -6,7 +6,9 @@ output (a second rrbody process aiming at a path in use is refused, naming the f
 a killed process is taken over). Also the wording a shell user sees: --help without reST markup,
 ``--force`` rather than ``force=True``, ``wrote traj.csv (trajectory CSV)``.
 
-Real CLI in subprocesses, except the parser's help and the message helpers (read in-process)."""
+Real CLI in subprocesses for the writers and their locks; the bad inputs in-process
+(:func:`tests.clirun.run_here`, the first of each test also through the real command, which must answer
+the same); the parser's help and the message helpers read in-process."""
 
 from __future__ import annotations
 
@@ -18,7 +20,7 @@ from pathlib import Path
 
 import pytest
 
-from .clirun import RRBODY, alive, assert_bad_input, env, run_many
+from .clirun import RRBODY, alive, assert_bad_input, env, run_here, run_many
 
 FLIP = ["flip-time", "--H", "0.2", "--k", "0.05", "--omega", "0.6"]
 SIM = ["simulate", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--t-max", "1"]
@@ -39,7 +41,7 @@ def test_contradictory_options_are_named_both(tmp_path: Path) -> None:
         ([*SIM, "--fps", "10"], ("--fps", "--movie")),
         (["critical-h", "--k", "0.01", "--omega", "0.3", "--friction", "none"], ("--friction none", "--k")),
     ]
-    rs = run_many([argv for argv, _ in cases], cwd=tmp_path)
+    rs = run_here([argv for argv, _ in cases], cwd=tmp_path)
     for r, (_, names) in zip(rs, cases):
         assert_bad_input(r, names[0], tmp_path, set())
         assert names[1] in r.err, r.err
@@ -53,7 +55,7 @@ def test_empty_and_overlong_paths_are_bad_input(tmp_path: Path) -> None:
              [*SIM, "--out", str(tmp_path / long_name)], [*SIM, "--out", long_dir], [*SIM, "--out", long_path],
              [*SIM, "--json", "--batch", ""]]
     options = ["--out", "--movie", "--rerun", "--out", "--out", "--out", "--out", "--batch"]
-    rs = run_many(argvs, cwd=tmp_path)
+    rs = run_here(argvs, cwd=tmp_path)
     for r, opt in zip(rs, options):
         assert_bad_input(r, opt, tmp_path, set())
     assert all("empty path" in r.err for r in rs[:4])
@@ -71,7 +73,7 @@ def test_outputs_that_are_one_file_are_refused(tmp_path: Path) -> None:
     before.add("sub")
     argvs = [[*SIM, "--out", a, "--movie", b, "--force"] for a, b in pairs]
     argvs.append([*SIM, "--out", "r.rrd", "--rerun", "./r.rrd"])
-    for r in run_many(argvs, cwd=tmp_path):
+    for r in run_here(argvs, cwd=tmp_path):
         assert_bad_input(r, "--out and --", tmp_path, before)
         assert "same file" in r.err
     assert (tmp_path / "m.mp4").read_bytes() == b"old"
@@ -95,7 +97,7 @@ def test_numbers_are_finite_at_every_step(tmp_path: Path) -> None:
         else:
             argv += [option, value] if option != "--v0" else ["--no-drive", "--t-max", "1", option, value]
         argvs.append(argv)
-    for r, (option, _) in zip(run_many(argvs, cwd=tmp_path), cases):
+    for r, (option, _) in zip(run_here(argvs, cwd=tmp_path), cases):
         assert_bad_input(r, option, tmp_path, set())
 
 

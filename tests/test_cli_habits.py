@@ -1,6 +1,7 @@
 """Finding class "CLI habits": negative numbers and expressions as option
 values, the deg suffix and the degrees warning, did-you-mean, all missing options at once, and a
-unit and range in every option's help. Real CLI in subprocesses (the help check reads the parser)."""
+unit and range in every option's help. In-process (:func:`tests.clirun.run_here`; the first bad input
+of each test also through the real command, which must answer the same; the help check reads the parser)."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import json
 import math
 from pathlib import Path
 
-from .clirun import assert_bad_input, run_many
+from .clirun import assert_bad_input, run_here
 
 FLIP = ["flip-time", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--json"]
 
@@ -17,20 +18,22 @@ FLIP = ["flip-time", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--json"]
 def test_negative_values_and_expressions(tmp_path: Path) -> None:
     spellings = [["--phi0", "-pi/2"], ["--phi0", "-0.5*pi"], ["--phi0=-pi/2"], ["--phi0", "-90deg"],
                  ["--phi0", f"{-math.pi / 2!r}"]]
-    rs = run_many([[*FLIP, *s] for s in spellings], cwd=tmp_path)
+    rs = run_here([[*FLIP, *s] for s in spellings], cwd=tmp_path, real=0)  # good input: computed in-process
     assert all(r.code == 0 and r.err == "" for r in rs), [r.err for r in rs]
     res = [json.loads(r.out) for r in rs]
     # -pi/2 in every spelling is the same float (math.radians(-90) == -pi/2 exactly), so the same t_f
     assert len({d["phi0"] for d in res}) == 1 and res[0]["phi0"] == -math.pi / 2
     assert len({d["t_f"] for d in res}) == 1
     # a negative value that is out of range is reported as such, not as "expected one argument"
-    (r,) = run_many([["flip-time", "--H", "-0.2", "--k", "0.05", "--omega", "0.6"]], cwd=tmp_path)
+    (r,) = run_here([["flip-time", "--H", "-0.2", "--k", "0.05", "--omega", "0.6"]], cwd=tmp_path)
     assert_bad_input(r, "--H", tmp_path, set())
     assert "must be in" in r.err
 
 
 def test_degrees(tmp_path: Path) -> None:
-    a, b, c = run_many([[*FLIP, "--phi0", "180deg"], [*FLIP, "--phi0", "pi"], [*FLIP, "--phi0", "180"]], cwd=tmp_path)
+    # the warning is printed by the parser (rrbody.cli.args), so it is on stderr in-process as well
+    a, b, c = run_here([[*FLIP, "--phi0", "180deg"], [*FLIP, "--phi0", "pi"], [*FLIP, "--phi0", "180"]], cwd=tmp_path,
+                       real=0)
     assert a.code == b.code == c.code == 0
     assert json.loads(a.out)["t_f"] == json.loads(b.out)["t_f"]  # radians(180) == pi exactly
     assert a.err == "" and b.err == ""
@@ -38,7 +41,7 @@ def test_degrees(tmp_path: Path) -> None:
 
 
 def test_did_you_mean_and_missing_options(tmp_path: Path) -> None:
-    rs = run_many([["flip-time", "--H", "0.2", "--k", "0.05", "--omgea", "0.6"],
+    rs = run_here([["flip-time", "--H", "0.2", "--k", "0.05", "--omgea", "0.6"],
                    ["flip-time"],
                    ["flip-time", "--body", "ellipse"],
                    ["simulate", "--H", "0.2"],

@@ -1,6 +1,7 @@
 """Finding class "outputs": an output path that is not a regular file or absent
 is refused, with or without --force: FIFO, directory, device, socket, a link to one, a dangling link.
-Real CLI in subprocesses: exit 2, one line naming the option, no traceback, nothing written."""
+Exit 2, one line naming the option, no traceback, nothing written: in-process (:func:`tests.clirun.run_here`),
+the first case of each test also through the real command in a subprocess, which must answer the same."""
 
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from .clirun import assert_bad_input, run_many
+from .clirun import assert_bad_input, run_here, run_many
 
 SIM = ["simulate", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--t-max", "1"]
 SWEEP = ["sweep", "--H", "0.2", "--k", "0.05", "--axis", "omega=0.6,0.7", "--workers", "0"]
@@ -42,7 +43,7 @@ def test_special_files_are_refused(tmp_path: Path, force: bool) -> None:
             options.append(opt)
     argvs.append([*SIM, "--out", "/dev/null", *(["--force"] if force else [])])
     options.append("--out")
-    for r, opt in zip(run_many(argvs, cwd=tmp_path), options):
+    for r, opt in zip(run_here(argvs, cwd=tmp_path), options):
         assert_bad_input(r, opt, tmp_path, before)
         assert "regular file" in r.err or "dangling" in r.err
     assert stat.S_ISFIFO((tmp_path / "fifo.csv").lstat().st_mode)  # still a FIFO, not replaced by a file
@@ -56,9 +57,9 @@ def test_movie_and_rerun_paths_are_checked_before_the_run(tmp_path: Path) -> Non
 
 
 def test_missing_folder_names_the_option(tmp_path: Path) -> None:
-    rs = run_many([[*SIM, "--out", str(tmp_path / "no" / "t.csv")],
+    rs = run_here([[*SIM, "--out", str(tmp_path / "no" / "t.csv")],
                    [*SWEEP, "--out", str(tmp_path / "no" / "s.csv")],
-                   [*SWEEP, "--out", str(tmp_path / "no" / "s.csv"), "--resume"]])
+                   [*SWEEP, "--out", str(tmp_path / "no" / "s.csv"), "--resume"]], cwd=tmp_path)
     for r in rs:
         assert_bad_input(r, "--out", tmp_path, set())
         assert "does not exist" in r.err
@@ -67,14 +68,14 @@ def test_missing_folder_names_the_option(tmp_path: Path) -> None:
 def test_link_to_a_regular_file_writes_the_target(tmp_path: Path) -> None:
     (tmp_path / "real.csv").write_text("old")
     (tmp_path / "link.csv").symlink_to("real.csv")
-    (r,) = run_many([[*SIM, "--out", str(tmp_path / "link.csv"), "--force"]])
+    (r,) = run_here([[*SIM, "--out", str(tmp_path / "link.csv"), "--force"]], cwd=tmp_path, real=0)
     assert r.code == 0, r.err
     assert (tmp_path / "link.csv").is_symlink()  # the link survives; its target holds the trajectory
     assert (tmp_path / "real.csv").read_text().startswith("# rrbody-meta")
 
 
 def test_movie_and_recording_suffixes_are_checked_before_the_run(tmp_path: Path) -> None:
-    rs = run_many([[*SIM, "--out", str(tmp_path / "t.csv"), "--movie", str(tmp_path / "m.avi")],
+    rs = run_here([[*SIM, "--out", str(tmp_path / "t.csv"), "--movie", str(tmp_path / "m.avi")],
                    [*SIM, "--out", str(tmp_path / "t.csv"), "--rerun", str(tmp_path / "r.txt")]], cwd=tmp_path)
     assert_bad_input(rs[0], "--movie", tmp_path, set())  # the trajectory CSV was not written either
     assert_bad_input(rs[1], "--rerun", tmp_path, set())

@@ -17,12 +17,13 @@ from .clirun import RRBODY, SLOW, alive, children, env, run_many
 pytestmark = pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs Linux /proc")
 
 
-def _start_sweep(tmp_path: Path, n_points: int, workers: int) -> tuple[subprocess.Popen[str], Path]:
+def _start_sweep(tmp_path: Path, n_points: int, workers: int,
+                 point: list[str] = SLOW) -> tuple[subprocess.Popen[str], Path]:
     out = tmp_path / "s.csv"
     hs = ",".join(str(0.2 + 0.01 * i) for i in range(n_points))
     # Ctrl-C as from a terminal: a suite run as a background job (`make test &`) inherits SIGINT ignored,
     # and Python, like every program, keeps an inherited SIG_IGN, so the sweep would never see it
-    p = subprocess.Popen([*RRBODY, "sweep", "--axis", f"H={hs}", *SLOW, "--workers", str(workers), "--batch-size",
+    p = subprocess.Popen([*RRBODY, "sweep", "--axis", f"H={hs}", *point, "--workers", str(workers), "--batch-size",
                           "1", "--out", str(out)], env=env(), text=True, stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, start_new_session=True,
                          preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
@@ -50,7 +51,9 @@ def _all_gone(pids: set[int], timeout: float = 10.0) -> bool:
 
 
 def test_pool_never_larger_than_points(tmp_path: Path) -> None:
-    p, out = _start_sweep(tmp_path, n_points=3, workers=8)
+    # points of a tenth of SLOW's span (~1e5 steps, a fraction of a second each): the sweep runs to its
+    # end here, and its workers live through their start-up (~0.5 s, polled every 0.02 s) whatever the points
+    p, out = _start_sweep(tmp_path, n_points=3, workers=8, point=[*SLOW[:-1], "1e4"])
     most: set[int] = set()
     while p.poll() is None:
         kids = children(p.pid)

@@ -6,7 +6,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from tests.clirun import run_many
+from tests.clirun import run_here
 
 PHIXTPM = ["--H", "0.2", "--k", "0.05", "--omega", "0.6"]
 #: the default accuracy's stated error on t_f (README "Accuracy presets": `default` puts t_f within
@@ -18,16 +18,16 @@ def test_steppers_agree_and_bad_values_exit_2(tmp_path: Path) -> None:
     batch = tmp_path / "lines.jsonl"
     batch.write_text(json.dumps({"stepper": "radau", "H": 0.2, "k": 0.05, "omega": 0.6}) + "\n")
     out = tmp_path / "free.csv"
-    runs = run_many([["flip-time", *PHIXTPM, "--json"],
+    runs = run_here([["flip-time", *PHIXTPM, "--stepper", "euler"],  # bad input first: also the real command
+                     ["flip-time", *PHIXTPM, "--json"],
                      ["flip-time", *PHIXTPM, "--stepper", "radau", "--json"],
                      ["flip-time", *PHIXTPM, "--stepper", "dop853", "--json"],
-                     ["flip-time", *PHIXTPM, "--stepper", "euler"],
                      ["flip-time", *PHIXTPM, "--stepper", "radau", "--method", "engine"],
                      ["flip-time", "--batch", str(batch)],
                      ["simulate", *PHIXTPM, "--t-max", "2", "--stepper", "dop853", "--json"],
                      ["simulate", "--no-drive", "--body", "disk", "--R0", "0.1", "--k", "0.05", "--omega", "0.6",
                       "--v0", "1,0", "--t-max", "1", "--stepper", "radau", "--out", str(out)]], cwd=tmp_path)
-    default, radau, dop853, bad, engine, line, sim, free = runs
+    bad, default, radau, dop853, engine, line, sim, free = runs
     tf = {}
     for name, r in (("default", default), ("radau", radau), ("dop853", dop853)):
         assert r.code == 0, (name, r.err)

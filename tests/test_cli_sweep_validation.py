@@ -1,6 +1,7 @@
 """Finding class "late validation": a sweep checks every option and every axis
 value before any work (exit 2, one line naming the option, no checkpoint, no output), like flip-time.
-Also sweeps over any scene. Real CLI in subprocesses."""
+Also sweeps over any scene. In-process (:func:`tests.clirun.run_here`): the first bad input of each
+test also through the real command in a subprocess, which must answer the same."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import json
 import math
 from pathlib import Path
 
-from .clirun import assert_bad_input, run_many
+from .clirun import assert_bad_input, run_here
 
 ROD = ["sweep", "--H", "0.2", "--k", "0.05", "--axis", "omega=0.6,0.7", "--workers", "0"]
 
@@ -35,13 +36,13 @@ def test_bad_options_and_axes_fail_before_any_work(tmp_path: Path) -> None:
         ([*ROD, "--quantity", "rest", "--t-max", "10", *out], "free body"),
         ([*ROD, "--phi0", "pi/0", *out], "--phi0"),
     ]
-    for r, (_, opt) in zip(run_many([a for a, _ in cases], cwd=tmp_path), cases):
+    for r, (_, opt) in zip(run_here([a for a, _ in cases], cwd=tmp_path), cases):
         assert_bad_input(r, opt, tmp_path, set())  # no checkpoint, no output, no sidecar
 
 
 def test_any_body_and_any_parameter(tmp_path: Path) -> None:
     """An ellipse over delta, a disk over l, a free disk over spin0: each point equals the single call."""
-    rs = run_many([
+    rs = run_here([
         ["sweep", "--body", "ellipse", "--R0", "0.3", "--l", "0.2", "--k", "0.05", "--omega", "0.6", "--axis",
          "delta=-0.5,0.5", "--workers", "0", "--accuracy", "draft", "--out", str(tmp_path / "e.csv")],
         ["sweep", "--body", "disk", "--R0", "0.2", "--k", "0.05", "--omega", "0.6", "--axis", "l=0.1,0.3", "--axis",
@@ -54,7 +55,7 @@ def test_any_body_and_any_parameter(tmp_path: Path) -> None:
          "-pi/2", "--accuracy", "draft", "--json"],
         ["simulate", "--no-drive", "--body", "disk", "--R0", "0.1", "--k", "2", "--v0", "1,0", "--spin0", "5",
          "--t-max", "10", "--dt-out", "10", "--json"],
-    ], cwd=tmp_path)
+    ], cwd=tmp_path, real=0)  # they write: the bad inputs above run the real command
     assert all(r.code == 0 for r in rs), [r.err for r in rs if r.code]
     from rrbody.analysis.sweep import load_sweep, read_meta
 
@@ -90,7 +91,7 @@ def test_chaos_options_fail_before_any_work(tmp_path: Path) -> None:
         (["sweep", "--quantity", "chaos", "--H", "0.5", "--k", "0.1", "--friction", "dry", "--axis", "omega=1,2",
           "--estimate", "tangent", *out], "--estimate"),
     ]
-    for r, (_, opt) in zip(run_many([a for a, _ in cases], cwd=tmp_path), cases):
+    for r, (_, opt) in zip(run_here([a for a, _ in cases], cwd=tmp_path), cases):
         assert_bad_input(r, opt, tmp_path, set())  # no checkpoint, no output, no sidecar, no figure
 
 
@@ -99,8 +100,8 @@ def test_chaos_sweep_and_its_plot(tmp_path: Path) -> None:
     from rrbody.analysis.sweep import Sweep, load_sweep, run_sweep
 
     opts = ["--t-max", "15", "--transient", "1.5"]
-    (r,) = run_many([[*CHAOS, *opts, "--out", str(tmp_path / "c.csv"), "--plot", str(tmp_path / "c.png"),
-                      "--json"]], cwd=tmp_path)
+    (r,) = run_here([[*CHAOS, *opts, "--out", str(tmp_path / "c.csv"), "--plot", str(tmp_path / "c.png"),
+                      "--json"]], cwd=tmp_path, real=0)
     assert r.code == 0, r.err
     assert json.loads(r.out)["plot"] == str(tmp_path / "c.png")
     assert (tmp_path / "c.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -1,5 +1,7 @@
 """Finding class "tracebacks": subnormal and absurd magnitudes get the same
-one-line error as negatives (no ZeroDivisionError), and a closed pipe ends quietly. Real CLI."""
+one-line error as negatives (no ZeroDivisionError), and a closed pipe ends quietly. The closed pipe
+through the real CLI in subprocesses; the bad values in-process (:func:`tests.clirun.run_here`, the
+first of each test also through the real command, which must answer the same)."""
 
 from __future__ import annotations
 
@@ -8,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from .clirun import RRBODY, assert_bad_input, env, run_many
+from .clirun import RRBODY, assert_bad_input, env, run_here
 
 FLIP = ["flip-time", "--H", "0.2", "--k", "0.05", "--omega", "0.6"]
 
@@ -30,7 +32,7 @@ MAGNITUDES = ["1e-320", "5e-324", "1e-300", "-1", "0", "1e300"]
 def test_subnormal_and_absurd_magnitudes(option: str, tmp_path: Path) -> None:
     base = FLIP if option != "--R0" else ["flip-time", "--body", "disk", "--R0", "0.3", "--l", "0.2", "--k", "0.05",
                                           "--omega", "0.6"]
-    rs = run_many([_with(base, option, v) for v in MAGNITUDES], cwd=tmp_path)
+    rs = run_here([_with(base, option, v) for v in MAGNITUDES], cwd=tmp_path)
     for r in rs:
         assert_bad_input(r, option, tmp_path, set())
         assert " must be in [" in r.err  # name, valid range and unit, like a negative value
@@ -44,7 +46,7 @@ def test_friction_subnormal_and_sim_options(tmp_path: Path) -> None:
              (["critical-h", "--k", "1e-320", "--omega", "0.3"], "--k"),
              (["critical-h", "--k", "0.01", "--omega", "1e-320"], "--omega"),
              (_with(sim, "--t-max", "1e8"), "--dt-out")]  # 3e9 samples at the default interval: refused at once
-    for r, (_, opt) in zip(run_many([a for a, _ in cases], cwd=tmp_path), cases):
+    for r, (_, opt) in zip(run_here([a for a, _ in cases], cwd=tmp_path), cases):
         assert_bad_input(r, opt, tmp_path, set())
 
 

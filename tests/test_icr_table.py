@@ -31,6 +31,13 @@ from rrbody.physics.icr_table import _horner_tri as _tri_inline
 TOL = 1e-10
 
 
+def _axes(delta: float) -> tuple[float, float]:
+    """Semi-axes (m) of the ellipse R0 = 0.1 m, ``delta``, spelled so that delta 0.5 gives the aspect ratio
+    of (0.15, 0.05) and of Ellipse(R0=0.3, delta=0.5) to the bit: the tests below then share one build of
+    that table (each build costs seconds; build_table caches per ratio, the float's every bit)."""
+    return (1.0 + delta) / 10.0, (1.0 - delta) / 10.0
+
+
 @njit(cache=True)
 def _tri(S, base, zt, zm):  # noqa: ANN001
     return _tri_inline(S, base, zt, zm)
@@ -75,7 +82,7 @@ def _motions(ra: float, rb: float, n: int, seed: int) -> np.ndarray:
 
 @pytest.mark.parametrize("delta", [0.0, 0.3, 0.5, -0.5, 0.8])
 def test_table_matches_icr_to_1e_10(delta: float) -> None:
-    ra, rb = 0.1 * (1.0 + delta), 0.1 * (1.0 - delta)
+    ra, rb = _axes(delta)
     S = build_table(ra, rb)
     err = _errors(S, ra, rb, _motions(ra, rb, 2400, 7), 0.37)
     assert err[:, :2].max() <= TOL
@@ -97,7 +104,7 @@ def test_triangular_blocks_cover_most_panels_and_evaluate_as_the_full_block(delt
     # 0.8 (b/a = 1/9), as docs/extended.md states; the floors 90 % and 70 % guard it. The triangle's
     # kernel must equal the full tensor Horner on the same (zero-padded) block to round-off:
     # ~45 terms of size <= ~1, so 1e-13.
-    S = build_table(0.1 * (1.0 + delta), 0.1 * (1.0 - delta))
+    S = build_table(*_axes(delta))
     first, heads = _panel_rows(S)
     counts = heads[:, 1:3].ravel()
     tri = -counts[counts < 0].sum()
@@ -115,7 +122,7 @@ def test_triangular_blocks_cover_most_panels_and_evaluate_as_the_full_block(delt
 
 
 def test_table_is_cached_per_aspect_ratio() -> None:
-    assert build_table(0.2, 0.1) is build_table(0.4, 0.2)
+    assert build_table(0.15, 0.05) is build_table(0.3, 0.1)
     assert build_table(0.3, 0.3) is build_table(0.01, 0.01)
 
 
@@ -148,7 +155,7 @@ def test_bad_semi_axes_name_the_parameter() -> None:
 
 
 def test_friction_method_table_binds_and_rejects_a_point_mass() -> None:
-    sc = Scene(body=Ellipse(R0=0.1, delta=0.5, l=0.2), drive=CircularDrive(omega=0.6, d=1.0),
+    sc = Scene(body=Ellipse(R0=0.3, delta=0.5, l=0.2), drive=CircularDrive(omega=0.6, d=1.0),
                friction=Friction("dry", 0.05), friction_method="table")
     p, S = kernel_params(sc)
     assert int(p[P.BODY]) == P.BODY_TABLE and S.shape[0] > 100

@@ -8,6 +8,7 @@ friction law. The first use copies the install's kernels into the cache folder, 
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import subprocess
@@ -50,33 +51,59 @@ def _kernels(tmp_path: Path) -> Path:
     return out / _cache.kernels_dir().name
 
 
-def _saved(argv: list[str], cache: Path, cwd: Path) -> list[str]:
-    """The lines in which numba reports compiling and saving a function, for one command."""
+#: one process runs every command of FRESH_COMMANDS (rrbody.cli.main.main, what `rrbody` runs), then a
+#: program: a marker line before each names what runs, so that numba's lines can be told apart
+_ALL_IN_ONE = """
+import json, sys
+from rrbody.cli.main import main
+for argv in json.loads(sys.argv[1]):
+    print("### rrbody " + " ".join(argv), flush=True)
+    print("### exit", main(argv), flush=True)
+print("### program", flush=True)
+exec(sys.argv[2])
+"""
+
+
+def _saved(commands: tuple[list[str], ...], program: str, cache: Path, cwd: Path) -> tuple[dict[str, list[str]],
+                                                                                          list[str]]:
+    """The lines in which numba reports compiling and saving a function, under the marker of what ran
+    (each command, its exit status, the program), and the commands' exit statuses."""
     env = {**os.environ, _cache.ENV: str(cache), "NUMBA_DEBUG_CACHE": "1", "MPLBACKEND": "Agg"}
-    p = subprocess.run([sys.executable, "-m", "rrbody.cli", *argv], env=env, cwd=cwd, capture_output=True,
-                       text=True, timeout=900)
-    assert p.returncode == 0, (argv, p.stderr[-2000:])
-    return [line for line in p.stdout.splitlines() if "data saved" in line]
+    p = subprocess.run([sys.executable, "-c", _ALL_IN_ONE, json.dumps(list(commands)), program], env=env, cwd=cwd,
+                       capture_output=True, text=True, timeout=1800)
+    assert p.returncode == 0, p.stderr[-2000:]
+    saved: dict[str, list[str]] = {"start-up": []}
+    exits = []
+    now = "start-up"
+    for line in p.stdout.splitlines():
+        if line.startswith("### exit "):
+            exits.append(line[len("### exit "):])
+        if line.startswith("### "):
+            now = line[4:]
+            saved.setdefault(now, [])
+        elif "data saved" in line:
+            saved[now].append(line)
+    return saved, exits
 
 
 @pytest.mark.slow
 def test_user_commands_compile_nothing_after_the_prebuild(tmp_path: Path) -> None:
     """Every command of FRESH_COMMANDS, and a plugin program, from a cache seeded with the install's
     kernels: not one function compiled (the area method, the numbers and the stepper are run-time
-    choices; the laws and kinds were all compiled at install)."""
+    choices; the laws and kinds were all compiled at install). One process runs them all, one after
+    another: a function any of them compiled would be saved, and reported, the first time it is needed,
+    as in a process of its own; a process start each (~1 s) would test nothing more."""
     from benchmarks.coldstart import PLUGIN_PROGRAM
 
     cache = tmp_path / "cache"
     shutil.copytree(_kernels(tmp_path), cache / "kernels" / _cache.kernels_dir().name)
-    for argv in FRESH_COMMANDS:
-        assert _saved(argv, cache, tmp_path) == [], argv
-    env = {**os.environ, _cache.ENV: str(cache), "NUMBA_DEBUG_CACHE": "1"}
+    # the plugin program, then a Recorder's capture (the plugin program alone runs as its first part)
     filmed = PLUGIN_PROGRAM + "\nfrom rrbody.plugin import Recorder\nRecorder(space, pf).capture()\n"
-    for program in (PLUGIN_PROGRAM, filmed):
-        p = subprocess.run([sys.executable, "-c", program], env=env, cwd=tmp_path, capture_output=True,
-                           text=True, timeout=900)
-        assert p.returncode == 0, p.stderr
-        assert [line for line in p.stdout.splitlines() if "data saved" in line] == []
+    saved, exits = _saved(FRESH_COMMANDS, filmed, cache, tmp_path)
+    assert exits == ["0"] * len(FRESH_COMMANDS)
+    assert [k for k in saved if k.startswith("rrbody ")] == [f"rrbody {' '.join(a)}" for a in FRESH_COMMANDS]
+    assert "program" in saved
+    assert {k: v for k, v in saved.items() if v} == {}
 
 
 def test_first_use_seeds_the_cache_once(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

@@ -7,7 +7,9 @@
   the points saved and the exact --resume command, exit 1, no traceback, no process left;
 - a malformed or unreachable --scheduler, contradictory options: exit 2 before any file exists.
 
-Real CLI in subprocesses where processes matter (Linux /proc), in-process where a fault is injected.
+Real CLI in subprocesses where processes matter (Linux /proc), in-process where a fault is injected and
+for the bad inputs (:func:`tests.clirun.run_here`: the first of each test also through the real command,
+which must answer the same).
 """
 
 from __future__ import annotations
@@ -31,7 +33,7 @@ import rrbody.analysis.sweep as sw
 import rrbody.analysis.sweep_store as store
 from rrbody.analysis.sweep import Sweep, SweepFault, checkpoint_path, load_sweep, read_meta, run_sweep
 
-from .clirun import RRBODY, alive, assert_bad_input, children, env, run_many
+from .clirun import RRBODY, alive, assert_bad_input, children, env, run_here, run_many
 
 LINUX = pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs Linux /proc")
 #: a flip-time point of ~1e6 steps (about 2 s warm), and one of a few ms
@@ -316,10 +318,10 @@ def test_bad_or_unreachable_scheduler_writes_nothing(tmp_path: Path) -> None:
     base = ["sweep", "--H", "0.25", "--k", "7.5", "--axis", "omega=0.5,1", "--out", str(tmp_path / "s.csv")]
     bad = ["foo", "tcp://host", "tcp://127.0.0.1:99999", "http://127.0.0.1:8786", "tcp://127.0.0.1:1",
            "tcp://nowhere.invalid:8786", ""]
-    rs = run_many([[*base, "--scheduler", b] for b in bad], cwd=tmp_path)
+    rs = run_here([[*base, "--scheduler", b] for b in bad], cwd=tmp_path)
     for r in rs:
         assert_bad_input(r, "--scheduler", tmp_path, set())  # no checkpoint left to block the next sweep
-    (r,) = run_many([[*base, "--workers", "0"]], cwd=tmp_path)  # a plain sweep to that path works
+    (r,) = run_here([[*base, "--workers", "0"]], cwd=tmp_path, real=0)  # a plain sweep to that path works
     assert r.code == 0, r.err
     assert len(load_sweep(tmp_path / "s.csv")) == 2
 
@@ -342,11 +344,11 @@ def test_contradictory_options_name_both(tmp_path: Path) -> None:
         ([*rod, "--omega", "0.6", "--axis", "phi_dot0=1,2", "--phi-dot0", "1", *out], ("--phi-dot0", "--axis phi_dot0")),
         ([*rod, "--axis", "omega=0.6,0.7", "--resume", "--force", *out], ("--resume", "--force")),
     ]
-    for r, (_, names) in zip(run_many([a for a, _ in cases], cwd=tmp_path), cases):
+    for r, (_, names) in zip(run_here([a for a, _ in cases], cwd=tmp_path), cases):
         assert_bad_input(r, names[0], tmp_path, set())
         assert names[1] in r.err and "contradict" in r.err, r.err
     # an axis over an option left at its default is no contradiction
-    (r,) = run_many([[*rod, "--omega", "0.6", "--axis", "phi0=1,2", *out]], cwd=tmp_path)
+    (r,) = run_here([[*rod, "--omega", "0.6", "--axis", "phi0=1,2", *out]], cwd=tmp_path, real=0)
     assert r.code == 0, r.err
 
 
