@@ -98,7 +98,8 @@ def rk_step(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp):  # noqa: ANN001 
         ynew[j] = y[j] + h * acc
         if j == 0 and driven:
             d = h * acc - w * h
-    rhs_near(system, t + h, ynew, p, S, K, N_STAGES, d, s0, c0)
+    # np.int64: the constant N_STAGES would compile rhs_near once more, for the literal 12
+    rhs_near(system, t + h, ynew, p, S, K, np.int64(N_STAGES), d, s0, c0)
     if y.shape[0] > n:  # tangent vectors ride along (effect tangent): one branch per step here
         tangent_stages(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp)
 
@@ -128,7 +129,7 @@ def tangent_stages(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp):  # noqa: 
         for r in range(N_STAGES):
             acc += B[r] * K[r, j]
         ynew[j] = y[j] + h * acc
-    driven_tangent(law, area, t + h, ynew, p, S, K, N_STAGES)
+    driven_tangent(law, area, t + h, ynew, p, S, K, np.int64(N_STAGES))
 
 
 @njit(cache=True, inline="always")

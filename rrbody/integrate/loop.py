@@ -321,14 +321,15 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
         if driven:
             which, gmin, gt1 = crossings(t1_open, target, t, y[0], y[1], t + hh, ynew[0], ynew[1], omega)
             if which & 1:
-                hm, phim, _ = _refine(meth, system, t, y, f, gmin, hh, 1, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3,
+                # the event's number as np.int64: literal constants would compile _refine once per event
+                hm, phim, _ = _refine(meth, system, t, y, f, gmin, hh, np.int64(1), p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3,
                                       E5, omega, 0.0, rtol)
                 record_minimum(ev, minima, t + hm, phim)
                 havemin = True
                 phimin = ev[E_PHIMIN]
                 tmin = ev[E_TMIN]
             if which & 2:
-                hm, _, _ = _refine(meth, system, t, y, f, gt1, hh, 2, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
+                hm, _, _ = _refine(meth, system, t, y, f, gt1, hh, np.int64(2), p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
                                    omega, target, rtol)
                 ev[E_T1] = t + hm
                 t1_open = False
@@ -340,7 +341,7 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
                     surf = theta_s + 2.0 * math.pi * kk
                     g0 = section_gap(y[0], t, omega, surf)
                     g1 = section_gap(ynew[0], t + hh, omega, surf)
-                    hm, phis, phids = _refine(meth, system, t, y, f, hh * g0 / (g0 - g1), hh, 2, p, S, J, fx, K2, y2,
+                    hm, phis, phids = _refine(meth, system, t, y, f, hh * g0 / (g0 - g1), hh, np.int64(2), p, S, J, fx, K2, y2,
                                               ytmp, scale, A, B, C, E3, E5, omega, surf, rtol)
                     k = int(st[L_NOUT])
                     out[k, 0] = t + hm

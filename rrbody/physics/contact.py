@@ -87,8 +87,9 @@ def footprint_wrench(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int, vbx:
             gx, gy, gt = hertz_wrench(shapes[k, RA], ux, uy, w, v_eps)
             gt += ox * gy - oy * gx
         else:  # SAMPLED: rows (x, y, weight) from the centre of gravity, the sampled area method's own sum
-            gx, gy, gt = area_sampled.wrench(DRY, geo[int(shapes[k, Q0]):int(shapes[k, Q1])], 0.0, 0.0, 0, 0.0,
-                                             vbx, vby, w, 1.0, v_eps)
+            # np.int64: literal constants would compile the sampled method's kernel once more
+            gx, gy, gt = area_sampled.wrench(np.int64(DRY), geo[int(shapes[k, Q0]):int(shapes[k, Q1])], 0.0, 0.0,
+                                             np.int64(0), 0.0, vbx, vby, w, 1.0, v_eps)
         wt = shapes[k, WEIGHT]
         fx += wt * gx
         fy += wt * gy

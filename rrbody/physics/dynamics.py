@@ -180,7 +180,8 @@ def rhs_near(code, t, y, p, S, out, row, d, s0, c0):  # noqa: ANN001
 def rhs(code, t, y, p, S, out, row):  # noqa: ANN001
     """out[row, :] = y' at (t, y): :func:`rhs_near` without a base angle (the library's sin and cos)."""
     literally(code)
-    rhs_near(code, t, y, p, S, out, row, math.nan, 0.0, 0.0)
+    # np.int64: a constant row (0, 12) would otherwise compile rhs_near again for each literal value
+    rhs_near(code, t, y, p, S, out, np.int64(row), math.nan, 0.0, 0.0)
 
 
 def system_from_params(p: np.ndarray, kind: int) -> int:
@@ -223,7 +224,7 @@ def tangent_rhs_for(system: int) -> Any:
             out2 = out.reshape((1, out.shape[0]))
             rhs(code, t, y, p, S, out2, 0)
             if y.shape[0] > 2:
-                driven_tangent((code // 10) % 10, int(p[P.BODY]), t, y, p, S, out2, 0)
+                driven_tangent((code // 10) % 10, int(p[P.BODY]), t, y, p, S, out2, np.int64(0))
 
         _TANGENT_KERNELS[code] = kernel
     return _TANGENT_KERNELS[code]

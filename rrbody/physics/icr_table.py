@@ -97,7 +97,8 @@ def _values(a, b, rs, ms, octant):  # noqa: ANN001
             if octant == 1:
                 qx, qy = qy, qx
             # spin 1: v_b = (qy b, -qx a) puts the ICR at q = z x v_b / spin, i.e. Q = (qx, qy) scaled
-            fx, fy, tq = icr_wrench_body(a, b, BUILD_NODES, qy * b, -qx * a, 1.0, 1, 1.0, 0.0, 0.0)
+            # np.int64: literal constants would compile the quadrature once more for the build alone
+            fx, fy, tq = icr_wrench_body(a, b, np.int64(BUILD_NODES), qy * b, -qx * a, 1.0, np.int64(1), 1.0, 0.0, 0.0)
             out[i, j, 0] = fx
             out[i, j, 1] = fy
             out[i, j, 2] = tq

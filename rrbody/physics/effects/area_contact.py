@@ -10,6 +10,7 @@ through the footprint kernel, viscous friction in closed form from the header's 
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from rrbody.physics.contact import H_GX, H_GY, H_J, H_PARTS, HEADER, footprint_wrench
@@ -24,7 +25,8 @@ NAME = "contact"
 def wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps):  # noqa: ANN001 (numba)
     """(Fbx, Fby, tau_cm) per unit mass (m/s^2 body frame, m^2/s^2) at CM velocity (vbx, vby) (m/s, body frame)."""
     if law == DRY:
-        fx, fy, tq = footprint_wrench(S, S, HEADER, HEADER + int(S[0, H_PARTS]), vbx, vby, spin, v_eps)
+        # np.int64(HEADER): the plugin's call passes a variable; a literal would compile the kernel twice
+        fx, fy, tq = footprint_wrench(S, S, np.int64(HEADER), HEADER + int(S[0, H_PARTS]), vbx, vby, spin, v_eps)
         return coeff * fx, coeff * fy, coeff * tq
     if law == VISCOUS:
         # -gamma v(s) weighted by the load: linear, so its mean position and spread suffice
