@@ -92,7 +92,7 @@ def _start_for(system: int) -> Any:
 
         @njit(cache=True)
         def start(y, f, p, S, h0):  # noqa: ANN001
-            rhs(code, 0.0, y, p, S, f.reshape((1, 2)), 0)
+            rhs(code, 0.0, y, p, S, f.reshape((1, 2)), np.int64(0))
             if not dry:
                 return False
             _, _, vx, vy, _, _ = driven_kinematics(0.0, y[0], y[1], p)
@@ -100,7 +100,7 @@ def _start_for(system: int) -> Any:
                 return False
             yp = y + h0 * f
             fp = np.empty((1, 2))
-            rhs(code, h0, yp, p, S, fp, 0)
+            rhs(code, h0, yp, p, S, fp, np.int64(0))
             J = np.empty((2, 2))
             jacobian(code, h0, yp, p, S, fp[0], J, np.empty(2))
             return h0 * spectral_radius(J) > STIFF_HLAMB

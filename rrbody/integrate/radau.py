@@ -128,5 +128,5 @@ def radau_step(system, t, y, f0, h, p, S, J, K, ynew, ytmp, scale, rtol):  # noq
     e1 = f0[1] + (RE[0] * Z[0, 1] + RE[1] * Z[1, 1] + RE[2] * Z[2, 1]) / h
     er0 = (a11 * e0 - a01 * e1) / detr
     er1 = (a00 * e1 - a10 * e0) / detr
-    rhs(system, t + h, ynew, p, S, K, 12)
+    rhs(system, t + h, ynew, p, S, K, np.int64(12))
     return math.sqrt(((er0 / scale[0]) ** 2 + (er1 / scale[1]) ** 2) / 2.0)

@@ -112,7 +112,7 @@ def ros_step(system, t, y, f0, h, p, S, J, fx, K, ynew, ytmp, scale):  # noqa: A
     # stage 2
     for j in range(n):
         ytmp[j] = y[j] + _A21 * K[0, j]
-    rhs(system, t + _C2 * h, ytmp, p, S, fs, 0)
+    rhs(system, t + _C2 * h, ytmp, p, S, fs, np.int64(0))
     for j in range(n):
         b[j] = fs[0, j] + ih * (_C21 * K[0, j]) + h * _D2 * fx[j]
     solve_w(W, b, x)
@@ -121,7 +121,7 @@ def ros_step(system, t, y, f0, h, p, S, J, fx, K, ynew, ytmp, scale):  # noqa: A
     # stage 3
     for j in range(n):
         ytmp[j] = y[j] + _A31 * K[0, j] + _A32 * K[1, j]
-    rhs(system, t + _C3 * h, ytmp, p, S, fs, 0)
+    rhs(system, t + _C3 * h, ytmp, p, S, fs, np.int64(0))
     for j in range(n):
         b[j] = fs[0, j] + ih * (_C31 * K[0, j] + _C32 * K[1, j]) + h * _D3 * fx[j]
     solve_w(W, b, x)
@@ -130,7 +130,7 @@ def ros_step(system, t, y, f0, h, p, S, J, fx, K, ynew, ytmp, scale):  # noqa: A
     # stage 4
     for j in range(n):
         ytmp[j] = y[j] + _A41 * K[0, j] + _A42 * K[1, j] + _A43 * K[2, j]
-    rhs(system, t + _C4 * h, ytmp, p, S, fs, 0)
+    rhs(system, t + _C4 * h, ytmp, p, S, fs, np.int64(0))
     for j in range(n):
         b[j] = fs[0, j] + ih * (_C41 * K[0, j] + _C42 * K[1, j] + _C43 * K[2, j]) + h * _D4 * fx[j]
     solve_w(W, b, x)
@@ -139,7 +139,7 @@ def ros_step(system, t, y, f0, h, p, S, J, fx, K, ynew, ytmp, scale):  # noqa: A
     # stage 5 (at t + h; no df/dt term)
     for j in range(n):
         ytmp[j] = y[j] + _A51 * K[0, j] + _A52 * K[1, j] + _A53 * K[2, j] + _A54 * K[3, j]
-    rhs(system, t + h, ytmp, p, S, fs, 0)
+    rhs(system, t + h, ytmp, p, S, fs, np.int64(0))
     for j in range(n):
         b[j] = fs[0, j] + ih * (_C51 * K[0, j] + _C52 * K[1, j] + _C53 * K[2, j] + _C54 * K[3, j])
     solve_w(W, b, x)
@@ -148,7 +148,7 @@ def ros_step(system, t, y, f0, h, p, S, J, fx, K, ynew, ytmp, scale):  # noqa: A
     # stage 6: y_6 = y_5 + k_5 is the embedded 3rd-order solution
     for j in range(n):
         ytmp[j] += K[4, j]
-    rhs(system, t + h, ytmp, p, S, fs, 0)
+    rhs(system, t + h, ytmp, p, S, fs, np.int64(0))
     for j in range(n):
         b[j] = fs[0, j] + ih * (_C61 * K[0, j] + _C62 * K[1, j] + _C63 * K[2, j] + _C64 * K[3, j] + _C65 * K[4, j])
     solve_w(W, b, x)
@@ -157,7 +157,7 @@ def ros_step(system, t, y, f0, h, p, S, J, fx, K, ynew, ytmp, scale):  # noqa: A
         K[5, j] = x[j]
         ynew[j] = ytmp[j] + x[j]
         err += (x[j] / scale[j]) ** 2
-    rhs(system, t + h, ynew, p, S, fs, 0)
+    rhs(system, t + h, ynew, p, S, fs, np.int64(0))
     for j in range(n):
         K[12, j] = fs[0, j]
     return math.sqrt(err / n)
