@@ -341,13 +341,13 @@ def test_rerun_draws_p_and_its_link_for_a_driven_body(tmp_path: Path) -> None:
 
 
 def test_both_read_routes_capture_the_same_frames(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The capture reads the filmed bodies from their structs (rrbody.engine.bodymem) where pymunk's
+    """The capture reads the filmed bodies from their structs (rrbody.engine.capture) where pymunk's
     layout of them is known, as on the pymunk this suite runs (asserted: else the fast route would go
     untested), and from the space's bulk read otherwise: both give the same numbers, bit for bit,
     through collisions, a kinematic body, a body outside the plugin, bodies added to and removed from
     the space (its bulk read's order changes) and ``reserve`` (more frames than reserved: the store
     grows)."""
-    from rrbody.engine.bodymem import layout
+    from rrbody.engine.capture import layout
 
     assert layout() is not None
     space, pf, bodies = _sliding()

@@ -43,8 +43,8 @@ import numpy as np
 
 from rrbody.engine import kernel as K
 from rrbody.engine.batchio import BatchIO, body_uid
-from rrbody.engine.bodymem import address, layout
-from rrbody.engine.capture import capture_direct, capture_rows
+from rrbody.engine.bodymem import address
+from rrbody.engine.capture import capture_direct, capture_rows, layout
 from rrbody.engine.lean import fast_entry
 from rrbody.engine.rows import Rows
 from rrbody.model.checks import check_int, check_positive, check_real
@@ -176,7 +176,7 @@ class Recorder:
         self._prow: tuple[int, np.ndarray] | None = None  # (plane.members, their rows in the plane's arrays)
         self._no_plane = np.full(len(self.bodies), -1, dtype=np.int64)
         # the bodies' state is read from their structs where pymunk's layout of them is known (about
-        # 2 us per 1,000 bodies), else from the space's bulk read (about 14 us: rrbody.engine.bodymem)
+        # 2 us per 1,000 bodies), else from the space's bulk read (about 14 us: rrbody.engine.capture)
         self._offs = layout()
         self._io = BatchIO(space, poses=True) if self._offs is None else None
         if self._offs is not None:
