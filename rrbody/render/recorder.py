@@ -159,7 +159,7 @@ class Recorder:
         self._frame_bytes = len(self.bodies) * self._width * 8
         #: the most frames max_mb allows
         self._max_frames = int(self.max_mb * 1e6 // self._frame_bytes)
-        self._kernel: Any = None  # capture_rows' compiled entry point, found on the first capture
+        self._kernel: Any = None  # the capture kernel's compiled entry point (capture_direct or capture_rows), found on the first capture
         self._store = Rows((len(self.bodies), self._width))  # the frames, and their times (s)
         self._clock = Rows(None)
         if reserve is not None:
@@ -170,7 +170,6 @@ class Recorder:
                                 unit=f"frames (what max_mb={self.max_mb:g} MB holds)")
             self._store.ensure(reserve, touch=True)
             self._clock.ensure(reserve, touch=True)
-        self._room = 0  # frames the store holds now (capture's fast test; _make_room updates it)
         self._calls = 0
         self._rows = np.full(len(self.bodies), -1, dtype=np.int64)  # their rows in the space's bulk read
         self._prow: tuple[int, np.ndarray] | None = None  # (plane.members, their rows in the plane's arrays)
@@ -215,37 +214,31 @@ class Recorder:
         else:
             t = check_real("t", t)
         n = self._store.n
-        if n >= self._room:
+        if n >= self._store.buf.shape[0] or n >= self._max_frames:
             self._make_room(n)
-        pf = self.plane
-        if pf is None:
-            prow, bodies = self._no_plane, _NO_ROWS
-        else:
-            prow = self._prow[1] if self._prow is not None and self._prow[0] == pf.members else self._plane_rows()
-            bodies = pf._bodies
+        prow = self._plane_rows()
+        bodies = _NO_ROWS if self.plane is None else self.plane._bodies
         store = self._store.buf
         if self._io is None:
-            args = (self._addr, self._offs, self._space_addr, bodies, prow, store, n)
-            if self._kernel is None:
-                self._kernel, gone = fast_entry(capture_direct, *args)
-            else:
-                gone = self._kernel(*args)
-            if gone >= 0:
-                self._gone(gone, n)
+            kernel, args = capture_direct, (self._addr, self._offs, self._space_addr, bodies, prow, store, n)
         else:
             got, ids, _ = self._io.read()
-            if self._kernel is None:
-                self._kernel, ok = fast_entry(capture_rows, got, ids, self._ids, self._rows, bodies, prow, store, n)
-            else:
-                ok = self._kernel(got, ids, self._ids, self._rows, bodies, prow, store, n)
-            if not ok:
-                # the space's order changed (bodies added or removed): find the filmed bodies again
-                order = np.argsort(ids)
-                rows = _rows_of(ids[order], order, self._ids)
-                if (rows < 0).any():
-                    self._gone(int(np.flatnonzero(rows < 0)[0]), n)
-                self._rows = rows
-                capture_rows(got, ids, self._ids, self._rows, bodies, prow, store, n)
+            kernel, args = capture_rows, (got, ids, self._ids, self._rows, bodies, prow, store, n)
+        if self._kernel is None:
+            self._kernel, result = fast_entry(kernel, *args)
+        else:
+            result = self._kernel(*args)
+        if self._io is None:
+            if result >= 0:  # the index of a filmed body no longer in the space
+                self._gone(result, n)
+        elif not result:
+            # the space's order changed (bodies added or removed): find the filmed bodies again
+            order = np.argsort(ids)
+            rows = _rows_of(ids[order], order, self._ids)
+            if (rows < 0).any():
+                self._gone(int(np.flatnonzero(rows < 0)[0]), n)
+            self._rows = rows
+            capture_rows(got, ids, self._ids, self._rows, bodies, prow, store, n)
         self._clock.buf[n] = t
         self._store.n = self._clock.n = n + 1
         return True
@@ -263,8 +256,7 @@ class Recorder:
                              f"the {n} frames captured are kept: film them, raise max_mb, or capture less "
                              f"often (every=...)")
         self._store.ensure(n + 1)
-        self._clock.ensure(n + 1)
-        self._room = min(self._store.buf.shape[0], self._clock.buf.shape[0], self._max_frames)
+        self._clock.ensure(n + 1)  # the same capacity as the store's: both grow by the same rule
 
     @property
     def n_frames(self) -> int:
