@@ -101,7 +101,8 @@ def _effect_share(pf: object, reps: int = 7, block: int = 20) -> tuple[float, fl
     got, ids, out = pf._io.read()  # type: ignore[attr-defined]
     act = pf._act  # type: ignore[attr-defined]
     rows, noise = act.arrays(pf)
-    base = (got, ids, pf._k_lookup, pf._cache, pf._bodies, pf._k_shapes, pf._k_geo, pf.t, DT, out)  # type: ignore[attr-defined]
+    base = (got, ids, pf._k_lookup, pf._cache, pf._bodies, pf._k_shapes, pf._k_geo,  # type: ignore[attr-defined]
+            pf._k_tables, pf.t, DT, out)  # type: ignore[attr-defined]
     kernel = pf._kernel  # type: ignore[attr-defined]
     saved = pf._bodies.copy()  # type: ignore[attr-defined]
     best = [math.inf, math.inf, math.inf]

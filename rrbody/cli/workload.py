@@ -136,11 +136,12 @@ def _planar_workload() -> None:
               np.full(1, 0.5), np.full(1, 0.5), np.full(2, -1, dtype=np.int64), 0, qpos, qvel, np.zeros(6), xfrc,
               np.zeros(1), contacts, contacts, contacts, 1, bodies, got, load, 1e-3)
     MK.set_planar(0, got[0, 1], got[0, 2], got[0, 3], i64, i64, np.zeros((1, 3)), frame, qpos, qvel)
-    K.body_accel(0, got[0, 0], got[0, 1], got[0, 2], got[0, 3], bodies, shapes, geo)
+    K.body_accel(0, got[0, 0], got[0, 1], got[0, 2], got[0, 3], bodies, shapes, geo, np.zeros((0, 3)))
     cache = np.zeros((3, K.N_STATUS), dtype=np.int64)
     ids = np.ones(1, dtype=np.int64)
     lookup = np.array([[1], [0]], dtype=np.int64)
-    K.plane_step(got, ids, lookup, cache, bodies, shapes, geo, 0.0, 1e-3, np.zeros((1, 3)), *NO_ACTIVE)
+    K.plane_step(got, ids, lookup, cache, bodies, shapes, geo, np.zeros((0, 3)), 0.0, 1e-3, np.zeros((1, 3)),
+                 *NO_ACTIVE)
     MK.scatter(i64, i64, i64, np.zeros((1, 3)), frame, bodies, qpos, qvel, xfrc, user, got, np.zeros(1, dtype=bool),
                np.zeros(1), 0.0, 1e-3)
     MK.unapply(i64, xfrc, user)

@@ -6,8 +6,9 @@ Langevin noise). The parameters live in an array of their own, ``active`` (one r
 columns :mod:`rrbody.physics.effects.active`), rebuilt from the stored :class:`Active` values
 whenever the plugin's membership changed (O(n), once per change), so the plugin's own rows stay as
 they are. The noise comes from one ``numpy.random.Generator(PCG64(seed))`` per plugin: one vectorised
-draw of three standard normal numbers per plugin body and step, whatever the number of noisy bodies,
-so the same seed and the same program give bit-identical runs.
+draw per step of the standard normal numbers the noisy bodies use (two for a translational noise, one
+for a rotational one, in the plugin's row order), so the same seed and the same program give
+bit-identical runs.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ from rrbody.physics.effects import active as A
 __all__ = ["ActiveSet", "NO_ACTIVE"]
 
 #: the arrays a plugin without active bodies passes (the kernel skips the effect: no rows)
-NO_ACTIVE: tuple[np.ndarray, np.ndarray] = (np.zeros((0, A.N_ACTIVE)), np.zeros((0, 3)))
+NO_ACTIVE: tuple[np.ndarray, np.ndarray] = (np.zeros((0, A.N_ACTIVE)), np.zeros(0))
 
 
 class ActiveSet:
@@ -63,12 +64,16 @@ class ActiveSet:
             self.pending.discard(body)
         n = len(pf._list)
         rows = np.zeros((n, A.N_ACTIVE))
-        for body, a in self.params.items():
-            rows[slots[body]] = A.row(a.body_force, a.torque, a.drag, a.rot_drag, a.diffusion, a.rot_diffusion,
-                                      float(body.mass), float(body.moment))
+        first = 0
+        for body in pf._list:  # in row order: the noise's numbers go to the bodies in a fixed order
+            a = self.params.get(body)
+            if a is not None:
+                rows[slots[body]] = A.row(a.body_force, a.torque, a.drag, a.rot_drag, a.diffusion, a.rot_diffusion,
+                                          float(body.mass), float(body.moment), first)
+                first += A.noise_count(a.diffusion, a.rot_diffusion)
         self._rows = rows if self.params else NO_ACTIVE[0]
-        self._noisy = sum(a.noisy for a in self.params.values())
-        self._noise = np.zeros((n, 3)) if self._noisy else NO_ACTIVE[1]
+        self._noisy = first
+        self._noise = np.zeros(first) if first else NO_ACTIVE[1]
         self._members = pf.members
 
     def kick(self, pf: Any, dt: float) -> None:

@@ -5,15 +5,12 @@ time and its friction.
 
 ``pymunk.batch`` reads every body of a space, field by field, with a bounds check per number (about
 14 us per 1,000 bodies for position, angle, velocity and spin, measured); the recorder needs only
-the bodies it films, and their state is six numbers in each body's C struct. :func:`layout` finds
-where those numbers lie in pymunk's ``cpBody`` (an opaque type to pymunk's Python side) by probing
-a body whose state is set through pymunk's own setters, then checks the offsets on a second probe
-after a step, and :func:`capture_direct` reads them (:mod:`rrbody.engine.bodymem`; about 2 us per
-1,000 bodies). If the probe does not find every number exactly once, or the check fails (a pymunk
-whose Chipmunk lays the struct out otherwise), :func:`layout` returns None and the recorder keeps
-``pymunk.batch``; ``tests/test_recorder.py`` checks that both routes store the same frames, bit for
-bit. A body removed from the space reads a null ``space`` field, which :func:`capture_direct`
-reports instead of reading on.
+the bodies it films, and their state is six numbers in each body's C struct, which
+:func:`capture_direct` reads where :func:`rrbody.engine.bodymem.layout` found them (about 2 us per
+1,000 bodies). Where the layout is unknown the recorder keeps ``pymunk.batch``;
+``tests/test_recorder.py`` checks that both routes store the same frames, bit for bit. A body
+removed from the space reads a null ``space`` field, which :func:`capture_direct` reports instead of
+reading on.
 
 The kernels are compiled without numba's reference counting (:mod:`rrbody.engine.lean`): with it,
 each body's call of the shared :func:`_motion` counted its two arrays, and a capture of 1,000
@@ -26,14 +23,11 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from rrbody.engine.bodymem import address, f64_at, i64_at
-from rrbody.engine.kernel import FFT, FFX, FFY, GAP, N_BODY, PVX, PVY, PW, STAG
+from rrbody.engine.bodymem import ANGLE, SPACE, SPIN, VX, VY, X, Y, f64_at, i64_at, layout
+from rrbody.engine.kernel import FFT, FFX, FFY, GAP, PVX, PVY, PW, STAG
 from rrbody.engine.lean import NO_REFCOUNT
 
 __all__ = ["capture_rows", "capture_direct", "layout"]
-
-#: bytes of a body's struct the probe searches (Chipmunk's cpBody is larger; every field read lies within)
-_WINDOW = 256
 
 
 @njit(cache=True, inline="always", **NO_REFCOUNT)
@@ -92,7 +86,7 @@ def capture_direct(addr: np.ndarray, offs: np.ndarray, space: int, bodies: np.nd
     first filmed body no longer in ``space`` (the frame is then incomplete: the caller raises)."""
     out = store[frame]
     motion = out.shape[1] >= 9
-    ox, oy, oa, ovx, ovy, ow, osp = offs[0], offs[1], offs[2], offs[3], offs[4], offs[5], offs[6]
+    ox, oy, oa, ovx, ovy, ow, osp = offs[X], offs[Y], offs[ANGLE], offs[VX], offs[VY], offs[SPIN], offs[SPACE]
     for k in range(addr.shape[0]):
         a = addr[k]
         if i64_at(a + osp) != space:
@@ -103,73 +97,3 @@ def capture_direct(addr: np.ndarray, offs: np.ndarray, space: int, bodies: np.nd
         if motion:
             _motion(out, k, f64_at(a + ovx), f64_at(a + ovy), f64_at(a + ow), bodies, prow[k])
     return -1
-
-
-def _probe(values: tuple[float, float, float, float, float, float], step: bool) -> tuple[Any, Any, np.ndarray]:
-    """A space with one body set to ``values`` (x, y, angle, vx, vy, spin) through pymunk's setters
-    (its centre of gravity off its origin), optionally stepped; returns (space, body, its first bytes)."""
-    import pymunk
-    from pymunk._chipmunk import ffi
-
-    space = pymunk.Space()
-    body = pymunk.Body()
-    shape = pymunk.Circle(body, 0.1, (0.3, -0.2))
-    shape.density = 1.0
-    space.add(body, shape)
-    x, y, a, vx, vy, w = values
-    body.position, body.angle, body.velocity, body.angular_velocity = (x, y), a, (vx, vy), w
-    if step:
-        space.step(0.01)
-    return space, body, np.frombuffer(bytes(ffi.buffer(body._body, _WINDOW)), dtype=np.uint8)
-
-
-def _getters(body: Any) -> list[float]:
-    """x, y, angle, vx, vy, spin of ``body`` through pymunk's own getters."""
-    p, v = body.position, body.velocity
-    return [p.x, p.y, body.angle, v.x, v.y, body.angular_velocity]
-
-
-def _find() -> np.ndarray | None:
-    """The offsets :func:`layout` returns, or None (a number found other than exactly once, or the check failed)."""
-    space, body, raw = _probe((1.25, -2.5, 0.625, 3.5, 4.75, -1.375), step=True)
-    f = raw.view(np.float64)
-    i = raw.view(np.int64)
-    offs = []
-    for v in _getters(body):
-        hit = np.flatnonzero(f == v)
-        if len(hit) != 1:
-            return None
-        offs.append(8 * int(hit[0]))
-    hit = np.flatnonzero(i == address(space._space))
-    if len(hit) != 1:
-        return None
-    offs.append(8 * int(hit[0]))
-    out = np.array(offs, dtype=np.int64)
-    # the check, through the capture's own kernel: other values in another space are read exactly,
-    # and a body removed from its space reads as removed
-    space2, body2, _ = _probe((-7.0625, 0.40625, -2.25, -0.3125, 9.5, 6.125), step=True)
-    where = np.array([address(body2._body)], dtype=np.int64)
-    frame = np.zeros((1, 1, 9))
-    args = (where, out, address(space2._space), np.zeros((0, N_BODY)), np.full(1, -1, dtype=np.int64), frame, 0)
-    if capture_direct(*args) != -1 or frame[0, 0, :6].tolist() != _getters(body2):
-        return None
-    space2.remove(body2, *body2.shapes)
-    if capture_direct(*args) != 0:
-        return None
-    return out
-
-
-_layout: Any = False  # not probed yet
-
-
-def layout() -> np.ndarray | None:
-    """Byte offsets (int64 array: x, y, angle, vx, vy, spin, space; the order :func:`capture_direct`
-    reads) of a body's state in pymunk's ``cpBody``, found and checked once per process; None where
-    they cannot be trusted."""
-    global _layout
-    if _layout is False:
-        try:
-            _layout = _find()
-        except Exception:  # pragma: no cover - any surprise in pymunk's internals: keep pymunk.batch
-            _layout = None
-    return _layout

@@ -24,7 +24,11 @@ and angle needs no new test); FFX, FFY, FFT: the friction the last step applied 
 N m about the centre of gravity; static friction and the rest rule's stopping impulse included), for
 readers such as the recorder; FEET (1.0: a body on two or more point feet, whose foot static friction
 holds at rest: :mod:`rrbody.engine.feet`), PIN (1 + the index of the foot held since the last step, 0:
-none).
+none), DEFR (1.0 while :func:`plane_step` has deferred the body to its limit-set loop), TKIND, TAB:
+how its dry friction is evaluated (TABLE_NONE: :func:`rrbody.physics.contact.footprint_wrench`, exact;
+TABLE_CIRCLE: one disk, the wrench table of :mod:`rrbody.physics.icr_table`) and where its table
+starts in ``tables``.
+``tables`` (float, rows of 3): the wrench tables the bodies use, one copy per distinct table.
 ``shapes`` (float, per footprint part) and ``geo``: the footprint rows of :mod:`rrbody.physics.contact`.
 ``lookup``: row 0 the plugin bodies' ids (int64 view of pymunk's uintptr ids) sorted, row 1 their rows.
 ``cache`` (int64, rows ROWMAP, ROW_ID, STATUS): the plugin row of each row of the space's bulk read,
@@ -41,31 +45,43 @@ from numba import njit
 from rrbody.engine.feet import feet_step
 from rrbody.engine.lean import NO_REFCOUNT
 from rrbody.physics.contact import footprint_wrench
+from rrbody.physics import contact as C
 from rrbody.physics.effects import active as act
+from rrbody.physics.icr_table import table_wrench_body
 from rrbody.physics.limit import at_rest
 
 (MASS, IPM, LAW, COEFF, REACH, SNAP, S0, S1, VEPS, VGX, VGY, VJ, STAG, PVX, PVY, PW, GAP, STOP, EA,
  EW, DRV, OMG, DD, ANX, ANY, T0, DPX, DPY, DVX, DVY, MUS, GTX, GTY, HX, HY, HT, HA, HELD, FFX, FFY, FFT, FEET,
- PIN) = range(43)
-N_BODY = 43
+ PIN, DEFR, TKIND, TAB) = range(46)
+N_BODY = 46
 #: STOP values: the rest rule cancels the velocity in this step, or (the step after) sets it exactly zero
 STOPPING, ZEROED = 1.0, 2.0
 LAW_DRY, LAW_VISCOUS = 1.0, 2.0
+#: what the lean sweep's step of a body returns when it leaves the body to the limit-set loop
+DEFER = 2
+#: TKIND values: the exact footprint wrench; a disk's wrench table (icr_table's, dimensionless)
+TABLE_NONE, TABLE_CIRCLE = 0.0, 1.0
 
 
 @njit(cache=True, **NO_REFCOUNT)
 def body_accel(j: int, alpha: float, vx: float, vy: float, w: float, bodies: np.ndarray, shapes: np.ndarray,
-               geo: np.ndarray) -> tuple[float, float, float]:
+               geo: np.ndarray, tables: np.ndarray) -> tuple[float, float, float]:
     """Friction (ax, ay, alpha_dot) of body ``j`` with angle ``alpha`` (rad), centre-of-gravity velocity
     (vx, vy) (m/s, world) and spin ``w`` (rad/s): force per unit mass (m/s^2, world) and the angular
     acceleration (rad/s^2)."""
-    ca = math.cos(alpha)
-    sa = math.sin(alpha)
-    vbx = ca * vx + sa * vy  # body frame
-    vby = -sa * vx + ca * vy
+    return _accel(j, math.cos(alpha), math.sin(alpha), vx, vy, w, bodies, shapes, geo, tables)
+
+
+@njit(cache=True, inline="always")
+def _accel(j: int, ca: float, sa: float, vx: float, vy: float, w: float, bodies: np.ndarray, shapes: np.ndarray,
+           geo: np.ndarray, tables: np.ndarray) -> tuple[float, float, float]:
+    """:func:`body_accel` at the angle whose cosine and sine are ``ca``, ``sa`` (the kernel's step has
+    them already, for the active load)."""
     c = bodies[j, COEFF]
     if c == 0.0:
         return 0.0, 0.0, 0.0
+    vbx = ca * vx + sa * vy  # body frame
+    vby = -sa * vx + ca * vy
     if bodies[j, LAW] == LAW_VISCOUS:
         # every element feels -gamma v(s): linear, so the footprint's mean position and spread suffice
         gx = bodies[j, VGX]
@@ -74,20 +90,43 @@ def body_accel(j: int, alpha: float, vx: float, vy: float, w: float, bodies: np.
         fy = -c * (vby + w * gx)
         tq = -c * (gx * vby - gy * vbx + w * bodies[j, VJ])
         return ca * fx - sa * fy, sa * fx + ca * fy, tq / bodies[j, IPM]
-    fx, fy, tq = footprint_wrench(shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), vbx, vby, w, bodies[j, VEPS])
+    if bodies[j, TKIND] == TABLE_CIRCLE:
+        fx, fy, tq = _circle(j, vbx, vby, w, bodies, shapes, tables)
+    else:
+        fx, fy, tq = footprint_wrench(shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), vbx, vby, w,
+                                      bodies[j, VEPS])
     return c * (ca * fx - sa * fy), c * (sa * fx + ca * fy), c * tq / bodies[j, IPM]
 
 
+@njit(cache=True, inline="always")
+def _circle(j: int, vbx: float, vby: float, w: float, bodies: np.ndarray, shapes: np.ndarray,
+            tables: np.ndarray) -> tuple[float, float, float]:
+    """Dry friction per unit load and mu g of body j, one uniformly loaded disk (its one footprint
+    row), from the disk's wrench table (within 1e-10 of the exact wrench, :mod:`rrbody.physics.icr_table`;
+    no trigonometric call, one square root): velocity (m/s) body frame, the force dimensionless, the
+    torque about the centre of gravity in m."""
+    k = int(bodies[j, S0])
+    ox = shapes[k, C.CX]
+    oy = shapes[k, C.CY]
+    r = shapes[k, C.RA]
+    # the disk centre's velocity, the table's wrench about it, moved to the centre of gravity
+    fx, fy, tq = table_wrench_body(tables[int(bodies[j, TAB]):], r, r, vbx - w * oy, vby + w * ox, w, 1.0,
+                                   bodies[j, VEPS])
+    wt = shapes[k, C.WEIGHT]
+    return wt * fx, wt * fy, wt * (tq + ox * fy - oy * fx)
+
+
 @njit(cache=True, **NO_REFCOUNT)
-def limited(j: int, alpha: float, vx: float, vy: float, w: float, ex: float, ey: float, ew: float, dt: float,
-            bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray, lx: float, ly: float,
+def limited(j: int, ca: float, sa: float, vx: float, vy: float, w: float, ex: float, ey: float, ew: float, dt: float,
+            bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray, tables: np.ndarray, lx: float, ly: float,
             lw: float) -> tuple[float, float, float, float]:
-    """Friction (ax, ay, alpha_dot) at the velocity (ex, ey, ew) and the factor s in [0, 1] that keeps
+    """Friction (ax, ay, alpha_dot) at the angle whose cosine and sine are ``ca``, ``sa`` and the
+    velocity (ex, ey, ew), and the factor s in [0, 1] that keeps
     the impulse dt s (ax, ay, alpha_dot) from carrying the kinetic energy of the velocity after the
     load's impulse, (vx, vy, w) + dt (lx, ly, lw) (the other forces per unit mass, m/s^2, and their
     angular acceleration, rad/s^2), past its minimum along the friction impulse: no chatter, and
     friction never gains energy."""
-    ax, ay, aw = body_accel(j, alpha, ex, ey, ew, bodies, shapes, geo)
+    ax, ay, aw = _accel(j, ca, sa, ex, ey, ew, bodies, shapes, geo, tables)
     ipm = bodies[j, IPM]
     ux = vx + dt * lx
     uy = vy + dt * ly
@@ -97,7 +136,7 @@ def limited(j: int, alpha: float, vx: float, vy: float, w: float, ex: float, ey:
     if den > 0.0 and num < den:
         if ex != vx or ey != vy or ew != w:
             # near a stop the extrapolated velocity is unreliable: use the current one
-            return limited(j, alpha, vx, vy, w, vx, vy, w, dt, bodies, shapes, geo, lx, ly, lw)
+            return limited(j, ca, sa, vx, vy, w, vx, vy, w, dt, bodies, shapes, geo, tables, lx, ly, lw)
         return ax, ay, aw, max(num / den, 0.0)
     return ax, ay, aw, 1.0
 
@@ -251,8 +290,8 @@ def _hold_or_break(i: int, j: int, alpha: float, bodies: np.ndarray, shapes: np.
 
 @njit(cache=True)
 def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.ndarray, bodies: np.ndarray,
-               shapes: np.ndarray, geo: np.ndarray, t: float, dt: float, out: np.ndarray, active: np.ndarray,
-               noise: np.ndarray) -> int:
+               shapes: np.ndarray, geo: np.ndarray, tables: np.ndarray, t: float, dt: float, out: np.ndarray,
+               active: np.ndarray, noise: np.ndarray) -> int:
     """One step of plane friction for every plugin body in a space, from the plugin's time t (s).
 
     ``got`` has a row per body of the space (pymunk.batch order: angle, vx, vy, w, fx, fy, torque),
@@ -263,15 +302,63 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.n
     rest rule acts on (column STOP) and returns their count. Velocities are read as belonging to the
     half step (the staggered scheme of docs/engine.md): friction acts at the predicted angle
     alpha + w dt with the velocity extrapolated from the last two steps. ``active`` (a row per plugin
-    body, or none) and ``noise`` (three standard normal numbers per row) carry the active bodies'
+    body, or none) and ``noise`` (this step's standard normal numbers) carry the active bodies'
     propulsion, drag and Langevin noise (:mod:`rrbody.physics.effects.active`), a load like the tilt's.
+
+    :func:`_sweep` steps the bodies, compiled without numba's reference counting (the counting of
+    each array passed to a per-body call took half of a frictionless step, measured). A body under
+    static friction that needs the limit-set test (:func:`_held`, whose small linear solves
+    allocate) is left to a second loop here, which steps it again from the start.
     """
     if got.shape[0] > cache.shape[1]:
         return -2  # the caller enlarges the cache and calls again
     if not plane_check(got, ids, lookup, cache, bodies.shape[0]):
         return -1
     rowmap = cache[ROWMAP]
+    n_stop, n_defer = _sweep(got, rowmap, bodies, shapes, geo, tables, t, dt, out, active, noise)
+    if n_defer:
+        for i in range(got.shape[0]):
+            j = rowmap[i]
+            if j >= 0 and bodies[j, DEFR] > 0.0:
+                bodies[j, DEFR] = 0.0
+                out[i, 0] = got[i, 4]
+                out[i, 1] = got[i, 5]
+                out[i, 2] = got[i, 6]
+                n_stop += _one(i, j, got, bodies, shapes, geo, tables, t, dt, out, active, noise, _held,
+                               _hold_or_break, False)
+    return n_stop
+
+
+@njit(cache=True, inline="always")
+def _static(j: int, bodies: np.ndarray) -> bool:
+    """Whether static friction acts on body j: dry, and governed by the rest rule (not a driven
+    body: its joint holds it)."""
+    return bodies[j, MUS] > 0.0 and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def _no_held(i: int, j: int, alpha: float, bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray,
+             out: np.ndarray) -> bool:
+    """:func:`_sweep`'s stand-in for :func:`_held` (it defers the bodies that would call it)."""
+    return False
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def _no_break(i: int, j: int, alpha: float, bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray,
+              out: np.ndarray) -> None:
+    """:func:`_sweep`'s stand-in for :func:`_hold_or_break`."""
+    return
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def _sweep(got: np.ndarray, rowmap: np.ndarray, bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray,
+           tables: np.ndarray, t: float, dt: float, out: np.ndarray, active: np.ndarray,
+           noise: np.ndarray) -> tuple[int, int]:
+    """:func:`plane_step`'s loop over the space's bodies: ``out`` starts from each body's own force and
+    torque, and every plugin body gets its step (:func:`_one`) unless it needs the limit-set test
+    (marked DEFR). Returns the bodies the rest rule stopped and the bodies deferred."""
     n_stop = 0
+    n_defer = 0
     for i in range(got.shape[0]):
         out[i, 0] = got[i, 4]
         out[i, 1] = got[i, 5]
@@ -279,25 +366,48 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.n
         j = rowmap[i]
         if j < 0:
             continue
-        # a tilted plane: gravity's in-plane part acts at the centre of gravity in every step
-        out[i, 0] += bodies[j, MASS] * bodies[j, GTX]
-        out[i, 1] += bodies[j, MASS] * bodies[j, GTY]
-        if active.shape[0] > 0:  # self-propulsion, a medium's drag and noise: a load as well
-            fa, fb, fc = act.load(j, got[i, 0], got[i, 1], got[i, 2], got[i, 3], bodies[j, PVX], bodies[j, PVY],
-                                  bodies[j, PW], bodies[j, GAP] * bodies[j, STAG], bodies[j, MASS], bodies[j, IPM],
-                                  dt, active, noise)
-            out[i, 0] += fa
-            out[i, 1] += fb
-            out[i, 2] += fc
-        lx = out[i, 0]
-        ly = out[i, 1]
-        lt = out[i, 2]
-        n_stop += _friction(i, j, got, bodies, shapes, geo, t, dt, out)
-        # what friction added to the load is the friction this step applies
-        bodies[j, FFX] = out[i, 0] - lx
-        bodies[j, FFY] = out[i, 1] - ly
-        bodies[j, FFT] = out[i, 2] - lt
-    return n_stop
+        r = _one(i, j, got, bodies, shapes, geo, tables, t, dt, out, active, noise, _no_held, _no_break, True)
+        if r == DEFER:
+            bodies[j, DEFR] = 1.0
+            n_defer += 1
+        else:
+            n_stop += r
+    return n_stop, n_defer
+
+
+@njit(cache=True, inline="always")
+def _one(i, j, got, bodies, shapes, geo, tables, t, dt, out, active, noise, held, hold_or_break,  # noqa: ANN001, ANN202
+         defer):
+    """One plugin body's step (row ``i`` of the read, row ``j`` of ``bodies``), ``out[i]`` holding its
+    own force and torque: the tilt's pull and the active load are added, then friction; the friction
+    added is kept (FFX, FFY, FFT). ``held`` and ``hold_or_break`` are :func:`_held` and
+    :func:`_hold_or_break`, or :func:`_sweep`'s stand-ins with ``defer``. Returns 1 if the rest rule
+    stops it, DEFER if it was deferred (nothing kept)."""
+    # a tilted plane: gravity's in-plane part acts at the centre of gravity in every step
+    out[i, 0] += bodies[j, MASS] * bodies[j, GTX]
+    out[i, 1] += bodies[j, MASS] * bodies[j, GTY]
+    # the angle friction and the active load are evaluated at (pymunk moves the pose first)
+    alpha = got[i, 0] + got[i, 3] * dt
+    ca = math.cos(alpha)
+    sa = math.sin(alpha)
+    if active.shape[0] > 0:  # self-propulsion, a medium's drag and noise: a load as well
+        fa, fb, fc = act.load(j, ca, sa, got[i, 1], got[i, 2], got[i, 3], bodies[j, PVX], bodies[j, PVY],
+                              bodies[j, PW], bodies[j, GAP] * bodies[j, STAG], bodies[j, MASS], bodies[j, IPM],
+                              dt, active, noise)
+        out[i, 0] += fa
+        out[i, 1] += fb
+        out[i, 2] += fc
+    lx = out[i, 0]
+    ly = out[i, 1]
+    lt = out[i, 2]
+    n = _friction(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_break, defer, alpha, ca, sa)
+    if n == DEFER:
+        return n
+    # what friction added to the load is the friction this step applies
+    bodies[j, FFX] = out[i, 0] - lx
+    bodies[j, FFY] = out[i, 1] - ly
+    bodies[j, FFT] = out[i, 2] - lt
+    return n
 
 
 @njit(cache=True, inline="always")
@@ -323,19 +433,36 @@ def _stop(i: int, j: int, was: float, static: bool, vx: float, vy: float, w: flo
 
 
 @njit(cache=True, inline="always")
-def _friction(i: int, j: int, got: np.ndarray, bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray, t: float,
-              dt: float, out: np.ndarray) -> int:
+def _commit(j: int, bodies: np.ndarray, vx: float, vy: float, w: float, alpha: float, ew: float, t: float,
+            dt: float) -> None:
+    """Body j's state for the next step: this step's velocity (the history the next extrapolates
+    from), the angle and spin friction is evaluated at, and a driven body's driver."""
+    bodies[j, STOP] = 0.0
+    bodies[j, PVX] = vx
+    bodies[j, PVY] = vy
+    bodies[j, PW] = w
+    bodies[j, GAP] = dt
+    bodies[j, EA] = alpha
+    bodies[j, EW] = ew
+    if bodies[j, DRV] > 0.0:
+        _driver(j, bodies, t, dt)
+
+
+@njit(cache=True, inline="always")
+def _friction(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_break,  # noqa: ANN001, ANN202
+              defer, alpha, ca, sa):
     """Add this step's friction on plugin body ``j`` (row ``i`` of the space's read) to ``out[i]``, which
     holds the load (the user's force and torque, and a tilt's pull); 1 if the rest rule stops it.
-    Inlined into :func:`plane_step` (a call would pass its arrays on the stack for every body)."""
-    # static friction acts on dry bodies the rest rule governs (not a driven body: its joint holds it)
-    static = bodies[j, MUS] > 0.0 and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY
+    Inlined (a call would pass its arrays on the stack for every body); ``held`` and ``hold_or_break``
+    as in :func:`_one`, which gives the angle friction is evaluated at, ``alpha`` (rad), its cosine and
+    sine. With ``defer`` (the lean sweep), a body under static friction that needs the
+    limit-set test (at rest, turning on a held foot, or about to stop) returns DEFER having changed
+    nothing, for the caller to step it again without ``defer``."""
+    static = _static(j, bodies)
     was = bodies[j, STOP]
-    bodies[j, STOP] = 0.0
     vx = got[i, 1]
     vy = got[i, 2]
     w = got[i, 3]
-    alpha = got[i, 0] + w * dt
     gap = bodies[j, GAP]
     if gap > 0.0 and bodies[j, STAG] > 0.0:
         g = 0.5 * dt / gap
@@ -346,23 +473,32 @@ def _friction(i: int, j: int, got: np.ndarray, bodies: np.ndarray, shapes: np.nd
         ex = vx
         ey = vy
         ew = w
-    bodies[j, PVX] = vx
-    bodies[j, PVY] = vy
-    bodies[j, PW] = w
-    bodies[j, GAP] = dt
-    bodies[j, EA] = alpha
-    bodies[j, EW] = ew
-    if bodies[j, DRV] > 0.0:
-        _driver(j, bodies, t, dt)
-    if vx == 0.0 and vy == 0.0 and w == 0.0:
+    resting = vx == 0.0 and vy == 0.0 and w == 0.0
+    # on feet: a foot at rest is held by static friction while the body turns about it (after a stop
+    # the rest rule zeroes the residue first)
+    feet = static and bodies[j, FEET] > 0.0 and was == 0.0 and not resting
+    if defer and static and (resting or feet):
+        return DEFER
+    m0 = bodies[j, MASS]
+    ax = ay = aw = 0.0
+    s = 1.0
+    stop = False
+    if not (resting or feet):
+        # (friction's evaluation changes no state: a body about to stop can still be deferred)
+        ax, ay, aw, s = limited(j, ca, sa, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo, tables,
+                                out[i, 0] / m0, out[i, 1] / m0, out[i, 2] / (m0 * bodies[j, IPM]))
+        stop = s < 1.0 and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY \
+            and _slow_enough(i, j, vx, vy, w, dt, bodies, out)
+        if stop and static and defer:
+            return DEFER
+    _commit(j, bodies, vx, vy, w, alpha, ew, t, dt)
+    if resting:
         # at rest: kinetic friction has no direction; static friction holds the load or lets go
         if static:
-            _hold_or_break(i, j, got[i, 0], bodies, shapes, geo, out)
+            hold_or_break(i, j, got[i, 0], bodies, shapes, geo, out)
         return 0
-    m0 = bodies[j, MASS]
-    if static and bodies[j, FEET] > 0.0 and was == 0.0:  # (after a stop: the rest rule zeroes the residue)
-        # on feet: a foot at rest is held by static friction while the body turns about it. Near the
-        # spin's stop the extrapolated spin passes zero before the spin does: the current one then
+    if feet:
+        # near the spin's stop the extrapolated spin passes zero before the spin does: the current one then
         if ew * w <= 0.0:
             ex = vx
             ey = vy
@@ -378,7 +514,7 @@ def _friction(i: int, j: int, got: np.ndarray, bodies: np.ndarray, shapes: np.nd
             # held, its spin runs out in this step: the whole body at rest, where static friction holds
             # its load (else, on a tilt, it swings back: the usual friction below)
             bodies[j, PIN] = 0.0
-            if _held(i, j, got[i, 0], bodies, shapes, geo, out):
+            if held(i, j, got[i, 0], bodies, shapes, geo, out):
                 _stop(i, j, was, static, vx, vy, w, dt, bodies, out)
                 return 1
         elif foot != -1:
@@ -388,11 +524,11 @@ def _friction(i: int, j: int, got: np.ndarray, bodies: np.ndarray, shapes: np.nd
             out[i, 2] += m0 * tq
             return 0
         bodies[j, PIN] = 0.0
-    ax, ay, aw, s = limited(j, alpha, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo, out[i, 0] / m0,
-                            out[i, 1] / m0, out[i, 2] / (m0 * bodies[j, IPM]))
-    if s < 1.0 and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY \
-            and _slow_enough(i, j, vx, vy, w, dt, bodies, out) \
-            and (not static or _held(i, j, got[i, 0], bodies, shapes, geo, out)):
+        ax, ay, aw, s = limited(j, ca, sa, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo, tables,
+                                out[i, 0] / m0, out[i, 1] / m0, out[i, 2] / (m0 * bodies[j, IPM]))
+        stop = s < 1.0 and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY \
+            and _slow_enough(i, j, vx, vy, w, dt, bodies, out)
+    if stop and (not static or held(i, j, got[i, 0], bodies, shapes, geo, out)):
         # every point slower than decel dt: friction stops the body within this step (if a load
         # acts, only where static friction then holds it; else it slides on)
         _stop(i, j, was, static, vx, vy, w, dt, bodies, out)

@@ -55,6 +55,8 @@ __all__ = ["PlaneFriction", "TOUCH"]
 
 #: default largest distance (m) between a geom's lowest point and the plane for it to rest on it
 TOUCH = 1e-3
+#: the plugin kernel's ``tables`` (kernel.TKIND): the adapter evaluates every footprint exactly
+_NO_TABLES = np.zeros((0, 3))
 
 
 def _per_body(name: str, value: Any, n: int) -> np.ndarray:
@@ -269,7 +271,8 @@ class PlaneFriction:
             m, ipm = self._bodies[i, K.MASS], self._bodies[i, K.IPM]
             ax, ay, aw = lx / m, ly / m, lt / (m * ipm)
             if (vx, vy, w) != (0.0, 0.0, 0.0):
-                fx, fy, fw = K.body_accel(i, alpha + w * dt, vx, vy, w, self._bodies, self._shapes, self._geo)
+                fx, fy, fw = K.body_accel(i, alpha + w * dt, vx, vy, w, self._bodies, self._shapes, self._geo,
+                                          _NO_TABLES)
                 ax, ay, aw = ax + fx, ay + fy, aw + fw
                 MK.set_planar(i, vx - 0.5 * dt * ax, vy - 0.5 * dt * ay, w - 0.5 * dt * aw, self._dof, self._qadr,
                               self._ipos, self._frame, d.qpos, d.qvel)
@@ -300,7 +303,7 @@ class PlaneFriction:
                 self._kick(dt)
             self._gather()
             n_flag = self._call("plane_step", self._got, self._k_ids, self._lookup, self._cache, self._bodies,
-                                self._shapes, self._geo, float(d.time), dt, self._out, *NO_ACTIVE)
+                                self._shapes, self._geo, _NO_TABLES, float(d.time), dt, self._out, *NO_ACTIVE)
             if n_flag < 0:
                 self._refuse()
             self.n_stopped += self._call("scatter", self._dof, self._qadr, self._ids, self._ipos, self._frame,

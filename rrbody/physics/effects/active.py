@@ -17,7 +17,8 @@ two steps, both at the time friction is evaluated: second order in dt for the de
 The noise is Euler-Maruyama on the velocities: a force m gamma_t sqrt(2 D_t / dt) xi (world frame,
 two components) and a torque I gamma_r sqrt(2 D_r / dt) xi' held over the step, xi, xi' independent
 standard normal numbers drawn anew each step (``noise``, filled by the plugin from one seeded
-``numpy.random.Generator`` (PCG64) in one vectorised call per step). The velocity increments have
+``numpy.random.Generator`` (PCG64) in one vectorised call per step: the noisy components only, a
+body's first at its row's column NZ). The velocity increments have
 exactly the Wiener increments' variance 2 gamma^2 D dt; with additive noise the scheme has strong
 and weak order 1 (the drift's own error is second order).
 """
@@ -31,22 +32,26 @@ from numba import njit
 
 from rrbody.physics import params as P
 
-__all__ = ["FBX", "FBY", "TQ", "DRAG", "RDRAG", "SIG", "RSIG", "N_ACTIVE", "row", "load", "ode_terms"]
+__all__ = ["FBX", "FBY", "TQ", "DRAG", "RDRAG", "SIG", "RSIG", "NZ", "N_ACTIVE", "row", "noise_count", "load",
+           "ode_terms"]
 
 NAME = "active"
 
 #: columns of ``active``: the propulsion in the body frame (N) and its torque about the centre of
 #: gravity (N m), the drag rates gamma_t, gamma_r (1/s), the noise's force and torque scales
-#: m gamma_t sqrt(2 D_t) (N s^0.5) and I gamma_r sqrt(2 D_r) (N m s^0.5)
-FBX, FBY, TQ, DRAG, RDRAG, SIG, RSIG = range(7)
-N_ACTIVE = 7
+#: m gamma_t sqrt(2 D_t) (N s^0.5) and I gamma_r sqrt(2 D_r) (N m s^0.5), and where the body's
+#: normal numbers start in ``noise`` (two for the force if SIG > 0, then one for the torque if RSIG > 0)
+FBX, FBY, TQ, DRAG, RDRAG, SIG, RSIG, NZ = range(8)
+N_ACTIVE = 8
 
 
 def row(force: tuple[float, float], torque: float, drag: float, rot_drag: float, diffusion: float,
-        rot_diffusion: float, mass: float, moment: float) -> np.ndarray:
+        rot_diffusion: float, mass: float, moment: float, first: int = 0) -> np.ndarray:
     """One row of ``active`` for a body of mass ``mass`` (kg) and moment ``moment`` (kg m^2) about its
-    centre of gravity (units as in :class:`rrbody.model.active.Active`)."""
+    centre of gravity (units as in :class:`rrbody.model.active.Active`), its normal numbers from
+    ``noise[first]`` on (:func:`noise_count` of them)."""
     r = np.zeros(N_ACTIVE)
+    r[NZ] = first
     r[FBX], r[FBY] = force
     r[TQ] = torque
     r[DRAG] = drag
@@ -56,18 +61,22 @@ def row(force: tuple[float, float], torque: float, drag: float, rot_drag: float,
     return r
 
 
+def noise_count(diffusion: float, rot_diffusion: float) -> int:
+    """How many standard normal numbers a body draws per step: two for a translational noise, one
+    for a rotational one."""
+    return (2 if diffusion > 0.0 else 0) + (1 if rot_diffusion > 0.0 else 0)
+
+
 @njit(cache=True, inline="always")
-def load(j, alpha, vx, vy, w, pvx, pvy, pw, gap, mass, ipm, dt, active, noise):  # noqa: ANN001 (numba)
+def load(j, ca, sa, vx, vy, w, pvx, pvy, pw, gap, mass, ipm, dt, active, noise):  # noqa: ANN001 (numba)
     """(fx, fy, torque) of body row ``j``'s active effect for the step of length dt (s): N (world
-    frame) and N m about the centre of gravity. ``alpha`` (rad) is the angle at the step's start,
-    (vx, vy, w) the velocity pymunk holds (m/s, rad/s), (pvx, pvy, pw) the one a step before and
+    frame) and N m about the centre of gravity. ``ca``, ``sa`` are the cosine and sine of the angle
+    the step evaluates its loads at (the angle at the step's start plus w dt, where friction is
+    evaluated), (vx, vy, w) the velocity pymunk holds (m/s, rad/s), (pvx, pvy, pw) the one a step before and
     ``gap`` (s) the time between them (0: no history, or the plain scheme: no extrapolation);
-    ``noise`` has three standard normal numbers per row (ignored where the noise scales are 0)."""
+    ``noise`` holds this step's standard normal numbers, the body's from column NZ of its row on."""
     fbx = active[j, FBX]
     fby = active[j, FBY]
-    a = alpha + w * dt  # the angle friction is evaluated at (kernel._friction)
-    ca = math.cos(a)
-    sa = math.sin(a)
     fx = ca * fbx - sa * fby
     fy = sa * fbx + ca * fby
     tq = active[j, TQ]
@@ -89,9 +98,13 @@ def load(j, alpha, vx, vy, w, pvx, pvy, pw, gap, mass, ipm, dt, active, noise): 
     r = active[j, RSIG]
     if s != 0.0 or r != 0.0:
         h = 1.0 / math.sqrt(dt)
-        fx += s * h * noise[j, 0]
-        fy += s * h * noise[j, 1]
-        tq += r * h * noise[j, 2]
+        k = int(active[j, NZ])
+        if s != 0.0:
+            fx += s * h * noise[k]
+            fy += s * h * noise[k + 1]
+            k += 2
+        if r != 0.0:
+            tq += r * h * noise[k]
     return fx, fy, tq
 
 

@@ -1,0 +1,152 @@
+"""The plugin's two routes to its bodies (their structs, or pymunk.batch's bulk read) and its disk table.
+
+References: the bulk read through pymunk's own functions (the route every earlier release took):
+the struct route must step every scene bit for bit as it does; the exact footprint wrench
+(rrbody.physics.contact.footprint_wrench), which the disk's table must match to its stated 1e-10.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pymunk
+import pytest
+
+from rrbody.engine import PlaneFriction
+from rrbody.engine import kernel as K
+from rrbody.engine.batchio import BatchIO
+from rrbody.engine.bodymem import FX, FY, TORQUE, layout
+from rrbody.engine.structio import StructIO
+from rrbody.physics.contact import footprint_wrench
+
+G = 9.81
+
+
+def _scene(direct: bool) -> tuple[pymunk.Space, PlaneFriction, list[pymunk.Body]]:
+    """A walled box of disks, boxes and L-shapes that collide, one body outside the plugin, one with
+    static friction under a push it cannot hold; ``direct`` False forces the bulk read."""
+    space = pymunk.Space()
+    space.iterations = 10
+    pf = PlaneFriction(space, g=G)
+    if not direct:
+        pf._sio = None
+    corners = [(0.0, 0.0), (2.0, 0.0), (2.0, 2.0), (0.0, 2.0)]
+    space.add(*[pymunk.Segment(space.static_body, a, b, 0.02) for a, b in zip(corners, corners[1:] + corners[:1])])
+    rng = np.random.default_rng(3)
+    bodies = []
+    for i in range(16):
+        b = pymunk.Body()
+        if i % 3 == 0:
+            shapes = [pymunk.Circle(b, 0.08, (0.01 * (i % 2), 0.0))]  # an offset disk too
+        elif i % 3 == 1:
+            shapes = [pymunk.Poly.create_box(b, (0.15, 0.1))]
+        else:
+            shapes = [pymunk.Poly(b, [(-0.08, -0.08), (0.08, -0.08), (0.08, 0.0), (-0.08, 0.0)]),
+                      pymunk.Poly(b, [(-0.08, 0.0), (0.0, 0.0), (0.0, 0.08), (-0.08, 0.08)])]
+        for s in shapes:
+            s.density = 20.0
+        b.position = (0.25 + 0.45 * (i % 4), 0.25 + 0.45 * (i // 4))
+        b.angle = float(rng.uniform(0, 2 * math.pi))
+        b.velocity = tuple(rng.uniform(-1.5, 1.5, 2))
+        b.angular_velocity = float(rng.uniform(-8, 8))
+        space.add(b, *shapes)
+        if i != 5:  # body 5 moves without plane friction
+            pf.add(b, mu=0.2, mu_static=0.3 if i == 7 else None)
+        bodies.append(b)
+    return space, pf, bodies
+
+
+def _state(bodies: list[pymunk.Body]) -> list[tuple]:
+    return [(tuple(b.position), b.angle, tuple(b.velocity), b.angular_velocity) for b in bodies]
+
+
+def test_struct_and_bulk_routes_step_bit_for_bit() -> None:
+    """Collisions, user forces and torques, a body outside the plugin, one removed and added back
+    mid-run, static friction: the struct route gives exactly the bulk route's run (same kernel, same
+    numbers in, same forces out)."""
+    assert layout() is not None  # the pymunk this suite runs on: else the struct route is never taken
+    runs = []
+    for direct in (True, False):
+        space, pf, bodies = _scene(direct)
+        for n in range(400):
+            bodies[1].force = (0.3, -0.2)  # the user's own loads on plugin bodies, every step
+            bodies[7].torque = 0.05 if n < 200 else 0.0
+            if n == 150:
+                pf.remove(bodies[3])
+            if n == 250:
+                pf.add(bodies[3], mu=0.2)
+            pf.step(1.0 / 240.0)
+            if n == 10:
+                route = pf._route()[0]
+                assert route is (pf._sio if direct else pf._io)
+                assert isinstance(route, StructIO if direct else BatchIO)
+        runs.append((_state(bodies), [pf.friction(b) for b in pf.bodies], pf.n_stopped))
+    assert runs[0] == runs[1]
+    assert runs[0][2] > 0 or any(v != (0.0, 0.0) for _, _, v, _ in runs[0][0])  # something moved or stopped
+
+
+def test_sleeping_space_and_a_removed_body_take_the_bulk_route() -> None:
+    """With sleeping enabled a raw store would not wake a body (pymunk's setter does): the bulk route.
+    A body that left the space: the bulk read finds it and the step is refused as before."""
+    space, pf, bodies = _scene(True)
+    pf.step(1e-3)
+    assert pf._route()[0] is pf._sio
+    space.sleep_time_threshold = 0.5
+    assert pf._route()[0] is pf._io
+    pf.step(1e-3)
+    space.sleep_time_threshold = math.inf
+    space.remove(bodies[0], *bodies[0].shapes)
+    assert pf._sio.read() is None
+    with pytest.raises(ValueError, match=r"pf.bodies\[0\] .* is no longer in the space"):
+        pf.step(1e-3)
+
+
+def test_layout_reads_and_writes_force_and_torque() -> None:
+    """The probed offsets of force and torque: a raw store reads back through pymunk's getters."""
+    from rrbody.engine.structio import scatter
+
+    offs = layout()
+    assert offs is not None and len({int(offs[k]) for k in (FX, FY, TORQUE)}) == 3
+    space, pf, bodies = _scene(True)
+    sio = StructIO(pf)
+    got, ids, out = sio.read()
+    out[:] = np.arange(3 * out.shape[0], dtype=float).reshape(-1, 3)
+    scatter(sio._addr, offs, out)
+    for k, b in enumerate(pf.bodies):
+        assert (b.force.x, b.force.y, b.torque) == tuple(out[k])
+
+
+@pytest.mark.parametrize("offset", [(0.0, 0.0), (0.03, -0.02)])
+def test_disk_table_matches_the_exact_wrench(offset: tuple[float, float]) -> None:
+    """A disk body's friction comes from the disk's wrench table (kernel.TABLE_CIRCLE): within 1e-10
+    of the exact footprint wrench (icr_table's stated accuracy; units mu m g and mu m g R), at spins
+    from pure translation to pure spin, both senses, a disk off the centre of gravity too."""
+    space = pymunk.Space()
+    pf = PlaneFriction(space, g=G)
+    b = pymunk.Body()
+    s = pymunk.Circle(b, 0.1, offset)
+    s.density = 5.0
+    space.add(b, s)
+    pf.add(b, mu=0.4)
+    j = pf._slots[b]
+    assert pf._bodies[j, K.TKIND] == K.TABLE_CIRCLE
+    sh, geo = pf._k_shapes, pf._k_geo
+    s0, s1 = int(pf._bodies[j, K.S0]), int(pf._bodies[j, K.S1])
+    rng = np.random.default_rng(5)
+    scale = 0.4 * G * b.mass
+    r = 0.1 + math.hypot(*offset)
+    worst = 0.0
+    for _ in range(400):
+        v = rng.normal(size=2) * 10.0 ** rng.uniform(-3, 1)
+        w = float(rng.choice([-1, 1]) * 10.0 ** rng.uniform(-4, 2))
+        if rng.random() < 0.1:
+            w = 0.0
+        a = float(rng.uniform(-4, 4))
+        fx, fy, tq = pf.wrench(b, velocity=(float(v[0]), float(v[1]), w), angle=a)
+        ca, sa = math.cos(a), math.sin(a)
+        ex, ey, et = footprint_wrench(sh, geo, s0, s1, ca * v[0] + sa * v[1], -sa * v[0] + ca * v[1], w, 0.0)
+        wx, wy = ca * ex - sa * ey, sa * ex + ca * ey
+        worst = max(worst, abs(fx - scale * wx) / scale, abs(fy - scale * wy) / scale,
+                    abs(tq - scale * et) / (scale * r))
+    assert worst < 1e-10
