@@ -70,7 +70,7 @@ def tables() -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
     return out
 
 
-@njit(cache=True)
+@njit  # not cached: numba would key it by this file's time stamp alone and keep a stale inlined kernel
 def _both(T, t0, shapes, geo, V, v_eps):  # noqa: ANN001 (numba)
     out = np.empty((V.shape[0], 6))
     for k in range(V.shape[0]):
@@ -209,3 +209,18 @@ def test_bad_input() -> None:
         build_footprint_table(shapes, geo, 1, 1)
     with pytest.raises(ValueError, match="shapes"):
         build_footprint_table(shapes[:, :5], geo, 0, 1)
+
+
+def test_compiles_without_refcounting(tables: dict) -> None:
+    """The plugin calls the kernel from kernels compiled without numba's reference counting
+    (rrbody.engine.lean.NO_REFCOUNT): it must allocate nothing, so it compiles there too and gives the same."""
+    from rrbody.engine.lean import NO_REFCOUNT
+
+    shapes, geo, T = tables["L"]
+
+    @njit(**NO_REFCOUNT)
+    def lean(T, t0, shapes, geo, vbx, vby, w, v_eps):  # noqa: ANN001, ANN202 (numba)
+        return footprint_table_wrench(T, t0, shapes, geo, 0, shapes.shape[0], vbx, vby, w, v_eps)
+
+    for v in ((0.3, -0.2, 4.0), (0.0, 0.0, 2.0), (0.5, 0.1, 0.0), (1e-9, 0.0, 1e-9)):
+        assert lean(T, 0, shapes, geo, *v, V_EPS) == footprint_table_wrench(T, 0, shapes, geo, 0, 2, *v, V_EPS)
