@@ -114,7 +114,7 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
             w0 = time.perf_counter()
             T2 = build_footprint_table(shapes, geo, 0, s1)
             build = min(build, time.perf_counter() - w0)
-        if not np.array_equal(T, T2):
+        if not np.array_equal(T, T2, equal_nan=True):
             raise RuntimeError(f"footprint table of {name} differs between two builds (it must be deterministic)")
         R = table_reach(shapes, geo, 0, s1)
         V, near = twists(R, n, seed=1)

@@ -66,7 +66,6 @@ S_PANELS: int = 8
 #: most u-panels per outer s-panel
 MAX_U_PANELS: int = 64
 HEAD: int = 3
-_EXACT, _POLY = 0.0, 1.0
 #: finest inner cells per side (the index's resolution)
 _NF: int = CELLS * SPLIT**LEVELS
 #: just below 1: clamps a coordinate below the end of its range (the cell index stays in range)
@@ -120,33 +119,43 @@ def build_footprint_table(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int)
         if not pending:
             break
     # outer sides: u-panels doubled until all pass
-    outer = []  # per (side, s-panel): list of nodes
+    # outer sides: the u-panels of each s-panel doubled until all pass; then every s-panel gets the
+    # largest count (the kernel then finds a panel by arithmetic alone, no look-up)
+    fits: dict[tuple[int, int], tuple[int, np.ndarray, np.ndarray]] = {}
     for side in range(4):
         for sp in range(S_PANELS):
-            sa, sb = sp / S_PANELS, (sp + 1) / S_PANELS
             nu = 1
             while True:
-                ue = np.linspace(-1.0, 1.0, nu + 1)
-                pr = np.array([(sa, sb, ue[k], ue[k + 1]) for k in range(nu)])
-                m, pok = fit_cells(shapes, geo, s0, s1, R, side, pr, p0)
-                if pok.all() or nu >= MAX_U_PANELS:
+                fits[side, sp] = (nu, *fit_cells(shapes, geo, s0, s1, R, side, _panels(sp, nu), p0))
+                if fits[side, sp][2].all() or nu >= MAX_U_PANELS:
                     break
                 nu *= 2
-            outer.append([("poly", m[k]) if pok[k] else ("exact",) for k in range(nu)])
+    nu = max(f[0] for f in fits.values())
+    outer = []
+    for (side, sp), (n, m, ok) in fits.items():
+        if n != nu:
+            m, ok = fit_cells(shapes, geo, s0, s1, R, side, _panels(sp, nu), p0)
+        outer += [m[k] if ok[k] else None for k in range(nu)]
     K = deadband_factor(shapes, geo, s0, s1, R, np.array(covered).reshape(-1, 4), p0)
-    return _assemble(top, outer, R, p0, K)
+    return _assemble(top, outer, nu, R, p0, K)
 
 
-def _assemble(top: list, outer: list, R: float, p0: float, K: float) -> np.ndarray:
+def _panels(sp: int, nu: int) -> np.ndarray:
+    """The rectangles (s0, s1, u0, u1) of s-panel ``sp`` cut into ``nu`` equal u-panels."""
+    ue = np.linspace(-1.0, 1.0, nu + 1)
+    return np.array([(sp / S_PANELS, (sp + 1) / S_PANELS, ue[k], ue[k + 1]) for k in range(nu)])
+
+
+def _assemble(top: list, outer: list, nu: int, R: float, p0: float, K: float) -> np.ndarray:
     """The table array from the inner cells' trees and the outer panels (layout: module docstring)."""
     fine = SPLIT**LEVELS
-    nf = _NF
-    index = np.zeros((nf, nf, 3))  # per finest cell: (status, block index, q)
-    blocks: list[np.ndarray] = []
+    index = np.zeros((_NF, _NF, 3))  # per finest cell: (0, block, q); block 0 is the NaN block
+    blocks: list[np.ndarray] = [np.full((BLOCK, 3), np.nan)]
+    blocks += [np.full((BLOCK, 3), np.nan) if m is None else m for m in outer]
 
     def fill(node: tuple, i0: int, j0: int, size: int) -> None:
         if node[0] == "poly":
-            index[i0:i0 + size, j0:j0 + size] = (_POLY, len(blocks), 1.0 / size)
+            index[i0:i0 + size, j0:j0 + size] = (0.0, len(blocks), 1.0 / size)
             blocks.append(node[1])
         elif node[0] == "split":
             h = size // SPLIT
@@ -155,29 +164,15 @@ def _assemble(top: list, outer: list, R: float, p0: float, K: float) -> np.ndarr
 
     for k, node in enumerate(top):
         fill(node, (k // CELLS) * fine, (k % CELLS) * fine, fine)
-    head = HEAD + nf * nf + 4 * S_PANELS
-    orows = np.zeros((4 * S_PANELS, 3))
-    orecs = []
-    for k, nodes in enumerate(outer):
-        orows[k] = (len(nodes), head + len(orecs), 0.0)
-        for node in nodes:
-            orecs.append((_POLY, len(blocks), 0.0) if node[0] == "poly" else (_EXACT, 0.0, 0.0))
-            if node[0] == "poly":
-                blocks.append(node[1])
-    first_block = head + len(orecs)
+    first_block = HEAD + _NF * _NF
     nrows = first_block + len(blocks) * BLOCK
     T = np.zeros((nrows, 3))
     T[0] = (N, CELLS, p0)
     T[1] = (R, K if math.isfinite(K) else 1e300, nrows)
-    T[2] = (nf / (2.0 * p0), S_PANELS, nf)
-    rec = np.concatenate([index.reshape(-1, 3), orows, np.array(orecs).reshape(-1, 3)])
-    poly = np.zeros(rec.shape[0], dtype=bool)
-    poly[:nf * nf] = rec[:nf * nf, 0] == _POLY
-    poly[nf * nf + 4 * S_PANELS:] = rec[nf * nf + 4 * S_PANELS:, 0] == _POLY
-    rec[poly, 1] = first_block + rec[poly, 1] * BLOCK
-    T[HEAD:first_block] = rec
-    if blocks:
-        T[first_block:] = np.stack(blocks).reshape(-1, 3)
+    T[2] = (_NF / (2.0 * p0), nu, first_block + BLOCK)
+    index[:, :, 1] = first_block + index[:, :, 1] * BLOCK
+    T[HEAD:first_block] = index.reshape(-1, 3)
+    T[first_block:] = np.stack(blocks).reshape(-1, 3)
     return T
 
 
@@ -245,41 +240,42 @@ def _locate(T, t0, vbx, vby, w, v_eps):  # noqa: ANN001 (numba)
     ax = abs(cxw)
     ay = abs(cyw)
     m = max(ax, ay)
-    inner = m <= P
-    inv = 1.0 / (ww if inner else m)
-    # inner: the finest cell (nf per side) holding c, then the block's own coordinates from its q
-    ih = T[t0 + 2, 0]
-    gx = min(max((cxw * inv + p0) * ih, 0.0), _NF * _BELOW1)
-    gy = min(max((cyw * inv + p0) * ih, 0.0), _NF * _BELOW1)
-    rin = t0 + HEAD + int(gx) * _NF + int(gy)
-    # outer: side (+x, -x, +y, -y), s = P0 / |c|_inf and u (garbage, but bounded, when inner)
+    if m <= P:
+        # inner: the finest cell (_NF per side) holding c; its record gives the block and the block
+        # cell's size (q = 1 / its side in finest cells), hence the local coordinates
+        inv = 1.0 / ww
+        ih = T[t0 + 2, 0]
+        gx = min(max((cxw * inv + p0) * ih, 0.0), _NF * _BELOW1)
+        gy = min(max((cyw * inv + p0) * ih, 0.0), _NF * _BELOW1)
+        rec = t0 + HEAD + int(gx) * _NF + int(gy)
+        q = T[rec, 2]
+        tx = gx * q
+        ty = gy * q
+        return t0 + int(T[rec, 1]), 2.0 * (tx - int(tx)) - 1.0, 2.0 * (ty - int(ty)) - 1.0, sg
+    # outer: side (+x, -x, +y, -y: no branch), s = P0 / |c|_inf and u; every s-panel has nu u-panels
+    inv = 1.0 / m
     xs = ax >= ay
     u = (cyw if xs else cxw) * inv
     side = (0 if xs else 2) + (1 if (cxw if xs else cyw) < 0.0 else 0)
-    hs = min(P * inv, 1.0) * S_PANELS
+    hs = P * inv * S_PANELS
     sp = min(int(hs), S_PANELS - 1)
-    orow = t0 + HEAD + _NF * _NF + side * S_PANELS + sp
-    nu = T[orow, 0]
+    nu = T[t0 + 2, 1]
     hu = min(max((u + 1.0) * (0.5 * nu), 0.0), nu * _BELOW1)
     k = int(hu)
-    rec = rin if inner else t0 + int(T[orow, 1]) + k
-    if T[rec, 0] != _POLY:
-        return -1, 0.0, 0.0, sg
-    q = T[rec, 2]
-    tx = gx * q
-    ty = gy * q
-    zx = 2.0 * ((tx - int(tx)) if inner else (hs - sp)) - 1.0
-    zy = 2.0 * ((ty - int(ty)) if inner else (hu - k)) - 1.0
-    return t0 + int(T[rec, 1]), zx, zy, sg
+    base = int(T[t0 + 2, 2]) + ((side * S_PANELS + sp) * int(nu) + k) * BLOCK
+    return t0 + base, 2.0 * (hs - sp) - 1.0, 2.0 * (hu - k) - 1.0, sg
 
 
 @njit(cache=True)
 def table_covers(T, t0, vbx, vby, w, v_eps):  # noqa: ANN001 (numba)
     """Whether :func:`footprint_table_wrench` evaluates this twist from the table (False: the exact formula)."""
-    return _locate(T, t0, vbx, vby, w, v_eps)[0] >= 0
+    base, zx, zy, sg = _locate(T, t0, vbx, vby, w, v_eps)
+    return base >= 0 and T[base, 0] == T[base, 0]  # an exact cell's block is NaN
 
 
-@njit(cache=True, inline="always", fastmath={"contract"})
+
+
+@njit(cache=True, fastmath={"contract"})
 def footprint_table_wrench(T, t0, shapes, geo, s0, s1, vbx, vby, w, v_eps):  # noqa: ANN001 (numba)
     """(fx, fy, tq): the dry wrench of the footprint ``shapes[s0:s1]`` per unit load and mu g, as
     :func:`footprint_wrench` gives it (force in the body frame, dimensionless; torque about the centre
@@ -291,4 +287,6 @@ def footprint_table_wrench(T, t0, shapes, geo, s0, s1, vbx, vby, w, v_eps):  # n
     if base < 0:
         return footprint_wrench(shapes, geo, s0, s1, vbx, vby, w, v_eps)
     f0, f1, f2 = _block(T, base, zx, zy)
+    if f0 != f0:  # an exact cell (its block is NaN): no test before the sum, which then starts sooner
+        return footprint_wrench(shapes, geo, s0, s1, vbx, vby, w, v_eps)
     return sg * f0, sg * f1, sg * T[t0 + 1, 0] * f2
