@@ -21,10 +21,10 @@ __all__ = ["fit_cells", "table_reach", "deadband_factor", "N", "BLOCK", "OFF", "
 #: Chebyshev points per direction of every cell; its polynomial keeps total degree <= N - 1 (the
 #: table's kernel, rrbody.physics.footprint_table._block, is written out for N = 8)
 N: int = 8
-#: bound on the Chebyshev terms a fit drops and on its last kept ones (force, and torque / R:
-#: dimensionless): half the accuracy target 1e-10
+#: bound on the Chebyshev terms a fit drops and on its last kept ones, in the force and in the torque
+#: divided by R (both dimensionless); half the accuracy target 1e-10
 TAIL_TOL: float = 5e-11
-#: largest difference from the exact formula at the validation points (force, torque / R): half the target
+#: largest difference from the exact formula at the validation points, force and torque / R; half the target
 VALID_TOL: float = 5e-11
 #: validation points per direction of a cell (equally spaced, edges and corners included)
 VALID_PTS: int = N + 3

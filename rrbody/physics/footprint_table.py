@@ -15,8 +15,8 @@ Coordinates (the spin made >= 0 by the odd symmetry; P0 = RHO R):
 - outer: beyond the square, on side k (+x, -x, +y, -y: the coordinate of c of largest magnitude and
   its sign), s = P0 / |c|_inf = P0 w / max(|vx|, |vy|) in [0, 1] (pure translation is s = 0: no
   division by w) and u = the other coordinate / |c|_inf in [-1, 1]; S_PANELS equal panels in s, each
-  with its own number of equal u-panels, doubled at build time until all fits pass (at most
-  MAX_U_PANELS; a panel still failing is exact).
+  cut into NU equal u-panels, NU doubled at build time until every fit passes (at most MAX_U_PANELS; a
+  panel still failing is exact), one NU for the whole table so that a panel is found by arithmetic.
 
 Each cell or panel holds a polynomial of total degree <= N - 1 in its local coordinates (zx, zy) in
 [-1, 1]^2 (zx along x or s), fitted at N x N Chebyshev points. A fit passes when the Chebyshev terms it
@@ -25,18 +25,19 @@ the exact formula at VALID_PTS x VALID_PTS equally spaced points of the cell (ed
 included). A polygon's wrench is non-analytic where the ICR crosses the footprint's boundary (terms
 h^2 log|h| at a distance h from an edge), so the cells on and next to the boundary fail and stay
 exact: there the kernel calls :func:`footprint_wrench` itself. It does too in the dead band, wherever
-some part could be slower than v_eps (max(|v|, |w| R) <= K v_eps, K from :func:`_deadband_factor`).
+some part could be slower than v_eps (max(|v|, |w| R) <= K v_eps, K from
+:func:`rrbody.physics.footprint_fit.deadband_factor`). An exact cell's block is all NaN: the kernel
+sums it like any other and tests the result, so no test stands between the look-up and the sum.
 
 Layout of a table ``T`` (rows of 3; row offsets are relative to its first row, so tables can be
-concatenated): row 0 (N, CELLS, P0); row 1 (R, K, number of rows); row 2 (NF / (2 P0), S_PANELS, NF);
-from row HEAD an index of the inner square at its finest resolution, NF x NF cells (NF = CELLS
-SPLIT^LEVELS, x-major), each (status, offset, q); then 4 x S_PANELS outer rows (number of u-panels,
-first record, 0), one per side (+x, -x, +y, -y) and s-panel; then the outer panels' records
-(status, offset, 0); then the coefficient blocks. Status 0 is exact, 1 a polynomial whose block starts
-at ``offset``; q = 1 / (finest cells per side of the block's cell), so that the block's local
-coordinate is read off the finest-cell position without a branch. A block is BLOCK rows: the
-coefficients of zx^i zy^j (three components each) for i = 0 .. N - 1 and j = 0 .. N - 1 - i in that
-order.
+concatenated): row 0 (N, CELLS, P0); row 1 (R, K, number of rows); row 2 (NF / (2 P0), NU, first row
+of the outer blocks); from row HEAD an index of the inner square at its finest resolution, NF x NF
+entries (NF = CELLS SPLIT^LEVELS, x-major), each (0, first row of its cell's block, q) with
+q = 1 / (the cell's side in finest cells), so that the block's local coordinates follow from the
+finest-cell position without a branch; then the blocks: one NaN block (every exact inner cell's),
+4 x S_PANELS x NU outer blocks (side +x, -x, +y, -y, then s-panel, then u-panel; an exact panel's is
+NaN), then the inner cells' blocks. A block is BLOCK rows: the coefficients of zx^i zy^j (three
+components each) for i = 0 .. N - 1 and j = 0 .. N - 1 - i in that order.
 """
 
 from __future__ import annotations
@@ -118,7 +119,6 @@ def build_footprint_table(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int)
         pending = nxt
         if not pending:
             break
-    # outer sides: u-panels doubled until all pass
     # outer sides: the u-panels of each s-panel doubled until all pass; then every s-panel gets the
     # largest count (the kernel then finds a panel by arithmetic alone, no look-up)
     fits: dict[tuple[int, int], tuple[int, np.ndarray, np.ndarray]] = {}
@@ -223,9 +223,9 @@ def _block(T, base, zx, zy):  # noqa: ANN001 (numba)
 def _locate(T, t0, vbx, vby, w, v_eps):  # noqa: ANN001 (numba)
     """(first row of the block or -1 for the exact formula, zx, zy, sign of the spin) of a twist.
 
-    Branch-light: the inner and the outer coordinates are both computed and one is selected, since
-    mixed twists (some near, some translating) made their branch mispredict (measured: 100 ns a call
-    mixed against 72 near and 58 far alone, with branches)."""
+    Branch-light: the spin's sign and the outer side are selected without a branch (a random side
+    mispredicted: 100 ns a call for the active benchmark's twists, against 72 for those near the body
+    and 58 for the far ones alone, before); only inner against outer branches (84 % outer there)."""
     R = T[t0 + 1, 0]
     kv = T[t0 + 1, 1] * v_eps
     if (vbx * vbx + vby * vby <= kv * kv and abs(w) * R <= kv) or R == 0.0:
