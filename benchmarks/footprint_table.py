@@ -83,7 +83,9 @@ def twists(R: float, n: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
     return np.ascontiguousarray(V), near
 
 
-@njit(cache=True)
+# not cached: numba keys a cached function by its own file's time stamp alone, and these loops compile the
+# table's kernel into themselves (a stale copy would read a table of another layout)
+@njit
 def _loop_table(T, shapes, geo, V, out):  # noqa: ANN001 (numba)
     for k in range(V.shape[0]):
         fx, fy, tq = footprint_table_wrench(T, 0, shapes, geo, 0, shapes.shape[0], V[k, 0], V[k, 1], V[k, 2], V_EPS)
@@ -92,7 +94,7 @@ def _loop_table(T, shapes, geo, V, out):  # noqa: ANN001 (numba)
         out[k, 2] = tq
 
 
-@njit(cache=True)
+@njit
 def _loop_exact(shapes, geo, V, out):  # noqa: ANN001 (numba)
     for k in range(V.shape[0]):
         fx, fy, tq = footprint_wrench(shapes, geo, 0, shapes.shape[0], V[k, 0], V[k, 1], V[k, 2], V_EPS)

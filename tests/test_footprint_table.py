@@ -224,3 +224,13 @@ def test_compiles_without_refcounting(tables: dict) -> None:
 
     for v in ((0.3, -0.2, 4.0), (0.0, 0.0, 2.0), (0.5, 0.1, 0.0), (1e-9, 0.0, 1e-9)):
         assert lean(T, 0, shapes, geo, *v, V_EPS) == footprint_table_wrench(T, 0, shapes, geo, 0, 2, *v, V_EPS)
+
+
+def test_non_finite_twists_go_to_the_exact_formula(tables: dict) -> None:
+    """NaN or infinite velocities never become a table index: the exact formula answers (NaN where it does)."""
+    shapes, geo, T = tables["L"]
+    for v in ((math.nan, 0.1, 1.0), (0.1, math.inf, 1.0), (0.1, 0.2, math.nan), (0.1, 0.2, -math.inf)):
+        assert not table_covers(T, 0, *v, V_EPS)
+        got = footprint_table_wrench(T, 0, shapes, geo, 0, 2, *v, V_EPS)
+        ref = footprint_wrench(shapes, geo, 0, 2, *v, V_EPS)
+        assert np.array_equal(np.array(got), np.array(ref), equal_nan=True)

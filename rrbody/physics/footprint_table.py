@@ -230,6 +230,8 @@ def _locate(T, t0, vbx, vby, w, v_eps):  # noqa: ANN001 (numba)
     kv = T[t0 + 1, 1] * v_eps
     if (vbx * vbx + vby * vby <= kv * kv and abs(w) * R <= kv) or R == 0.0:
         return -1, 0.0, 0.0, 1.0
+    if not abs(vbx) + abs(vby) + abs(w) < math.inf:  # NaN or inf: never an index from it
+        return -1, 0.0, 0.0, 1.0
     # spin >= 0 by the odd symmetry; (cxw, cyw) = c w
     sg = 1.0 if w >= 0.0 else -1.0
     cxw = -sg * vby
