@@ -37,6 +37,7 @@ STUDIES: dict[str, str] = {
     "render": "benchmarks.render",
     "recorder": "benchmarks.recorder",
     "active": "benchmarks.active",
+    "footprint_table": "benchmarks.footprint_table",
     "startup": "benchmarks.startup",
     "coldstart": "benchmarks.coldstart",
     "mujoco": "benchmarks.mujoco",

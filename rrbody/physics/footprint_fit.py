@@ -1,0 +1,183 @@
+"""The fitting half of :mod:`rrbody.physics.footprint_table`: exact wrench values of a footprint at
+many twists, their Chebyshev fits on rectangles of the ICR plane (or of the outer coordinates) and
+the tests a fit must pass, the footprint's reach and the dead-band bound.
+
+Units: per unit load and mu g; force dimensionless, torque divided by the reach R (dimensionless).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from rrbody.physics import contact as C
+from rrbody.physics.contact import footprint_wrench
+
+__all__ = ["fit_cells", "table_reach", "deadband_factor", "N", "BLOCK", "OFF", "TAIL_TOL", "VALID_TOL",
+           "VALID_PTS"]
+
+#: Chebyshev points per direction of every cell; its polynomial keeps total degree <= N - 1 (the
+#: table's kernel, rrbody.physics.footprint_table._block, is written out for N = 8)
+N: int = 8
+#: bound on the Chebyshev terms a fit drops and on its last kept ones, in the force and in the torque
+#: divided by R (both dimensionless); half the accuracy target 1e-10
+TAIL_TOL: float = 5e-11
+#: largest difference from the exact formula at the validation points, force and torque / R; half the target
+VALID_TOL: float = 5e-11
+#: validation points per direction of a cell (equally spaced, edges and corners included)
+VALID_PTS: int = N + 3
+
+
+@njit(cache=True)
+def _values(shapes, geo, s0, s1, V):  # noqa: ANN001 (numba)
+    """footprint_wrench (no dead band) at every twist row (vbx, vby, w) of ``V``."""
+    out = np.empty((V.shape[0], 3))
+    for k in range(V.shape[0]):
+        fx, fy, tq = footprint_wrench(shapes, geo, s0, s1, V[k, 0], V[k, 1], V[k, 2], 0.0)
+        out[k, 0] = fx
+        out[k, 1] = fy
+        out[k, 2] = tq
+    return out
+
+
+def _cheb() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Chebyshev points of the first kind on [-1, 1], the values -> coefficients matrix and the
+    Chebyshev -> monomial matrix (M[p, i]: the coefficient of z^p in T_i)."""
+    k = np.arange(N)
+    th = np.pi * (k + 0.5) / N
+    z = np.cos(th)
+    V = np.cos(np.outer(k, th)) * (2.0 / N)
+    V[0] *= 0.5
+    M = np.zeros((N, N))
+    for j in range(N):
+        e = np.zeros(N)
+        e[j] = 1.0
+        c = np.polynomial.chebyshev.cheb2poly(e)
+        M[: c.size, j] = c
+    return z, V, M
+
+
+_Z, _V, _M = _cheb()
+_ZV = np.linspace(-1.0, 1.0, VALID_PTS)
+_XV = _ZV[:, None] ** np.arange(N)[None, :]  # (VALID_PTS, N) monomials at the validation points
+#: the kept terms (total degree <= N - 1, row-major: the packed block's order) and the last kept ones
+_KEEP = np.add.outer(np.arange(N), np.arange(N)) <= N - 1
+_LAST = np.add.outer(np.arange(N), np.arange(N)) == N - 1
+#: rows of a packed block, and the first row of each power of zx in it
+BLOCK: int = N * (N + 1) // 2
+OFF = tuple(i * N - i * (i - 1) // 2 for i in range(N))
+
+
+def _grid(rects: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The tensor grid z x z mapped onto every rectangle (a0, a1, b0, b1): (a, b), rows (rect, ia, ib)."""
+    a = rects[:, 0, None] + (rects[:, 1] - rects[:, 0])[:, None] * 0.5 * (z[None, :] + 1.0)
+    b = rects[:, 2, None] + (rects[:, 3] - rects[:, 2])[:, None] * 0.5 * (z[None, :] + 1.0)
+    shape = (rects.shape[0], z.size, z.size)
+    return np.broadcast_to(a[:, :, None], shape).ravel(), np.broadcast_to(b[:, None, :], shape).ravel()
+
+
+def twists(side: int, rects: np.ndarray, z: np.ndarray, p0: float) -> np.ndarray:
+    """Twists (vbx, vby, w) at the grid z x z of each rectangle: inner (side -1, rectangles
+    (x0, x1, y0, y1) of the ICR, w = 1) or on an outer side 0-3 (+x, -x, +y, -y; rectangles
+    (s0, s1, u0, u1): c w = (+-1, u) or (u, +-1) and w = s / p0)."""
+    a, b = _grid(rects, z)
+    if side < 0:
+        cxw, cyw, w = a, b, np.ones(a.size)
+    else:
+        one = np.full(a.size, 1.0 if side in (0, 2) else -1.0)
+        cxw, cyw = (one, b) if side < 2 else (b, one)
+        w = a / p0
+    return np.column_stack([cyw, -cxw, w])  # c w = (-vby, vbx)
+
+
+def fit_cells(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int, R: float, side: int, rects: np.ndarray,
+              p0: float) -> tuple[np.ndarray, np.ndarray]:
+    """Fits of the footprint ``shapes[s0:s1]`` (reach R, m) on the rectangles ``rects`` of the inner
+    ICR plane (side -1) or of an outer side (:func:`twists`): the packed triangular monomial coefficients
+    (n, BLOCK, 3) from the exact values at their N x N Chebyshev points (torque divided by R), and
+    whether each passes: the Chebyshev terms it drops (total degree > N - 1) sum to at most TAIL_TOL
+    (|T_i T_j| <= 1: a bound on what dropping them changes), its last kept ones (total degree N - 1)
+    are below TAIL_TOL (the series has converged), and it is within VALID_TOL of the exact values at
+    the validation points."""
+    n = rects.shape[0]
+    scale = np.array([1.0, 1.0, 1.0 / R])
+    F = _values(shapes, geo, s0, s1, twists(side, rects, _Z, p0)).reshape(n, N, N, 3) * scale
+    c = np.einsum("ia,jb,nabk->nijk", _V, _V, F)
+    dropped = np.abs(c[:, ~_KEEP, :]).sum(axis=1).max(axis=1)
+    last = np.abs(c[:, _LAST, :]).max(axis=(1, 2))
+    mono = np.einsum("pi,nijk,qj->npqk", _M, np.where(_KEEP[None, :, :, None], c, 0.0), _M)
+    ok = (dropped <= TAIL_TOL) & (last <= TAIL_TOL)
+    idx = np.flatnonzero(ok)  # only these are validated (the build's largest cost is exact evaluations)
+    if idx.size:
+        tw = twists(side, rects[idx], _ZV, p0)
+        G = _values(shapes, geo, s0, s1, tw).reshape(idx.size, VALID_PTS, VALID_PTS, 3) * scale
+        P = np.einsum("ap,npqk,bq->nabk", _XV, mono[idx], _XV)
+        err = np.abs(P - G).max(axis=(1, 2, 3))
+        ok[idx] = (err <= VALID_TOL) & np.isfinite(err)
+    return mono[:, _KEEP, :], ok
+
+
+def table_reach(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int) -> float:
+    """R (m): the largest distance from the centre of gravity of a loaded point of ``shapes[s0:s1]``."""
+    r = 0.0
+    for k in range(s0, s1):
+        row = shapes[k]
+        kind = row[C.KIND]
+        o = math.hypot(row[C.CX], row[C.CY])
+        if kind == C.POLYGON:
+            v = geo[int(row[C.V0]):int(row[C.V1]), :2]
+            r = max(r, float(np.max(np.hypot(v[:, 0], v[:, 1]))))
+        elif kind == C.SAMPLED:
+            q = geo[int(row[C.Q0]):int(row[C.Q1]), :2]
+            r = max(r, float(np.max(np.hypot(q[:, 0], q[:, 1]))))
+        elif kind == C.ELLIPSE:
+            r = max(r, o + max(row[C.RA], row[C.RB]))
+        elif kind in (C.RING, C.HERTZ):
+            r = max(r, o + row[C.RA])
+        else:
+            r = max(r, o)
+    return r
+
+
+def deadband_factor(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int, R: float, covered: np.ndarray,
+                     p0: float) -> float:
+    """K >= 1 such that whenever some part of the footprint is in its own dead band (footprint_wrench
+    gives it zero) while the ICR lies where the table is used, max(|v|, |w| R) <= K v_eps.
+
+    A polygon is at rest when |v| <= v_eps and |w| (|g| + r_g) <= v_eps: K >= R / (|g| + r_g). An
+    ellipse, ring or Hertz patch (centre o, largest radius a) when its centre's speed and |w| a are
+    <= v_eps: then |v| <= v_eps (1 + |o| / a) and |w| R <= v_eps R / a. A point (or a sample) p when
+    its speed |w| |c - p| <= v_eps: with the ICR at least d from p (``covered``: the rectangles the
+    table is used on, and the outer region |c|_inf >= p0), |w| <= v_eps / d, so K >= 1 + R / d."""
+    K = 1.0
+    pts = []
+    for k in range(s0, s1):
+        row = shapes[k]
+        kind = row[C.KIND]
+        ox, oy = row[C.CX], row[C.CY]
+        o = math.hypot(ox, oy)
+        if kind == C.POLYGON:
+            K = max(K, R / (o + row[C.RAD]))
+        elif kind == C.ELLIPSE:
+            a = max(row[C.RA], row[C.RB])
+            K = max(K, 1.0 + o / a, R / a)
+        elif kind in (C.RING, C.HERTZ):
+            K = max(K, 1.0 + o / row[C.RA], R / row[C.RA])
+        elif kind == C.POINT:
+            pts.append((ox, oy))
+        else:
+            pts.extend(map(tuple, geo[int(row[C.Q0]):int(row[C.Q1]), :2]))
+    if pts:
+        p = np.array(pts)
+        d = p0 - np.max(np.abs(p), axis=1)
+        if covered.size:
+            dx = np.maximum(0.0, np.maximum(covered[None, :, 0] - p[:, 0, None], p[:, 0, None] - covered[None, :, 1]))
+            dy = np.maximum(0.0, np.maximum(covered[None, :, 2] - p[:, 1, None], p[:, 1, None] - covered[None, :, 3]))
+            d = np.minimum(d, np.hypot(dx, dy).min(axis=1))
+        dmin = float(d.min())
+        if not dmin > 0.0:
+            return math.inf
+        K = max(K, 1.0 + R / dmin)
+    return K * (1.0 + 1e-9)  # rounding of the kernel's comparisons
