@@ -6,20 +6,23 @@ fraction 0.35, launched at 0.3 m/s in random directions; pymunk's default spatia
 iterations, dt = 1/120 s. Every body is active (:class:`rrbody.plugin.Active`): propulsion F = 2 mu g m
 fixed in the body frame, through the centre for a disk, 0.03 m off it for an L (chiral: it turns), the
 medium's drag 2/s and rotational drag 2/s, rotational noise D_r = 0.2 rad^2/s (one seeded PCG64 draw per
-step); dry plane friction mu = 0.1 (terminal speed (F/m - mu g) / 2/s = 0.5 m/s).
+step); dry plane friction mu = 0.1 (terminal speed (F/m - mu g) / 2/s = 0.5 m/s). The L-shapes take
+their footprint's wrench table (``pf.add(..., friction_method="table")``: within 1e-10 of the exact
+wrench, :mod:`rrbody.physics.footprint_table`); the disks take the disk's table either way.
 
-Three variants step the same space, in one run, interleaved (blocks of ``BLOCK`` steps of each in
-turn, best block of each kind, after a warm-up): ``pymunk`` (``space.step`` alone: pymunk's own step
-of the colliding space, no friction, no propulsion), ``active`` (``pf.step``: the active effect and
-plane friction, one compiled call for all bodies, then the same ``space.step``) and, as a breakdown,
-``alone`` (a second plugin on the same space whose bodies have mu = 0: the active effect, the noise
-draw and the plugin's bulk read and write, without friction's area integrals). All keep colliding (under
-the bare step the bodies coast at their speed; under ``pf.step`` propulsion, drag and friction hold them
-near 0.5 m/s), so the bare step is lighter than the one ``pf.step`` calls: the time of that inner
-``space.step`` is measured too, and the target is judged on the same states (``pf.step`` over its own
-``space.step``). A breakdown on one frozen state: the plugin's compiled call with and without the
-``active`` arrays, and the noise draw. N = 100, 300, 1,000, 3,000, 10,000; the fitted exponents are
-least-squares slopes of log(cost per step) against log N.
+Four variants step the same space, in one run, interleaved (blocks of ``BLOCK`` steps of each in turn,
+best block of each kind, after a warm-up): ``pymunk`` (``space.step`` alone: pymunk's own step of the
+colliding space, no friction, no propulsion), ``active`` (``pf.step``: the active effect and plane
+friction, one compiled call for all bodies, then the same ``space.step``), ``exact`` (the same with the
+L-shapes' exact polygon wrench every step, ``friction_method="auto"``: what the table saves) and, as a
+breakdown, ``alone`` (a plugin on the same space whose bodies have mu = 0: the active effect, the noise
+draw and the plugin's reads and writes, without friction). All keep colliding (under the bare step the
+bodies coast at their speed; under ``pf.step`` propulsion, drag and friction hold them near 0.5 m/s),
+so the bare step is lighter than the one ``pf.step`` calls: the time of that inner ``space.step`` is
+measured too, and the target is judged on the same states (``pf.step`` over its own ``space.step``). A
+breakdown on one frozen state: the plugin's compiled call with and without the ``active`` arrays, and
+the noise draw. N = 100, 300, 1,000, 3,000, 10,000; the fitted exponents are least-squares slopes of
+log(cost per step) against log N.
 """
 
 from __future__ import annotations
@@ -37,10 +40,11 @@ DT, BLOCK, MU, PACKING = 1.0 / 120.0, 20, 0.1, 0.35
 A = 0.08  # m: the L's leg width
 
 
-def build(n: int, *, seed: int = 1, packing: float = PACKING, mu: float = MU) -> tuple:
-    """(space, pf, bodies): n active disks and L-shapes in a walled box at ``packing`` (area fraction), on
-    a plane of friction coefficient ``mu``; a second plugin ``pf0`` on the same space holds the same
-    bodies with mu = 0 and the same propulsion (the active effect alone): (space, pf, pf0, bodies)."""
+def build(n: int, *, seed: int = 1, packing: float = PACKING, mu: float = MU, method: str = "table") -> tuple:
+    """n active disks and L-shapes in a walled box at ``packing`` (area fraction), on a plane of friction
+    coefficient ``mu`` (plugin ``pf``, the L-shapes' friction by ``method``); plugin ``pf0`` on the same
+    space holds the same bodies with mu = 0 and the same propulsion (the active effect alone), and
+    ``pfx`` with the L-shapes' exact wrench: (space, pf, pf0, bodies, pfx)."""
     import numpy as np
     import pymunk
 
@@ -53,8 +57,9 @@ def build(n: int, *, seed: int = 1, packing: float = PACKING, mu: float = MU) ->
     space.iterations = 10
     pf = PlaneFriction(space, g=9.81)
     pf0 = PlaneFriction(space, g=9.81)
-    pf.seed(seed)
-    pf0.seed(seed)
+    pfx = PlaneFriction(space, g=9.81)
+    for plane in (pf, pf0, pfx):
+        plane.seed(seed)
     corners = [(0.0, 0.0), (side, 0.0), (side, side), (0.0, side)]
     space.add(*[pymunk.Segment(space.static_body, a, b, 0.05) for a, b in zip(corners, corners[1:] + corners[:1])])
     k = int(math.ceil(math.sqrt(n)))
@@ -77,11 +82,11 @@ def build(n: int, *, seed: int = 1, packing: float = PACKING, mu: float = MU) ->
         space.add(b, *shapes)
         act = Active(force=2.0 * MU * 9.81 * b.mass, point=(0.0, 0.0) if i % 2 else (0.0, 0.03), drag=2.0,
                      rot_drag=2.0, rot_diffusion=0.2)
-        for plane, m in ((pf, mu), (pf0, 0.0)):
-            plane.add(b, mu=m)
+        for plane, m, how in ((pf, mu, method), (pf0, 0.0, method), (pfx, mu, "auto")):
+            plane.add(b, mu=m, friction_method=how)
             plane.activate(b, act)
         bodies.append(b)
-    return space, pf, pf0, bodies
+    return space, pf, pf0, bodies, pfx
 
 
 def _contacts(space: object) -> int:
@@ -124,11 +129,12 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     sizes = SIZES[:3] if quick else SIZES
     rows = []
     for n in sizes:
-        space, pf, pf0, _ = build(n)
+        space, pf, pf0, _, pfx = build(n)
         for _ in range(5):  # compiled step, first allocations, the half kicks: not counted
             pf.step(DT)
             pf0.step(DT)
-        best = {"pymunk": math.inf, "active": math.inf, "alone": math.inf}
+            pfx.step(DT)
+        best = {"pymunk": math.inf, "active": math.inf, "alone": math.inf, "exact": math.inf}
         reps = 3 if quick else (5 if n >= 3000 else 11)
         block = max(3, BLOCK if n <= 1000 else BLOCK * 1000 // n * 2)
         contacts = 0
@@ -140,11 +146,11 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
             bare(dt)
             inner[0] += time.perf_counter() - w
 
-        best["inside"] = math.inf
+        best["inside"] = best["inside_x"] = math.inf
         for _ in range(reps):
-            for kind, step in (("pymunk", bare), ("active", pf.step), ("alone", pf0.step)):
+            for kind, step in (("pymunk", bare), ("active", pf.step), ("alone", pf0.step), ("exact", pfx.step)):
                 inner[0] = 0.0
-                space.step = timed if kind == "active" else bare
+                space.step = timed if kind in ("active", "exact") else bare
                 w0 = time.perf_counter()
                 for _ in range(block):
                     step(DT)
@@ -153,6 +159,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
                     best[kind] = took
                     if kind == "active":
                         best["inside"] = inner[0] / block
+                    elif kind == "exact":
+                        best["inside_x"] = inner[0] / block
             contacts = max(contacts, _contacts(space))
         space.step = bare
         effect, draw = _effect_share(pf, reps=7 if n >= 10000 else 15)
@@ -160,9 +168,11 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
                      "added": best["active"] / best["pymunk"] - 1.0, "alone_ms": best["alone"] * 1e3,
                      "added_alone": best["alone"] / best["pymunk"] - 1.0, "contacts": contacts, "block": block,
                      "inside_ms": best["inside"] * 1e3, "added_same": best["active"] / best["inside"] - 1.0,
+                     "exact_ms": best["exact"] * 1e3, "added_exact": best["exact"] / best["inside_x"] - 1.0,
                      "repeats": reps})
         print(f"[active] N={n}: pymunk {best['pymunk'] * 1e3:.3f} ms, with active + friction "
-              f"{best['active'] * 1e3:.3f} ms (+{rows[-1]['added']:.1%}), active alone (mu = 0) "
+              f"{best['active'] * 1e3:.3f} ms (+{rows[-1]['added']:.1%}; same states "
+              f"+{rows[-1]['added_same']:.1%}; exact L-shapes +{rows[-1]['added_exact']:.1%}), active alone (mu = 0) "
               f"{best['alone'] * 1e3:.3f} ms (+{rows[-1]['added_alone']:.1%}), {contacts} contacts; the effect in "
               f"the kernel {effect * 1e6:.1f} us, the noise draw {draw * 1e6:.1f} us", flush=True)
     write_csv(out / "active.csv", rows)
@@ -184,6 +194,9 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
                               f"vs {r1k['inside_ms']:.3f} ms per step); {r1k['added']:.1%} over the bare space's "
                               f"step ({r1k['pymunk_ms']:.3f} ms, coasting bodies)",
                               None if quick else r1k["added_same"] <= 0.30))
+        targets.append(Target("the same with the L-shapes' exact polygon wrench every step (no table)", "(no bound)",
+                              f"{r1k['added_exact']:.1%} over pymunk's step of the same states "
+                              f"({r1k['exact_ms']:.3f} ms per step)", None))
     if r1k is not None:  # "1,000 bodies on one core interactively": at least 60 steps per s of computing
         rate = 1e3 / r1k["active_ms"]
         targets.append(Target("1,000 active bodies interactively, one core", ">= 60 steps/s (pf.step <= 16.7 ms)",
@@ -198,10 +211,11 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
         targets = [Target(t.name, t.target, t.measured + " [quick]", None) for t in targets]
     md = [f"## {TITLE}", "", __doc__.split("\n\n", 1)[1].strip(), "", machine_text(), "",
           md_table(["N", "pymunk (ms/step)", "active + friction (ms/step)", "added", "pymunk inside it (ms/step)",
-                    "added (same states)", "active alone, mu = 0 (ms/step)",
+                    "added (same states)", "exact L-shapes (ms/step)", "added (same states)",
+                    "active alone, mu = 0 (ms/step)",
                     "added", "effect in the kernel (us)", "noise draw (us)", "effect + draw / pymunk", "contacts"],
                    [(r["N"], fmt(r["pymunk_ms"]), fmt(r["active_ms"]), f"{r['added']:.1%}", fmt(r["inside_ms"]),
-                     f"{r['added_same']:.1%}", fmt(r["alone_ms"]),
+                     f"{r['added_same']:.1%}", fmt(r["exact_ms"]), f"{r['added_exact']:.1%}", fmt(r["alone_ms"]),
                      f"{r['added_alone']:.1%}", fmt(r["effect_us"]), fmt(r["draw_us"]),
                      f"{(r['effect_us'] + r['draw_us']) / (1e3 * r['pymunk_ms']):.1%}", r["contacts"]) for r in rows]), "",
           f"Fitted exponents of cost per step vs N: pymunk {e_pm:.3f}, active + friction {e_ac:.3f}.", ""]

@@ -85,3 +85,29 @@ def test_without_a_base_it_is_the_library_call_bitwise() -> None:
         psi = phi - p[P.OMEGA] * t
         for d in (math.nan, NEAR * 1.0001, -2.0):
             assert _psi(t, phi, p, d, 0.3, 0.7) == (math.sin(psi), math.cos(psi))
+
+
+def test_sincos_reduced_matches_the_library_at_any_angle() -> None:
+    """sincos_reduced (the plugin's per-body angle): Cody-Waite reduction by pi/2 (products exact for
+    |k| < 2^20) and sincos_small on |r| <= pi/4, so its error is the series' 2 ulp of 1 (TWO_ULP) plus
+    the library's own rounding of its result (at most half an ulp of 1, 1.1e-16) and the reduction's
+    last rounding (half an ulp of pi/4): 2 TWO_ULP bounds all three. Angles up to the reduction's
+    limit, multiples of pi/4 and pi/2 (the quadrant edges), then the library's beyond it and for NaN."""
+    from rrbody.physics.effects.drive_circular import REDUCED_MAX, sincos_reduced
+
+    @njit
+    def worst(xs):  # noqa: ANN001, ANN202
+        e = 0.0
+        for x in xs:
+            s, c = sincos_reduced(x)
+            e = max(e, abs(s - math.sin(x)), abs(c - math.cos(x)))
+        return e
+
+    rng = np.random.default_rng(4)
+    xs = np.concatenate([rng.uniform(-s, s, 20000) for s in (1.0, 10.0, 1e3, 1e5, REDUCED_MAX)]
+                        + [np.arange(-64, 64) * (math.pi / 4), np.arange(-64, 64) * (math.pi / 2) + 1e-13])
+    assert worst(xs) <= 2 * TWO_ULP
+    for x in (REDUCED_MAX * 1.5, -3e9, 1e300):  # beyond the reduction: the library itself
+        assert sincos_reduced(x) == (math.sin(x), math.cos(x))
+    s, c = sincos_reduced(math.nan)
+    assert math.isnan(s) and math.isnan(c)

@@ -50,7 +50,8 @@ COMMANDS: tuple[list[str], ...] = (
 
 
 def _plugin_workload() -> None:
-    """The plugin's kernels: a circle, a box and a thick segment, stepped a few times."""
+    """The plugin's kernels: a circle (the disk's table), a box (its footprint table) and a thick segment
+    (the exact wrench), stepped a few times."""
     try:
         import pymunk
     except ImportError:  # the engine extra is absent: nothing of the plugin can run here
@@ -67,7 +68,7 @@ def _plugin_workload() -> None:
         body.position = (0.3 * k, 0.0)
         space.add(body, shape)
         body.velocity, body.angular_velocity = (1.0, 0.2), 5.0
-        pf.add(body, mu=0.3)
+        pf.add(body, mu=0.3, friction_method="table" if k == 1 else "auto")  # the box: the footprint table's build
     from rrbody.model.active import Active
 
     pf.activate(pf.bodies[0], Active(force=0.01, point=(0.01, 0.0), rot_drag=1.0, rot_diffusion=0.1))  # active rows

@@ -24,7 +24,7 @@ import numpy as np
 from numba import njit
 
 from rrbody.engine.bodymem import ANGLE, SPACE, SPIN, VX, VY, X, Y, f64_at, i64_at, layout
-from rrbody.engine.kernel import FFT, FFX, FFY, GAP, PVX, PVY, PW, STAG
+from rrbody.engine.kernel import FFT, FFX, FFY, GAP, PVX, PVY, PW, STAG, STOP
 from rrbody.engine.lean import NO_REFCOUNT
 
 __all__ = ["capture_rows", "capture_direct", "layout"]
@@ -35,7 +35,9 @@ def _motion(out: np.ndarray, k: int, vx: float, vy: float, w: float, bodies: np.
     """Columns 3-8 of filmed body ``k``'s row: its velocity and spin at the plugin's time, and the
     plugin's friction of its last step (``j``: its row in the plugin's ``bodies``, or -1: none)."""
     if j >= 0:
-        if bodies[j, GAP] > 0.0 and bodies[j, STAG] > 0.0:
+        if bodies[j, STOP] > 0.0 and vx == 0.0 and vy == 0.0 and w == 0.0:
+            pass  # stopped by the rest rule within the last step, nothing left: at rest (PlaneFriction.velocity)
+        elif bodies[j, GAP] > 0.0 and bodies[j, STAG] > 0.0:
             # the staggered scheme's velocity after a step belongs to half a step later: the mean
             # with the one before is the velocity at the plugin's time (PlaneFriction.velocity)
             vx = 0.5 * (bodies[j, PVX] + vx)

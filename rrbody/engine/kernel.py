@@ -6,7 +6,8 @@ force is m/s^2 and the torque m^2/s^2.
 
 Array layouts (columns)
 -----------------------
-``bodies`` (float, one row per plugin body): MASS (kg), IPM = I/m (m^2), LAW (1 dry, 2 viscous),
+``bodies`` (float, one row per plugin body; the columns are named, their order is the kernel's own
+business): MASS (kg), IPM = I/m (m^2), LAW (1 dry, 2 viscous),
 COEFF (mu g in m/s^2, or gamma in 1/s), REACH (m: largest distance of the footprint from the centre
 of gravity), SNAP (1.0: the rest rule applies), S0, S1 (its rows in ``shapes``), VEPS (m/s: slower
 elements have no dry-friction direction), VGX, VGY, VJ (load-weighted mean position, m, and mean
@@ -26,8 +27,8 @@ readers such as the recorder; FEET (1.0: a body on two or more point feet, whose
 holds at rest: :mod:`rrbody.engine.feet`), PIN (1 + the index of the foot held since the last step, 0:
 none), DEFR (1.0 while :func:`plane_step` has deferred the body to its limit-set loop), TKIND, TAB:
 how its dry friction is evaluated (TABLE_NONE: :func:`rrbody.physics.contact.footprint_wrench`, exact;
-TABLE_CIRCLE: one disk, the wrench table of :mod:`rrbody.physics.icr_table`) and where its table
-starts in ``tables``.
+TABLE_CIRCLE: one disk, the wrench table of :mod:`rrbody.physics.icr_table`; TABLE_FOOTPRINT: the
+footprint's own table, :mod:`rrbody.physics.footprint_table`) and where its table starts in ``tables``.
 ``tables`` (float, rows of 3): the wrench tables the bodies use, one copy per distinct table.
 ``shapes`` (float, per footprint part) and ``geo``: the footprint rows of :mod:`rrbody.physics.contact`.
 ``lookup``: row 0 the plugin bodies' ids (int64 view of pymunk's uintptr ids) sorted, row 1 their rows.
@@ -47,20 +48,25 @@ from rrbody.engine.lean import NO_REFCOUNT
 from rrbody.physics.contact import footprint_wrench
 from rrbody.physics import contact as C
 from rrbody.physics.effects import active as act
+from rrbody.physics.effects.drive_circular import sincos_reduced
+from rrbody.physics.footprint_table import footprint_table_wrench
 from rrbody.physics.icr_table import table_wrench_body
 from rrbody.physics.limit import at_rest
 
-(MASS, IPM, LAW, COEFF, REACH, SNAP, S0, S1, VEPS, VGX, VGY, VJ, STAG, PVX, PVY, PW, GAP, STOP, EA,
- EW, DRV, OMG, DD, ANX, ANY, T0, DPX, DPY, DVX, DVY, MUS, GTX, GTY, HX, HY, HT, HA, HELD, FFX, FFY, FFT, FEET,
- PIN, DEFR, TKIND, TAB) = range(46)
-N_BODY = 46
+# the columns every step reads or writes come first (four of the row's six cache lines), the rest after
+(MASS, IPM, LAW, COEFF, REACH, SNAP, S0, S1, VEPS, STAG, PVX, PVY, PW, GAP, STOP, EA, EW, DRV, MUS, GTX, GTY, FFX,
+ FFY, FFT, FEET, TKIND, TAB, DEFR, VGX, VGY, VJ, OMG, DD, ANX, ANY, T0, DPX, DPY, DVX, DVY, HX, HY, HT, HA, HELD,
+ PIN, _SPARE0, _SPARE1) = range(48)
+#: 48 columns: a row is six whole cache lines (384 bytes)
+N_BODY = 48
 #: STOP values: the rest rule cancels the velocity in this step, or (the step after) sets it exactly zero
 STOPPING, ZEROED = 1.0, 2.0
 LAW_DRY, LAW_VISCOUS = 1.0, 2.0
 #: what the lean sweep's step of a body returns when it leaves the body to the limit-set loop
 DEFER = 2
-#: TKIND values: the exact footprint wrench; a disk's wrench table (icr_table's, dimensionless)
-TABLE_NONE, TABLE_CIRCLE = 0.0, 1.0
+#: TKIND values: the exact footprint wrench; a disk's wrench table (icr_table's, dimensionless); the
+#: footprint's own table (rrbody.physics.footprint_table)
+TABLE_NONE, TABLE_CIRCLE, TABLE_FOOTPRINT = 0.0, 1.0, 2.0
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -69,7 +75,8 @@ def body_accel(j: int, alpha: float, vx: float, vy: float, w: float, bodies: np.
     """Friction (ax, ay, alpha_dot) of body ``j`` with angle ``alpha`` (rad), centre-of-gravity velocity
     (vx, vy) (m/s, world) and spin ``w`` (rad/s): force per unit mass (m/s^2, world) and the angular
     acceleration (rad/s^2)."""
-    return _accel(j, math.cos(alpha), math.sin(alpha), vx, vy, w, bodies, shapes, geo, tables)
+    sa, ca = sincos_reduced(alpha)  # as the step evaluates it
+    return _accel(j, ca, sa, vx, vy, w, bodies, shapes, geo, tables)
 
 
 @njit(cache=True, inline="always")
@@ -90,8 +97,12 @@ def _accel(j: int, ca: float, sa: float, vx: float, vy: float, w: float, bodies:
         fy = -c * (vby + w * gx)
         tq = -c * (gx * vby - gy * vbx + w * bodies[j, VJ])
         return ca * fx - sa * fy, sa * fx + ca * fy, tq / bodies[j, IPM]
-    if bodies[j, TKIND] == TABLE_CIRCLE:
+    tk = bodies[j, TKIND]
+    if tk == TABLE_CIRCLE:
         fx, fy, tq = _circle(j, vbx, vby, w, bodies, shapes, tables)
+    elif tk == TABLE_FOOTPRINT:
+        fx, fy, tq = footprint_table_wrench(tables, int(bodies[j, TAB]), shapes, geo, int(bodies[j, S0]),
+                                            int(bodies[j, S1]), vbx, vby, w, bodies[j, VEPS])
     else:
         fx, fy, tq = footprint_wrench(shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), vbx, vby, w,
                                       bodies[j, VEPS])
@@ -388,8 +399,7 @@ def _one(i, j, got, bodies, shapes, geo, tables, t, dt, out, active, noise, held
     out[i, 1] += bodies[j, MASS] * bodies[j, GTY]
     # the angle friction and the active load are evaluated at (pymunk moves the pose first)
     alpha = got[i, 0] + got[i, 3] * dt
-    ca = math.cos(alpha)
-    sa = math.sin(alpha)
+    sa, ca = sincos_reduced(alpha)  # (a third faster than the library's pair, to 2 ulp)
     if active.shape[0] > 0:  # self-propulsion, a medium's drag and noise: a load as well
         fa, fb, fc = act.load(j, ca, sa, got[i, 1], got[i, 2], got[i, 3], bodies[j, PVX], bodies[j, PVY],
                               bodies[j, PW], bodies[j, GAP] * bodies[j, STAG], bodies[j, MASS], bodies[j, IPM],
@@ -480,6 +490,8 @@ def _friction(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_
     if defer and static and (resting or feet):
         return DEFER
     m0 = bodies[j, MASS]
+    # (the step after a stop: what is left is rounding, zeroed where the body is slow enough even if
+    # friction, in its dead band, gives no impulse to limit)
     ax = ay = aw = 0.0
     s = 1.0
     stop = False
@@ -487,7 +499,7 @@ def _friction(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_
         # (friction's evaluation changes no state: a body about to stop can still be deferred)
         ax, ay, aw, s = limited(j, ca, sa, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo, tables,
                                 out[i, 0] / m0, out[i, 1] / m0, out[i, 2] / (m0 * bodies[j, IPM]))
-        stop = s < 1.0 and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY \
+        stop = (s < 1.0 or was == STOPPING) and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY \
             and _slow_enough(i, j, vx, vy, w, dt, bodies, out)
         if stop and static and defer:
             return DEFER
@@ -526,7 +538,7 @@ def _friction(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_
         bodies[j, PIN] = 0.0
         ax, ay, aw, s = limited(j, ca, sa, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo, tables,
                                 out[i, 0] / m0, out[i, 1] / m0, out[i, 2] / (m0 * bodies[j, IPM]))
-        stop = s < 1.0 and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY \
+        stop = (s < 1.0 or was == STOPPING) and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY \
             and _slow_enough(i, j, vx, vy, w, dt, bodies, out)
     if stop and (not static or held(i, j, got[i, 0], bodies, shapes, geo, out)):
         # every point slower than decel dt: friction stops the body within this step (if a load

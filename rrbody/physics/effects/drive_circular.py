@@ -14,7 +14,8 @@ from numba import njit
 
 from rrbody.physics import params as P
 
-__all__ = ["torque", "rod_velocity", "sincos_psi", "sincos_shifted", "sincos_small", "NEAR", "frame", "kinematics"]
+__all__ = ["torque", "rod_velocity", "sincos_psi", "sincos_shifted", "sincos_small", "sincos_reduced", "NEAR",
+           "REDUCED_MAX", "frame", "kinematics"]
 
 NAME = "circular"
 
@@ -73,6 +74,33 @@ def sincos_shifted(psi: float, d: float, s0: float, c0: float) -> tuple[float, f
         sd, cd = sincos_small(d)
         return s0 * cd + c0 * sd, c0 * cd - s0 * sd
     return math.sin(psi), math.cos(psi)
+
+
+#: Cody-Waite split of pi/2 (fdlibm's pio2_1, pio2_2, pio2_2t): the first two have 33 significant
+#: bits, so k times them is exact for |k| < 2^20
+_P1, _P2, _P3 = 1.57079632673412561417e+00, 6.07710050630396597660e-11, 2.02226624879595063154e-21
+#: largest |x| (rad) :func:`sincos_reduced` reduces itself (k = x 2/pi below 2^19); beyond, the library
+REDUCED_MAX: float = 8.0e5
+
+
+@njit(cache=True, inline="always")
+def sincos_reduced(x: float) -> tuple[float, float]:
+    """(sin x, cos x) of any angle x (rad): x = k pi/2 + r with |r| <= pi/4 (Cody-Waite, exact
+    products), then :func:`sincos_small` of r and the quadrant k mod 4 chosen without a branch (a
+    body's quadrant is random from one body to the next: a branch would be mispredicted). Within
+    2 ulp of 1 plus the reduction's rounding (tests/test_drive_trig.py); |x| > REDUCED_MAX or NaN: the
+    library's. The plugin's step evaluates one pair per body: 6 ns less per body than the library's
+    pair there (measured, 1,000 bodies)."""
+    if not abs(x) <= REDUCED_MAX:
+        return math.sin(x), math.cos(x)
+    k = math.floor(x * (2.0 / math.pi) + 0.5)
+    r = ((x - k * _P1) - k * _P2) - k * _P3
+    sr, cr = sincos_small(r)
+    q = int(k) & 3
+    odd = q & 1
+    a = cr if odd else sr  # sin x is +-sin r for even quadrants, +-cos r for odd ones
+    b = sr if odd else cr
+    return (1.0 - (q & 2)) * a, (1.0 - ((q + 1) & 2)) * b
 
 
 @njit(cache=True, inline="always")
