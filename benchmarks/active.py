@@ -82,7 +82,7 @@ def build(n: int, *, seed: int = 1, packing: float = PACKING, mu: float = MU, me
         space.add(b, *shapes)
         act = Active(force=2.0 * MU * 9.81 * b.mass, point=(0.0, 0.0) if i % 2 else (0.0, 0.03), drag=2.0,
                      rot_drag=2.0, rot_diffusion=0.2)
-        for plane, m, how in ((pf, mu, method), (pf0, 0.0, method), (pfx, mu, "auto")):
+        for plane, m, how in ((pf, mu, method), (pf0, 0.0, "auto"), (pfx, mu, "auto")):  # (pf0: no friction)
             plane.add(b, mu=m, friction_method=how)
             plane.activate(b, act)
         bodies.append(b)

@@ -167,8 +167,7 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
                f"{rows[1]['table_ns']:.1f} vs {rows[1]['exact_ns']:.1f} ns",
                L["table_ns"] <= COST_TARGET_NS),
         Target("footprint table: build time and size, L", "<= ~1 s, <= 4 MB",
-               f"{L['build_s']:.2f} s, {L['table_mb']:.2f} MB", L["build_s"] <= 1.2 and L["table_mb"] <= 4.0,
-               "1.2 s counted as ~1 s"),
+               f"{L['build_s']:.2f} s, {L['table_mb']:.2f} MB", L["build_s"] <= 1.0 and L["table_mb"] <= 4.0),
     ]
     if quick:
         targets = [Target(t.name, t.target, t.measured + " [quick]", None) for t in targets]
@@ -177,8 +176,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
             "table_mb"]
     md = [f"## {TITLE}", "", __doc__.split("\n\n", 1)[1].strip(), "", machine_text(), "",
           md_table(cols, [[fmt(r[c]) for c in cols] for r in rows]), "",
-          "Targets (the brief's; kept out of the summary's targets table, which README.md and docs/accuracy.md quote, "
-          "until those pages quote them):", "",
+          "Aims set when the table was built (kept out of the summary's targets table: no issue states them), "
+          "measured in this run:", "",
           md_table(["target", "wanted", "measured", "verdict", "note"],
                    [(t.name, t.target, t.measured, t.verdict, t.note) for t in targets]), ""]
     return StudyResult(NAME, TITLE, targets=[], markdown="\n".join(md), files=["footprint_table.csv"],

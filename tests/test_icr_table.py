@@ -188,3 +188,26 @@ def test_flip_time_table_equals_icr() -> None:
         return r.t_f
 
     assert tf("table") == pytest.approx(tf("icr"), rel=1e-9)
+
+
+@pytest.mark.parametrize("ratio", [1.0, 0.5])
+def test_tiny_and_huge_twists_read_the_same_table(ratio: float) -> None:
+    """The dry wrench depends on the twist's direction only (v_eps = 0): scaled by 1e-166 or 1e-300
+    (whose squares underflow), 1e-320 (subnormal) or 1e300 (overflow), the table gives what the
+    quadrature gives at scale 1, within the table's 1e-10 (a disk left with a velocity of 1e-166 m/s
+    once made the plugin divide by zero); never inf or NaN; the twist 0 and a tiny twist inside a
+    dead band give zero."""
+    from rrbody.physics.icr_table import table_wrench_body
+
+    a, b = 0.1, 0.1 * ratio
+    S = build_table(a, b)
+    for twist in ((-7.5, -4.0, -1.3), (0.3, -0.1, 20.0), (1.0, 0.5, 0.0), (0.0, 0.0, 3.0)):
+        for k in (1e-166, 1e-300, 1e300, 1e-320):
+            tw = tuple(k * x for x in twist)  # a subnormal twist has few bits: the reference scales it up exactly
+            ref = icr_wrench(a, b, 64, 0.0, *((2.0**1000 * x for x in tw) if k < 1e-310 else twist), DRY, 1.0, 0.0,
+                             0.0)
+            got = table_wrench_body(S, a, b, *tw, 1.0, 0.0)
+            assert all(math.isfinite(g) for g in got)
+            assert max(abs(got[0] - ref[0]), abs(got[1] - ref[1]), abs(got[2] - ref[2]) / a) <= 1e-10
+    assert table_wrench_body(S, a, b, 0.0, 0.0, 0.0, 1.0, 0.0) == (0.0, 0.0, 0.0)
+    assert table_wrench_body(S, a, b, 1e-200, 0.0, 1e-200, 1.0, 1e-9) == (0.0, 0.0, 0.0)

@@ -150,3 +150,78 @@ def test_disk_table_matches_the_exact_wrench(offset: tuple[float, float]) -> Non
         worst = max(worst, abs(fx - scale * wx) / scale, abs(fy - scale * wy) / scale,
                     abs(tq - scale * et) / (scale * r))
     assert worst < 1e-10
+
+
+def _l_body(space: pymunk.Space, x: float) -> pymunk.Body:
+    b = pymunk.Body()
+    arms = [pymunk.Poly(b, [(-0.08, -0.08), (0.08, -0.08), (0.08, 0.0), (-0.08, 0.0)]),
+            pymunk.Poly(b, [(-0.08, 0.0), (0.0, 0.0), (0.0, 0.08), (-0.08, 0.08)])]
+    for s in arms:
+        s.density = 20.0
+    b.position = (x, 0.0)
+    space.add(b, *arms)
+    return b
+
+
+def test_footprint_table_in_the_plugin() -> None:
+    """friction_method="table": the L's friction from its footprint's table, one table for two bodies of
+    the same shape; the wrench within 1e-10 of the exact one (the table's stated accuracy: units mu m g
+    and mu m g R); a run to rest next to the same body with the exact wrench: each step's force differs
+    by at most 1e-10 mu m g, so the velocities by at most 1e-10 mu g t and the positions by
+    1e-10 mu g t^2 / 2 (1.3e-11 m over the 0.3 s compared: the motion is dissipative, nothing grows);
+    1e-9 m and 1e-8 rad leave room for rounding. A bad method is refused, naming it."""
+    space = pymunk.Space()
+    pf = PlaneFriction(space, g=G)
+    a, b, c = _l_body(space, 0.0), _l_body(space, 1.0), _l_body(space, 2.0)
+    pf.add(a, mu=0.3, friction_method="table")
+    pf.add(b, mu=0.3, friction_method="table")
+    pf.add(c, mu=0.3)  # "auto": exact
+    ja, jb, jc = (pf._slots[x] for x in (a, b, c))
+    assert pf._bodies[ja, K.TKIND] == pf._bodies[jb, K.TKIND] == K.TABLE_FOOTPRINT
+    assert pf._bodies[ja, K.TAB] == pf._bodies[jb, K.TAB] and len(pf._tab_at) == 1
+    assert pf._bodies[jc, K.TKIND] == K.TABLE_NONE
+    rng = np.random.default_rng(8)
+    scale = 0.3 * G * a.mass
+    reach = pf._bodies[ja, K.REACH]
+    worst = 0.0
+    for _ in range(300):
+        v = (float(rng.normal()), float(rng.normal()))
+        w = float(rng.choice([-1, 1]) * 10.0 ** rng.uniform(-2, 2))
+        ang = float(rng.uniform(-3, 3))
+        ft = pf.wrench(a, velocity=(*v, w), angle=ang)
+        fe = pf.wrench(c, velocity=(*v, w), angle=ang)
+        worst = max(worst, abs(ft[0] - fe[0]) / scale, abs(ft[1] - fe[1]) / scale, abs(ft[2] - fe[2]) / (scale * reach))
+    assert worst < 1e-10
+    for body in (a, c):
+        body.velocity, body.angular_velocity, body.angle = (1.2, -0.4), 6.0, 0.3
+    for _ in range(144):  # 0.3 s at dt = 1/480 s: both still moving (they stop near 0.43 s)
+        pf.step(1.0 / 480.0)
+    assert a.velocity != (0.0, 0.0) and c.velocity != (0.0, 0.0)
+    assert math.dist(a.position, c.position - (2.0, 0.0)) < 1e-9 and abs(a.angle - c.angle) < 1e-8
+    with pytest.raises(ValueError, match="friction_method must be one of 'auto', 'table', got 'fast'"):
+        pf.add(a, mu=0.3, friction_method="fast")
+
+
+@pytest.mark.parametrize("method", ["auto", "table"])
+def test_a_subnormal_velocity_steps_to_rest(method: str) -> None:
+    """Collisions once left a disk with a velocity of 1e-319 m/s (subnormal: its square underflows),
+    and the disk's table divided by zero. Disk, box and L with such twists: the step runs, and every
+    body is exactly at rest within a few steps (the rest rule: slower than mu g dt)."""
+    space = pymunk.Space()
+    pf = PlaneFriction(space, g=G)
+    bodies = []
+    for k, make in enumerate((lambda b: [pymunk.Circle(b, 0.1)], lambda b: [pymunk.Poly.create_box(b, (0.2, 0.1))])):
+        b = pymunk.Body()
+        shapes = make(b)
+        for s in shapes:
+            s.density = 10.0
+        b.position = (float(k), 0.0)
+        space.add(b, *shapes)
+        bodies.append(b)
+    bodies.append(_l_body(space, 3.0))
+    for b in bodies:
+        pf.add(b, mu=0.2, friction_method=method)
+        b.velocity, b.angular_velocity = (-1.34495e-319, -7.21e-320), 3.95e-322
+    for _ in range(4):
+        pf.step(1e-3)
+    assert all(b.velocity == (0.0, 0.0) and b.angular_velocity == 0.0 for b in bodies)

@@ -50,6 +50,10 @@ __all__ = ["PlaneFriction", "PRESSURES", "Active"]
 PRESSURES: tuple[str, ...] = PRESSURE_KINDS
 #: ``add``'s friction_method: each step's exact wrench (a disk: its table), or the footprint's wrench table
 FRICTION_METHODS: tuple[str, ...] = ("auto", "table")
+#: the wrench tables built in this process, by name (a footprint's: "footprint:" and a hash of its rows):
+#: every PlaneFriction copies what it uses from here, so a shape's table is built once per process
+#: (a few MB each, kept for the process's life)
+_BUILT: dict[str, np.ndarray] = {}
 
 
 def _not_finite(position: tuple[float, float] | None, angle: float, velocity: tuple[float, float],
@@ -269,11 +273,15 @@ class PlaneFriction:
         self.members += 1
 
     def _table(self, name: str, build: Any) -> int:
-        """The first row of the wrench table ``name`` in the kernel's ``tables``, built by ``build()``
-        (rows of 3) and appended the first time it is asked for."""
+        """The first row of the wrench table ``name`` in the kernel's ``tables``, appended the first
+        time this plugin asks for it: from the process's tables (:data:`_BUILT`), or built by
+        ``build()`` (rows of 3) and kept there."""
         at = self._tab_at.get(name)
         if at is None:
-            at = self._tab_at[name] = self._tabrows.append(np.asarray(build(), dtype=float))
+            table = _BUILT.get(name)
+            if table is None:
+                table = _BUILT[name] = np.asarray(build(), dtype=float)
+            at = self._tab_at[name] = self._tabrows.append(table)
         return at
 
     def _place(self, j: int) -> None:

@@ -72,6 +72,23 @@ MAX_M_PANELS: int = 128
 #: average over aspect ratios 0.1 - 0.9 among 8, 9 and 10 (measured when it was chosen).
 NTRI: int = 8
 _HEADER = 2
+#: twists whose largest component (m/s) lies outside [_TINY, _HUGE] are scaled by a power of two first
+_TINY, _HUGE = 2.0**-450, 2.0**450
+_SCALE_UP, _SCALE_DOWN = 2.0**500, 2.0**-500
+
+
+@njit(cache=True, inline="always")
+def _scale(big):  # noqa: ANN001, ANN202 (numba)
+    """A power of two k (exact to multiply by) with k big in [_TINY, _HUGE], for big > 0 finite
+    (a subnormal takes up to three steps)."""
+    k = 1.0
+    while big < _TINY:
+        big *= _SCALE_UP
+        k *= _SCALE_UP
+    while big > _HUGE:
+        big *= _SCALE_DOWN
+        k *= _SCALE_DOWN
+    return k
 
 
 def _sub_panels(o: int) -> int:
@@ -327,9 +344,21 @@ def table_wrench_body(S, ra, rb, vbx, vby, spin, coeff, v_eps):  # noqa: ANN001
 
     Compiled with fused multiply-adds (``contract``): the Horner sum is 300 of them, and fusing
     halves its floating-point work (and rounds once per step instead of twice)."""
-    sp2 = vbx * vbx + vby * vby
     rmax = max(ra, rb)
     wr = abs(spin) * rmax
+    big = max(abs(vbx), abs(vby), wr)
+    if big < _TINY or big > _HUGE:
+        # (a body left with a velocity of 1e-166 m/s): every point slower than v_eps is the dead band;
+        # else the wrench depends on the twist's direction only, so it is scaled by a power of two
+        # (exact) and no square below underflows or overflows
+        if big == 0.0 or 2.0 * big <= v_eps:
+            return 0.0, 0.0, 0.0
+        k = _scale(big)
+        vbx *= k
+        vby *= k
+        spin *= k
+        wr = abs(spin) * rmax  # (not wr * k: a subnormal product has lost its bits)
+    sp2 = vbx * vbx + vby * vby
     if sp2 <= v_eps * v_eps and wr <= v_eps:
         return 0.0, 0.0, 0.0
     if wr * wr <= (TRANSLATION_EPS * TRANSLATION_EPS) * sp2:
