@@ -14,6 +14,7 @@ from numba import njit
 
 from rrbody.physics import contact as C
 from rrbody.physics.contact import footprint_wrench
+from rrbody.physics.icr_table import cheb
 
 __all__ = ["fit_cells", "table_reach", "deadband_factor", "N", "BLOCK", "OFF", "TAIL_TOL", "VALID_TOL",
            "VALID_PTS"]
@@ -42,24 +43,7 @@ def _values(shapes, geo, s0, s1, V):  # noqa: ANN001 (numba)
     return out
 
 
-def _cheb() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Chebyshev points of the first kind on [-1, 1], the values -> coefficients matrix and the
-    Chebyshev -> monomial matrix (M[p, i]: the coefficient of z^p in T_i)."""
-    k = np.arange(N)
-    th = np.pi * (k + 0.5) / N
-    z = np.cos(th)
-    V = np.cos(np.outer(k, th)) * (2.0 / N)
-    V[0] *= 0.5
-    M = np.zeros((N, N))
-    for j in range(N):
-        e = np.zeros(N)
-        e[j] = 1.0
-        c = np.polynomial.chebyshev.cheb2poly(e)
-        M[: c.size, j] = c
-    return z, V, M
-
-
-_Z, _V, _M = _cheb()
+_Z, _V, _M = cheb(N)  # (icr_table's: points, values -> Chebyshev, Chebyshev -> monomials)
 _ZV = np.linspace(-1.0, 1.0, VALID_PTS)
 _XV = _ZV[:, None] ** np.arange(N)[None, :]  # (VALID_PTS, N) monomials at the validation points
 #: the kept terms (total degree <= N - 1, row-major: the packed block's order) and the last kept ones

@@ -50,6 +50,7 @@ from numba import njit
 from rrbody.physics import contact as C
 from rrbody.physics.contact import footprint_wrench
 from rrbody.physics.footprint_fit import BLOCK, N, OFF, deadband_factor, fit_cells, table_reach
+from rrbody.physics.icr_table import HUGE, TINY, twist_scale
 
 __all__ = ["build_footprint_table", "footprint_table_wrench", "table_covers", "table_reach", "RHO", "CELLS", "SPLIT",
            "LEVELS", "S_PANELS", "MAX_U_PANELS", "HEAD"]
@@ -69,23 +70,6 @@ MAX_U_PANELS: int = 64
 HEAD: int = 3
 #: finest inner cells per side (the index's resolution)
 _NF: int = CELLS * SPLIT**LEVELS
-#: twists whose largest component (m/s) lies outside [_TINY, _HUGE] are scaled by a power of two first
-_TINY, _HUGE = 2.0**-450, 2.0**450
-_SCALE_UP, _SCALE_DOWN = 2.0**500, 2.0**-500
-
-
-@njit(cache=True, inline="always")
-def _scale(big):  # noqa: ANN001, ANN202 (numba)
-    """A power of two k (exact to multiply by) with k big in [_TINY, _HUGE], for big > 0 finite
-    (a subnormal takes up to three steps)."""
-    k = 1.0
-    while big < _TINY:
-        big *= _SCALE_UP
-        k *= _SCALE_UP
-    while big > _HUGE:
-        big *= _SCALE_DOWN
-        k *= _SCALE_DOWN
-    return k
 #: just below 1: clamps a coordinate below the end of its range (the cell index stays in range)
 _BELOW1: float = 1.0 - 2.0**-52
 
@@ -248,13 +232,13 @@ def _locate(T, t0, vbx, vby, w, v_eps):  # noqa: ANN001 (numba)
     if not abs(vbx) + abs(vby) + abs(w) < math.inf or R == 0.0:  # NaN or inf: never an index from it
         return -1, 0.0, 0.0, 1.0
     big = max(abs(vbx), abs(vby), abs(w) * R)
-    if big < _TINY or big > _HUGE:
+    if big < TINY or big > HUGE:
         # (a body left with a velocity of 1e-166 m/s): the dead band, or else, the wrench depending on
         # the twist's direction only, a scaling by a power of two (exact): no square or reciprocal
         # below underflows or overflows
         if 2.0 * big <= kv or big == 0.0:
             return -1, 0.0, 0.0, 1.0
-        k = _scale(big)
+        k = twist_scale(big)
         vbx *= k
         vby *= k
         w *= k

@@ -53,7 +53,8 @@ from numba import njit, prange
 from rrbody.model.checks import check_positive
 from rrbody.physics.icr import TRANSLATION_EPS, icr_wrench_body, translation_wrench
 
-__all__ = ["build_table", "table_wrench_body", "NT", "NM", "NTRI", "OCTAVES", "TAIL_TOL", "BUILD_NODES"]
+__all__ = ["build_table", "table_wrench_body", "cheb", "twist_scale", "TINY", "HUGE", "NT", "NM", "NTRI", "OCTAVES",
+           "TAIL_TOL", "BUILD_NODES"]
 
 #: coefficients per panel along t (degree NT - 1) and along m (degree NM - 1)
 NT: int = 10
@@ -72,20 +73,21 @@ MAX_M_PANELS: int = 128
 #: average over aspect ratios 0.1 - 0.9 among 8, 9 and 10 (measured when it was chosen).
 NTRI: int = 8
 _HEADER = 2
-#: twists whose largest component (m/s) lies outside [_TINY, _HUGE] are scaled by a power of two first
-_TINY, _HUGE = 2.0**-450, 2.0**450
+#: twists whose largest component (m/s) lies outside [TINY, HUGE] are scaled by a power of two first
+#: (here and in :mod:`rrbody.physics.footprint_table`): the dry wrench depends on their direction only
+TINY, HUGE = 2.0**-450, 2.0**450
 _SCALE_UP, _SCALE_DOWN = 2.0**500, 2.0**-500
 
 
 @njit(cache=True, inline="always")
-def _scale(big):  # noqa: ANN001, ANN202 (numba)
-    """A power of two k (exact to multiply by) with k big in [_TINY, _HUGE], for big > 0 finite
+def twist_scale(big):  # noqa: ANN001, ANN202 (numba)
+    """A power of two k (exact to multiply by) with k big in [TINY, HUGE], for big > 0 finite
     (a subnormal takes up to three steps)."""
     k = 1.0
-    while big < _TINY:
+    while big < TINY:
         big *= _SCALE_UP
         k *= _SCALE_UP
-    while big > _HUGE:
+    while big > HUGE:
         big *= _SCALE_DOWN
         k *= _SCALE_DOWN
     return k
@@ -122,7 +124,7 @@ def _values(a, b, rs, ms, octant):  # noqa: ANN001
     return out
 
 
-def _cheb(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def cheb(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Chebyshev points of the first kind on [-1, 1], the values -> coefficients matrix, and the
     Chebyshev -> monomial matrix (degree n - 1 is small: the monomial form loses < 1e-15)."""
     k = np.arange(n)
@@ -175,8 +177,8 @@ def _triangular(c: np.ndarray) -> bool:
 def _build(ratio: float) -> np.ndarray:
     a, b = (1.0, ratio) if ratio <= 1.0 else (1.0 / ratio, 1.0)
     disk = ratio == 1.0
-    zt, Vt, Mt = _cheb(NT)
-    zm, Vm, Mm = _cheb(NM)
+    zt, Vt, Mt = cheb(NT)
+    zm, Vm, Mm = cheb(NM)
     # per side and octave: the radial panels' Chebyshev coefficients (list over sub-panels of
     # [octant 0, octant 1] blocks), sub-panels doubled until the radial tail is below TAIL_TOL
     sides: list[list[list[list[np.ndarray]]]] = []
@@ -347,13 +349,13 @@ def table_wrench_body(S, ra, rb, vbx, vby, spin, coeff, v_eps):  # noqa: ANN001
     rmax = max(ra, rb)
     wr = abs(spin) * rmax
     big = max(abs(vbx), abs(vby), wr)
-    if big < _TINY or big > _HUGE:
+    if big < TINY or big > HUGE:
         # (a body left with a velocity of 1e-166 m/s): every point slower than v_eps is the dead band;
         # else the wrench depends on the twist's direction only, so it is scaled by a power of two
         # (exact) and no square below underflows or overflows
         if big == 0.0 or 2.0 * big <= v_eps:
             return 0.0, 0.0, 0.0
-        k = _scale(big)
+        k = twist_scale(big)
         vbx *= k
         vby *= k
         spin *= k
