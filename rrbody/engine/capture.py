@@ -18,8 +18,6 @@ bodies took 21 us instead of 2 (measured)."""
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 from numba import njit
 

@@ -4,36 +4,8 @@ Everything here is numba-compiled and works on flat arrays the plugin owns, so a
 compiled call whatever the number of bodies (no per-body Python). Units: SI; per unit mass the
 force is m/s^2 and the torque m^2/s^2.
 
-Array layouts (columns)
------------------------
-``bodies`` (float, one row per plugin body; the columns are named, their order is the kernel's own
-business): MASS (kg), IPM = I/m (m^2), LAW (1 dry, 2 viscous),
-COEFF (mu g in m/s^2, or gamma in 1/s), REACH (m: largest distance of the footprint from the centre
-of gravity), SNAP (1.0: the rest rule applies), S0, S1 (its rows in ``shapes``), VEPS (m/s: slower
-elements have no dry-friction direction), VGX, VGY, VJ (load-weighted mean position, m, and mean
-squared distance, m^2, of the footprint: all the viscous law needs), STAG (1.0: the staggered,
-second-order reading of velocities; 0.0: plain symplectic Euler), then the state: PVX, PVY, PW
-(the velocity one step back), GAP (s between it and the current one; 0 = no history yet), STOP
-(STOPPING or ZEROED if the rest rule acted in the last step, else 0), EA, EW (the angle and spin
-friction was evaluated at); for a body held at P by rrbody's circular driver (DRV = 1): OMG, DD
-(omega, rad/s, and d, m), ANX, ANY (P in the body frame, m), T0 (the plugin's time at attach, s), and
-the driver's state for this step DPX, DPY, DVX, DVY (m, m/s), computed with the friction; MUS
-(mu_static g cos(tilt), m/s^2: the static friction per unit mass; 0: none), GTX, GTY (gravity's
-in-plane part on a tilted plane, m/s^2, world frame), and the last load static friction held: HX,
-HY, HT (per unit mass, world frame) at the angle HA, HELD = 1.0 (the next step with the same load
-and angle needs no new test); FFX, FFY, FFT: the friction the last step applied (N, world frame, and
-N m about the centre of gravity; static friction and the rest rule's stopping impulse included), for
-readers such as the recorder; FEET (1.0: a body on two or more point feet, whose foot static friction
-holds at rest: :mod:`rrbody.engine.feet`), PIN (1 + the index of the foot held since the last step, 0:
-none), DEFR (1.0 while :func:`plane_step` has deferred the body to its limit-set loop), TKIND, TAB:
-how its dry friction is evaluated (TABLE_NONE: :func:`rrbody.physics.contact.footprint_wrench`, exact;
-TABLE_CIRCLE: one disk, the wrench table of :mod:`rrbody.physics.icr_table`; TABLE_FOOTPRINT: the
-footprint's own table, :mod:`rrbody.physics.footprint_table`) and where its table starts in ``tables``.
-``tables`` (float, rows of 3): the wrench tables the bodies use, one copy per distinct table.
-``shapes`` (float, per footprint part) and ``geo``: the footprint rows of :mod:`rrbody.physics.contact`.
-``lookup``: row 0 the plugin bodies' ids (int64 view of pymunk's uintptr ids) sorted, row 1 their rows.
-``cache`` (int64, rows ROWMAP, ROW_ID, STATUS): the plugin row of each row of the space's bulk read,
-the id it was found for, and what the last check found (see :func:`plane_check`).
+The arrays' layouts and the column names are :mod:`rrbody.engine.columns` (imported here, as
+``kernel.MASS`` etc.); a body's friction and its limiter are :mod:`rrbody.engine.accel`.
 """
 
 from __future__ import annotations
@@ -43,113 +15,13 @@ import math
 import numpy as np
 from numba import njit
 
+from rrbody.engine.accel import body_accel, limited  # noqa: F401 (kernel.body_accel: the plugin's readers)
+from rrbody.engine.columns import *  # noqa: F403 (the columns, here and as kernel.MASS etc. for every reader)
 from rrbody.engine.feet import feet_step
 from rrbody.engine.lean import NO_REFCOUNT
-from rrbody.physics.contact import footprint_wrench
-from rrbody.physics import contact as C
 from rrbody.physics.effects import active as act
 from rrbody.physics.effects.drive_circular import sincos_reduced
-from rrbody.physics.footprint_table import footprint_table_wrench
-from rrbody.physics.icr_table import table_wrench_body
 from rrbody.physics.limit import at_rest
-
-# the columns every step reads or writes come first (four of the row's six cache lines), the rest after
-(MASS, IPM, LAW, COEFF, REACH, SNAP, S0, S1, VEPS, STAG, PVX, PVY, PW, GAP, STOP, EA, EW, DRV, MUS, GTX, GTY, FFX,
- FFY, FFT, FEET, TKIND, TAB, DEFR, VGX, VGY, VJ, OMG, DD, ANX, ANY, T0, DPX, DPY, DVX, DVY, HX, HY, HT, HA, HELD,
- PIN, _SPARE0, _SPARE1) = range(48)
-#: 48 columns: a row is six whole cache lines (384 bytes)
-N_BODY = 48
-#: STOP values: the rest rule cancels the velocity in this step, or (the step after) sets it exactly zero
-STOPPING, ZEROED = 1.0, 2.0
-LAW_DRY, LAW_VISCOUS = 1.0, 2.0
-#: what the lean sweep's step of a body returns when it leaves the body to the limit-set loop
-DEFER = 2
-#: TKIND values: the exact footprint wrench; a disk's wrench table (icr_table's, dimensionless); the
-#: footprint's own table (rrbody.physics.footprint_table)
-TABLE_NONE, TABLE_CIRCLE, TABLE_FOOTPRINT = 0.0, 1.0, 2.0
-
-
-@njit(cache=True, **NO_REFCOUNT)
-def body_accel(j: int, alpha: float, vx: float, vy: float, w: float, bodies: np.ndarray, shapes: np.ndarray,
-               geo: np.ndarray, tables: np.ndarray) -> tuple[float, float, float]:
-    """Friction (ax, ay, alpha_dot) of body ``j`` with angle ``alpha`` (rad), centre-of-gravity velocity
-    (vx, vy) (m/s, world) and spin ``w`` (rad/s): force per unit mass (m/s^2, world) and the angular
-    acceleration (rad/s^2)."""
-    sa, ca = sincos_reduced(alpha)  # as the step evaluates it
-    return _accel(j, ca, sa, vx, vy, w, bodies, shapes, geo, tables)
-
-
-@njit(cache=True, inline="always")
-def _accel(j: int, ca: float, sa: float, vx: float, vy: float, w: float, bodies: np.ndarray, shapes: np.ndarray,
-           geo: np.ndarray, tables: np.ndarray) -> tuple[float, float, float]:
-    """:func:`body_accel` at the angle whose cosine and sine are ``ca``, ``sa`` (the kernel's step has
-    them already, for the active load)."""
-    c = bodies[j, COEFF]
-    if c == 0.0:
-        return 0.0, 0.0, 0.0
-    vbx = ca * vx + sa * vy  # body frame
-    vby = -sa * vx + ca * vy
-    if bodies[j, LAW] == LAW_VISCOUS:
-        # every element feels -gamma v(s): linear, so the footprint's mean position and spread suffice
-        gx = bodies[j, VGX]
-        gy = bodies[j, VGY]
-        fx = -c * (vbx - w * gy)
-        fy = -c * (vby + w * gx)
-        tq = -c * (gx * vby - gy * vbx + w * bodies[j, VJ])
-        return ca * fx - sa * fy, sa * fx + ca * fy, tq / bodies[j, IPM]
-    tk = bodies[j, TKIND]
-    if tk == TABLE_CIRCLE:
-        fx, fy, tq = _circle(j, vbx, vby, w, bodies, shapes, tables)
-    elif tk == TABLE_FOOTPRINT:
-        fx, fy, tq = footprint_table_wrench(tables, int(bodies[j, TAB]), shapes, geo, int(bodies[j, S0]),
-                                            int(bodies[j, S1]), vbx, vby, w, bodies[j, VEPS])
-    else:
-        fx, fy, tq = footprint_wrench(shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), vbx, vby, w,
-                                      bodies[j, VEPS])
-    return c * (ca * fx - sa * fy), c * (sa * fx + ca * fy), c * tq / bodies[j, IPM]
-
-
-@njit(cache=True, inline="always")
-def _circle(j: int, vbx: float, vby: float, w: float, bodies: np.ndarray, shapes: np.ndarray,
-            tables: np.ndarray) -> tuple[float, float, float]:
-    """Dry friction per unit load and mu g of body j, one uniformly loaded disk (its one footprint
-    row), from the disk's wrench table (within 1e-10 of the exact wrench, :mod:`rrbody.physics.icr_table`;
-    no trigonometric call, one square root): velocity (m/s) body frame, the force dimensionless, the
-    torque about the centre of gravity in m."""
-    k = int(bodies[j, S0])
-    ox = shapes[k, C.CX]
-    oy = shapes[k, C.CY]
-    r = shapes[k, C.RA]
-    # the disk centre's velocity, the table's wrench about it, moved to the centre of gravity
-    fx, fy, tq = table_wrench_body(tables[int(bodies[j, TAB]):], r, r, vbx - w * oy, vby + w * ox, w, 1.0,
-                                   bodies[j, VEPS])
-    wt = shapes[k, C.WEIGHT]
-    return wt * fx, wt * fy, wt * (tq + ox * fy - oy * fx)
-
-
-@njit(cache=True, **NO_REFCOUNT)
-def limited(j: int, ca: float, sa: float, vx: float, vy: float, w: float, ex: float, ey: float, ew: float, dt: float,
-            bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray, tables: np.ndarray, lx: float, ly: float,
-            lw: float) -> tuple[float, float, float, float]:
-    """Friction (ax, ay, alpha_dot) at the angle whose cosine and sine are ``ca``, ``sa`` and the
-    velocity (ex, ey, ew), and the factor s in [0, 1] that keeps
-    the impulse dt s (ax, ay, alpha_dot) from carrying the kinetic energy of the velocity after the
-    load's impulse, (vx, vy, w) + dt (lx, ly, lw) (the other forces per unit mass, m/s^2, and their
-    angular acceleration, rad/s^2), past its minimum along the friction impulse: no chatter, and
-    friction never gains energy."""
-    ax, ay, aw = _accel(j, ca, sa, ex, ey, ew, bodies, shapes, geo, tables)
-    ipm = bodies[j, IPM]
-    ux = vx + dt * lx
-    uy = vy + dt * ly
-    uw = w + dt * lw
-    num = -(ux * ax + uy * ay + ipm * uw * aw)
-    den = dt * (ax * ax + ay * ay + ipm * aw * aw)
-    if den > 0.0 and num < den:
-        if ex != vx or ey != vy or ew != w:
-            # near a stop the extrapolated velocity is unreliable: use the current one
-            return limited(j, ca, sa, vx, vy, w, vx, vy, w, dt, bodies, shapes, geo, tables, lx, ly, lw)
-        return ax, ay, aw, max(num / den, 0.0)
-    return ax, ay, aw, 1.0
 
 
 @njit(cache=True)
@@ -166,15 +38,6 @@ def _find(lookup: np.ndarray, key: np.int64) -> int:
     if lo < lookup.shape[1] and lookup[0, lo] == key:
         return lookup[1, lo]
     return -1
-
-
-#: rows of ``cache`` (int64, 3 x at least max(N_STATUS, bodies in the space)): the plugin row of each row of
-#: the space's bulk read (-1: not a plugin body), the id it was found for, and the last check's status
-ROWMAP, ROW_ID, STATUS = 0, 1, 2
-#: STATUS entries: plugin bodies found in the space, plugin bodies with a non-finite state, and the
-#: ``got`` row of the first of them (-1 if none)
-SEEN, BAD, FIRST_BAD = 0, 1, 2
-N_STATUS = 3
 
 
 @njit(cache=True)

@@ -1,0 +1,103 @@
+"""A plugin body's friction and its limiter (:mod:`rrbody.engine.kernel`'s per-body evaluation): the
+wrench of its footprint (exact, or from a wrench table), per unit mass in the world frame, and the
+factor that keeps an impulse of it from overshooting. Units: SI; columns :mod:`rrbody.engine.columns`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from rrbody.engine.columns import (COEFF, IPM, LAW, LAW_VISCOUS, S0, S1, TAB, TABLE_CIRCLE, TABLE_FOOTPRINT, TKIND,
+                                   VEPS, VGX, VGY, VJ)
+from rrbody.engine.lean import NO_REFCOUNT
+from rrbody.physics import contact as C
+from rrbody.physics.contact import footprint_wrench
+from rrbody.physics.effects.drive_circular import sincos_reduced
+from rrbody.physics.footprint_table import footprint_table_wrench
+from rrbody.physics.icr_table import table_wrench_body
+
+__all__ = ["body_accel", "limited"]
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def body_accel(j: int, alpha: float, vx: float, vy: float, w: float, bodies: np.ndarray, shapes: np.ndarray,
+               geo: np.ndarray, tables: np.ndarray) -> tuple[float, float, float]:
+    """Friction (ax, ay, alpha_dot) of body ``j`` with angle ``alpha`` (rad), centre-of-gravity velocity
+    (vx, vy) (m/s, world) and spin ``w`` (rad/s): force per unit mass (m/s^2, world) and the angular
+    acceleration (rad/s^2)."""
+    sa, ca = sincos_reduced(alpha)  # as the step evaluates it
+    return _accel(j, ca, sa, vx, vy, w, bodies, shapes, geo, tables)
+
+
+@njit(cache=True, inline="always")
+def _accel(j: int, ca: float, sa: float, vx: float, vy: float, w: float, bodies: np.ndarray, shapes: np.ndarray,
+           geo: np.ndarray, tables: np.ndarray) -> tuple[float, float, float]:
+    """:func:`body_accel` at the angle whose cosine and sine are ``ca``, ``sa`` (the kernel's step has
+    them already, for the active load)."""
+    c = bodies[j, COEFF]
+    if c == 0.0:
+        return 0.0, 0.0, 0.0
+    vbx = ca * vx + sa * vy  # body frame
+    vby = -sa * vx + ca * vy
+    if bodies[j, LAW] == LAW_VISCOUS:
+        # every element feels -gamma v(s): linear, so the footprint's mean position and spread suffice
+        gx = bodies[j, VGX]
+        gy = bodies[j, VGY]
+        fx = -c * (vbx - w * gy)
+        fy = -c * (vby + w * gx)
+        tq = -c * (gx * vby - gy * vbx + w * bodies[j, VJ])
+        return ca * fx - sa * fy, sa * fx + ca * fy, tq / bodies[j, IPM]
+    tk = bodies[j, TKIND]
+    if tk == TABLE_CIRCLE:
+        fx, fy, tq = _circle(j, vbx, vby, w, bodies, shapes, tables)
+    elif tk == TABLE_FOOTPRINT:
+        fx, fy, tq = footprint_table_wrench(tables, int(bodies[j, TAB]), shapes, geo, int(bodies[j, S0]),
+                                            int(bodies[j, S1]), vbx, vby, w, bodies[j, VEPS])
+    else:
+        fx, fy, tq = footprint_wrench(shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), vbx, vby, w,
+                                      bodies[j, VEPS])
+    return c * (ca * fx - sa * fy), c * (sa * fx + ca * fy), c * tq / bodies[j, IPM]
+
+
+@njit(cache=True, inline="always")
+def _circle(j: int, vbx: float, vby: float, w: float, bodies: np.ndarray, shapes: np.ndarray,
+            tables: np.ndarray) -> tuple[float, float, float]:
+    """Dry friction per unit load and mu g of body j, one uniformly loaded disk (its one footprint
+    row), from the disk's wrench table (within 1e-10 of the exact wrench, :mod:`rrbody.physics.icr_table`;
+    no trigonometric call, one square root): velocity (m/s) body frame, the force dimensionless, the
+    torque about the centre of gravity in m."""
+    k = int(bodies[j, S0])
+    ox = shapes[k, C.CX]
+    oy = shapes[k, C.CY]
+    r = shapes[k, C.RA]
+    # the disk centre's velocity, the table's wrench about it, moved to the centre of gravity
+    fx, fy, tq = table_wrench_body(tables[int(bodies[j, TAB]):], r, r, vbx - w * oy, vby + w * ox, w, 1.0,
+                                   bodies[j, VEPS])
+    wt = shapes[k, C.WEIGHT]
+    return wt * fx, wt * fy, wt * (tq + ox * fy - oy * fx)
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def limited(j: int, ca: float, sa: float, vx: float, vy: float, w: float, ex: float, ey: float, ew: float, dt: float,
+            bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray, tables: np.ndarray, lx: float, ly: float,
+            lw: float) -> tuple[float, float, float, float]:
+    """Friction (ax, ay, alpha_dot) at the angle whose cosine and sine are ``ca``, ``sa`` and the
+    velocity (ex, ey, ew), and the factor s in [0, 1] that keeps
+    the impulse dt s (ax, ay, alpha_dot) from carrying the kinetic energy of the velocity after the
+    load's impulse, (vx, vy, w) + dt (lx, ly, lw) (the other forces per unit mass, m/s^2, and their
+    angular acceleration, rad/s^2), past its minimum along the friction impulse: no chatter, and
+    friction never gains energy."""
+    ax, ay, aw = _accel(j, ca, sa, ex, ey, ew, bodies, shapes, geo, tables)
+    ipm = bodies[j, IPM]
+    ux = vx + dt * lx
+    uy = vy + dt * ly
+    uw = w + dt * lw
+    num = -(ux * ax + uy * ay + ipm * uw * aw)
+    den = dt * (ax * ax + ay * ay + ipm * aw * aw)
+    if den > 0.0 and num < den:
+        if ex != vx or ey != vy or ew != w:
+            # near a stop the extrapolated velocity is unreliable: use the current one
+            return limited(j, ca, sa, vx, vy, w, vx, vy, w, dt, bodies, shapes, geo, tables, lx, ly, lw)
+        return ax, ay, aw, max(num / den, 0.0)
+    return ax, ay, aw, 1.0

@@ -1,0 +1,60 @@
+"""The plugin kernel's arrays (:mod:`rrbody.engine.kernel`): their layouts and the names of their columns.
+
+Array layouts (columns)
+-----------------------
+``bodies`` (float, one row per plugin body; the columns are named, their order is the kernel's own
+business): MASS (kg), IPM = I/m (m^2), LAW (1 dry, 2 viscous),
+COEFF (mu g in m/s^2, or gamma in 1/s), REACH (m: largest distance of the footprint from the centre
+of gravity), SNAP (1.0: the rest rule applies), S0, S1 (its rows in ``shapes``), VEPS (m/s: slower
+elements have no dry-friction direction), VGX, VGY, VJ (load-weighted mean position, m, and mean
+squared distance, m^2, of the footprint: all the viscous law needs), STAG (1.0: the staggered,
+second-order reading of velocities; 0.0: plain symplectic Euler), then the state: PVX, PVY, PW
+(the velocity one step back), GAP (s between it and the current one; 0 = no history yet), STOP
+(STOPPING or ZEROED if the rest rule acted in the last step, else 0), EA, EW (the angle and spin
+friction was evaluated at); for a body held at P by rrbody's circular driver (DRV = 1): OMG, DD
+(omega, rad/s, and d, m), ANX, ANY (P in the body frame, m), T0 (the plugin's time at attach, s), and
+the driver's state for this step DPX, DPY, DVX, DVY (m, m/s), computed with the friction; MUS
+(mu_static g cos(tilt), m/s^2: the static friction per unit mass; 0: none), GTX, GTY (gravity's
+in-plane part on a tilted plane, m/s^2, world frame), and the last load static friction held: HX,
+HY, HT (per unit mass, world frame) at the angle HA, HELD = 1.0 (the next step with the same load
+and angle needs no new test); FFX, FFY, FFT: the friction the last step applied (N, world frame, and
+N m about the centre of gravity; static friction and the rest rule's stopping impulse included), for
+readers such as the recorder; FEET (1.0: a body on two or more point feet, whose foot static friction
+holds at rest: :mod:`rrbody.engine.feet`), PIN (1 + the index of the foot held since the last step, 0:
+none), DEFR (1.0 while :func:`rrbody.engine.kernel.plane_step` has deferred the body to its limit-set loop), TKIND, TAB:
+how its dry friction is evaluated (TABLE_NONE: :func:`rrbody.physics.contact.footprint_wrench`, exact;
+TABLE_CIRCLE: one disk, the wrench table of :mod:`rrbody.physics.icr_table`; TABLE_FOOTPRINT: the
+footprint's own table, :mod:`rrbody.physics.footprint_table`) and where its table starts in ``tables``.
+``tables`` (float, rows of 3): the wrench tables the bodies use, one copy per distinct table.
+``shapes`` (float, per footprint part) and ``geo``: the footprint rows of :mod:`rrbody.physics.contact`.
+``lookup``: row 0 the plugin bodies' ids (int64 view of pymunk's uintptr ids) sorted, row 1 their rows.
+``cache`` (int64, rows ROWMAP, ROW_ID, STATUS): the plugin row of each row of the space's bulk read,
+the id it was found for, and what the last check found (see :func:`rrbody.engine.kernel.plane_check`).
+"""
+
+from __future__ import annotations
+
+__all__ = ["MASS", "IPM", "LAW", "COEFF", "REACH", "SNAP", "S0", "S1", "VEPS", "STAG", "PVX", "PVY", "PW", "GAP", "STOP", "EA", "EW", "DRV", "MUS", "GTX", "GTY", "FFX", "FFY", "FFT", "FEET", "TKIND", "TAB", "DEFR", "VGX", "VGY", "VJ", "OMG", "DD", "ANX", "ANY", "T0", "DPX", "DPY", "DVX", "DVY", "HX", "HY", "HT", "HA", "HELD", "PIN", "N_BODY", "STOPPING", "ZEROED", "LAW_DRY", "LAW_VISCOUS", "DEFER", "TABLE_NONE", "TABLE_CIRCLE", "TABLE_FOOTPRINT", "N_STATUS", "ROWMAP", "ROW_ID", "STATUS", "SEEN", "BAD", "FIRST_BAD"]
+
+# the columns every step reads or writes come first (four of the row's six cache lines), the rest after
+(MASS, IPM, LAW, COEFF, REACH, SNAP, S0, S1, VEPS, STAG, PVX, PVY, PW, GAP, STOP, EA, EW, DRV, MUS, GTX, GTY, FFX,
+ FFY, FFT, FEET, TKIND, TAB, DEFR, VGX, VGY, VJ, OMG, DD, ANX, ANY, T0, DPX, DPY, DVX, DVY, HX, HY, HT, HA, HELD,
+ PIN, _SPARE0, _SPARE1) = range(48)
+#: 48 columns: a row is 384 bytes, six cache lines' worth (two spare columns)
+N_BODY = 48
+#: STOP values: the rest rule cancels the velocity in this step, or (the step after) sets it exactly zero
+STOPPING, ZEROED = 1.0, 2.0
+LAW_DRY, LAW_VISCOUS = 1.0, 2.0
+#: what the lean sweep's step of a body returns when it leaves the body to the limit-set loop
+DEFER = 2
+#: TKIND values: the exact footprint wrench; a disk's wrench table (icr_table's, dimensionless); the
+#: footprint's own table (rrbody.physics.footprint_table)
+TABLE_NONE, TABLE_CIRCLE, TABLE_FOOTPRINT = 0.0, 1.0, 2.0
+
+#: rows of ``cache`` (int64, 3 x at least max(N_STATUS, bodies in the space)): the plugin row of each row of
+#: the space's bulk read (-1: not a plugin body), the id it was found for, and the last check's status
+ROWMAP, ROW_ID, STATUS = 0, 1, 2
+#: STATUS entries: plugin bodies found in the space, plugin bodies with a non-finite state, and the
+#: ``got`` row of the first of them (-1 if none)
+SEEN, BAD, FIRST_BAD = 0, 1, 2
+N_STATUS = 3
