@@ -70,7 +70,7 @@ def test_ten_thousand_adds_move_the_arrays_only_when_their_capacity_doubles() ->
     assert at_1000 == math.ceil(math.log2(1000 / 16)) == 6
     assert moves == pf._rows.reallocs == math.ceil(math.log2(10_000 / 16)) == 10
     # the ids and the footprint rows grow alike (a disk has one footprint row and no geo rows)
-    assert (pf._idrows.reallocs, pf._shrows.reallocs, pf._georows.reallocs) == (10, 10, 0)
+    assert (pf._idrows.reallocs, pf._feet._shapes.reallocs, pf._feet._geo.reallocs) == (10, 10, 0)
     pf.step(DT)  # every one of them feels friction in the one compiled call
     assert all(b.velocity.x < 1.0 for b in pf.bodies)
 
@@ -84,7 +84,7 @@ def test_removals_move_one_row_and_the_others_keep_their_exact_friction() -> Non
     bodies = [_body(space, i, i % 3) for i in range(600)]
     for b in bodies:
         pf.add(b, mu=0.3)
-    grown = [r.reallocs for r in (pf._rows, pf._idrows, pf._shrows, pf._georows)]
+    grown = [r.reallocs for r in (pf._rows, pf._idrows, pf._feet._shapes, pf._feet._geo)]
     rng = np.random.default_rng(5)
     gone = set()
     for k in rng.permutation(len(bodies))[:400]:
@@ -96,14 +96,14 @@ def test_removals_move_one_row_and_the_others_keep_their_exact_friction() -> Non
     for k in range(0, 600, 7):  # re-read in place (its old footprint rows become garbage)
         if k not in gone:
             pf.add(bodies[k], mu=0.3)
-    assert [r.reallocs for r in (pf._rows, pf._idrows, pf._shrows, pf._georows)] == grown
+    assert [r.reallocs for r in (pf._rows, pf._idrows, pf._feet._shapes, pf._feet._geo)] == grown
     kept = [b for i, b in enumerate(bodies) if i not in gone]
     assert set(pf.bodies) == set(kept) and len(pf.bodies) == len(kept)
-    # garbage is bounded by the live rows plus the slack of PlaneFriction._compact_if_sparse (64, 1024):
+    # garbage is bounded by the live rows plus the slack of Footprints.compact_if_sparse (64, 1024):
     # without compaction the 400 removed footprints (a third of them 34-gon stadiums) would exceed it
-    for k, (rows, slack) in enumerate(((pf._shrows, 64), (pf._georows, 1024))):
+    for k, (rows, slack) in enumerate(((pf._feet._shapes, 64), (pf._feet._geo, 1024))):
         live = sum(pf._geo[j][k].shape[0] for j in range(len(kept)))
-        assert rows.n - pf._dead[k] == live and pf._dead[k] <= live + slack
+        assert rows.n - pf._feet._dead[k] == live and pf._feet._dead[k] <= live + slack
     ref = PlaneFriction(space)
     for b in kept:
         ref.add(b, mu=0.3)

@@ -178,7 +178,7 @@ def test_footprint_table_in_the_plugin() -> None:
     pf.add(c, mu=0.3)  # "auto": exact
     ja, jb, jc = (pf._slots[x] for x in (a, b, c))
     assert pf._bodies[ja, K.TKIND] == pf._bodies[jb, K.TKIND] == K.TABLE_FOOTPRINT
-    assert pf._bodies[ja, K.TAB] == pf._bodies[jb, K.TAB] and len(pf._tab_at) == 1
+    assert pf._bodies[ja, K.TAB] == pf._bodies[jb, K.TAB] and pf._feet.tables == 1
     assert pf._bodies[jc, K.TKIND] == K.TABLE_NONE
     rng = np.random.default_rng(8)
     scale = 0.3 * G * a.mass

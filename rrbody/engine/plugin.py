@@ -20,7 +20,6 @@ guaranteed at rest) is in docs/plugin.md.
 
 from __future__ import annotations
 
-import hashlib
 import math
 from typing import Any
 
@@ -31,6 +30,7 @@ from rrbody.engine.active import NO_ACTIVE, ActiveSet
 from rrbody.engine.batchio import BatchIO, body_uid
 from rrbody.engine.bodymem import layout
 from rrbody.engine.feet import feet_step
+from rrbody.engine.footprints import Footprints
 from rrbody.engine.lean import fast_entry
 from rrbody.engine.rows import Rows
 from rrbody.engine.shapes import body_footprint
@@ -41,8 +41,6 @@ from rrbody.model.friction import check_mu_static
 from rrbody.model.pressure import PRESSURE_KINDS, Pressure, as_pressure
 from rrbody.physics import contact as C
 from rrbody.physics.footprint import Footprint
-from rrbody.physics.footprint_table import build_footprint_table
-from rrbody.physics.icr_table import build_table
 
 __all__ = ["PlaneFriction", "PRESSURES", "Active"]
 
@@ -50,10 +48,6 @@ __all__ = ["PlaneFriction", "PRESSURES", "Active"]
 PRESSURES: tuple[str, ...] = PRESSURE_KINDS
 #: ``add``'s friction_method: each step's exact wrench (a disk: its table), or the footprint's wrench table
 FRICTION_METHODS: tuple[str, ...] = ("auto", "table")
-#: the wrench tables built in this process, by name (a footprint's: "footprint:" and a hash of its rows):
-#: every PlaneFriction copies what it uses from here, so a shape's table is built once per process
-#: (a few MB each, kept for the process's life)
-_BUILT: dict[str, np.ndarray] = {}
 
 
 def _not_finite(position: tuple[float, float] | None, angle: float, velocity: tuple[float, float],
@@ -114,12 +108,8 @@ class PlaneFriction:
         self._list: list[Any] = []  # row -> body
         self._rows = Rows(K.N_BODY)  # the kernel's ``bodies`` rows
         self._idrows = Rows(None, np.int64)  # row -> the body's id (int64 view of pymunk's uintptr)
-        self._shrows = Rows(C.N_SHAPE)  # every body's footprint rows, ranges shifted into ``_georows``
-        self._georows = Rows(3)
-        self._tabrows = Rows(3)  # the wrench tables the bodies use (kernel.TKIND), one copy of each
-        self._tab_at: dict[str, int] = {}  # a table's name -> its first row in ``_tabrows``
-        self._dead = [0, 0]  # rows of _shrows, _georows no body points to any more (compacted when many)
-        self._geo: list[tuple[np.ndarray, np.ndarray]] = []  # row -> its footprint rows and geo block
+        self._feet = Footprints()  # the footprints and wrench tables: the kernel's shapes, geo, tables
+        self._geo = self._feet.rows  # row -> its footprint rows and geo block
         self._views()
         self.pre_step: list[Any] = []  # callables f(dt) run after friction is set, before space.step (builder)
         self._fresh: set[Any] = set()
@@ -213,15 +203,8 @@ class PlaneFriction:
         row[K.HELD] = -1.0  # no load tested yet
         # two or more point feet: a foot at rest is held by static friction (rrbody.engine.feet)
         row[K.FEET] = 1.0 if shapes.shape[0] > 1 and bool(np.all(shapes[:, C.KIND] == C.POINT)) else 0.0
-        if shapes.shape[0] == 1 and shapes[0, C.KIND] == C.ELLIPSE and shapes[0, C.RA] == shapes[0, C.RB]:
-            # one uniformly loaded disk: its wrench table (scale-free, one for every disk) is as exact as
-            # the quadrature (within 1e-10) and ~6x cheaper
-            row[K.TKIND], row[K.TAB] = K.TABLE_CIRCLE, self._table("disk", lambda: build_table(1.0, 1.0))
-        elif tabulate and law == K.LAW_DRY:
-            # one table per distinct footprint (its rows and geometry, ranges local to it)
-            key = "footprint:" + hashlib.sha256(shapes.tobytes() + geo.tobytes()).hexdigest()
-            row[K.TKIND], row[K.TAB] = K.TABLE_FOOTPRINT, self._table(
-                key, lambda: build_footprint_table(shapes, geo, 0, shapes.shape[0]))
+        if law == K.LAW_DRY:  # (the viscous law is linear: exact and cheap without a table)
+            row[K.TKIND], row[K.TAB] = self._feet.friction_table(shapes, geo, tabulate)
         if history is not None:
             row[[K.PVX, K.PVY, K.PW, K.GAP]] = history
         j = self._slots.get(body)
@@ -234,11 +217,11 @@ class PlaneFriction:
             self._dirty = True
             self.members += 1
         else:  # re-read: the old footprint rows become garbage (compacted when they outnumber the live ones)
-            self._drop_geometry(j)
+            self._feet.drop(j)
             self._rows.buf[j] = row
             self._geo[j] = (shapes, geo)
-        self._place(j)
-        self._compact_if_sparse()
+        self._feet.place(j, self._rows.buf)
+        self._feet.compact_if_sparse(self._rows.buf)
         self._views()
         if history is None:
             self._fresh.add(body)
@@ -252,7 +235,7 @@ class PlaneFriction:
         if body not in self._slots:
             raise ValueError(f"body is not in this PlaneFriction, got {body!r}")
         j = self._slots.pop(body)
-        self._drop_geometry(j)
+        self._feet.drop(j)
         last = self._rows.n - 1
         if j != last:
             moved = self._list[last]
@@ -265,65 +248,17 @@ class PlaneFriction:
         self._geo.pop()
         self._rows.n -= 1
         self._idrows.n -= 1
-        self._compact_if_sparse()
+        self._feet.compact_if_sparse(self._rows.buf)
         self._views()
         self._fresh.discard(body)
         self._t_stop.pop(body, None)
         self._dirty = True
         self.members += 1
 
-    def _table(self, name: str, build: Any) -> int:
-        """The first row of the wrench table ``name`` in the kernel's ``tables``, appended the first
-        time this plugin asks for it: from the process's tables (:data:`_BUILT`), or built by
-        ``build()`` (rows of 3) and kept there."""
-        at = self._tab_at.get(name)
-        if at is None:
-            table = _BUILT.get(name)
-            if table is None:
-                table = _BUILT[name] = np.asarray(build(), dtype=float)
-            at = self._tab_at[name] = self._tabrows.append(table)
-        return at
-
-    def _place(self, j: int) -> None:
-        """Append row j's footprint (``_geo[j]``) to the kernel's shapes and geo arrays, its polygon and
-        sample ranges shifted to where its geo block lands, and point the body's S0, S1 at it."""
-        sh, geo = self._geo[j]
-        s0 = self._shrows.append(sh)
-        if geo.shape[0]:  # polygons and samples: their vertex and rule ranges move with the block
-            ng = self._georows.append(geo)
-            if ng:
-                rows = self._shrows.buf[s0:s0 + sh.shape[0]]
-                kind = rows[:, C.KIND]
-                rows[kind == C.POLYGON, C.V0:C.Q1 + 1] += ng  # V0, V1, Q0, Q1: consecutive columns
-                rows[kind == C.SAMPLED, C.Q0:C.Q1 + 1] += ng
-        buf = self._rows.buf
-        buf[j, K.S0] = s0
-        buf[j, K.S1] = s0 + sh.shape[0]
-
-    def _drop_geometry(self, j: int) -> None:
-        """Row j's footprint rows are garbage now (the caller compacts once the rows are consistent)."""
-        sh, geo = self._geo[j]
-        self._dead[0] += sh.shape[0]
-        self._dead[1] += geo.shape[0]
-
-    def _compact_if_sparse(self) -> None:
-        """Rewrite the shapes and geo arrays from the live footprints once garbage outnumbers them (plus
-        some slack): O(live) work after at least as many dead rows, so O(1) amortised per add/remove."""
-        live_s = self._shrows.n - self._dead[0]
-        live_g = self._georows.n - self._dead[1]
-        if self._dead[0] <= live_s + 64 and self._dead[1] <= live_g + 1024:
-            return
-        self._shrows.n = self._georows.n = 0
-        self._dead = [0, 0]
-        for j in range(self._rows.n):
-            self._place(j)
-
     def _views(self) -> None:
         """The kernel's arrays: views of the rows in use (no copy)."""
         self._bodies = self._rows.view
-        self._k_shapes = self._shrows.view
-        self._k_geo = self._georows.view
-        self._k_tables = self._tabrows.view
+        self._k_shapes, self._k_geo, self._k_tables = self._feet.arrays
 
     def _relink(self) -> None:
         """After adds or removals: the sorted id -> row table, and a reset of the kernel's row cache."""
