@@ -65,10 +65,10 @@ class ActiveSet:
         n = len(pf._list)
         rows = np.zeros((n, A.N_ACTIVE))
         first = 0
-        for body in pf._list:  # in row order: the noise's numbers go to the bodies in a fixed order
+        for j, body in enumerate(pf._list):  # in row order: the noise's numbers go to the bodies in a fixed order
             a = self.params.get(body)
             if a is not None:
-                rows[slots[body]] = A.row(a.body_force, a.torque, a.drag, a.rot_drag, a.diffusion, a.rot_diffusion,
+                rows[j] = A.row(a.body_force, a.torque, a.drag, a.rot_drag, a.diffusion, a.rot_diffusion,
                                           float(body.mass), float(body.moment), first)
                 first += A.noise_count(a.diffusion, a.rot_diffusion)
         self._rows = rows if self.params else NO_ACTIVE[0]

@@ -27,8 +27,8 @@ from numba import njit
 from numba.core import types
 from numba.extending import intrinsic
 
-__all__ = ["address", "f64_at", "i64_at", "set_f64", "layout", "X", "Y", "ANGLE", "VX", "VY", "SPIN", "SPACE", "FX",
-           "FY", "TORQUE"]
+__all__ = ["address", "addresses", "f64_at", "i64_at", "set_f64", "layout", "X", "Y", "ANGLE", "VX", "VY", "SPIN",
+           "SPACE", "FX", "FY", "TORQUE"]
 
 #: the entries of :func:`layout`'s offsets: position (m), angle (rad), velocity (m/s), spin (rad/s),
 #: the body's space (a pointer; null once removed), force (N) and torque (N m)
@@ -43,6 +43,11 @@ def address(cdata: Any) -> int:
 
     a = int(ffi.cast("uintptr_t", cdata))
     return a - (1 << 64) if a >= 1 << 63 else a
+
+
+def addresses(bodies: Any) -> np.ndarray:
+    """The addresses of pymunk bodies' structs (int64 array, in the order given)."""
+    return np.array([address(b._body) for b in bodies], dtype=np.int64)
 
 
 @intrinsic

@@ -34,7 +34,12 @@ the id it was found for, and what the last check found (see :func:`rrbody.engine
 
 from __future__ import annotations
 
-__all__ = ["MASS", "IPM", "LAW", "COEFF", "REACH", "SNAP", "S0", "S1", "VEPS", "STAG", "PVX", "PVY", "PW", "GAP", "STOP", "EA", "EW", "DRV", "MUS", "GTX", "GTY", "FFX", "FFY", "FFT", "FEET", "TKIND", "TAB", "DEFR", "VGX", "VGY", "VJ", "OMG", "DD", "ANX", "ANY", "T0", "DPX", "DPY", "DVX", "DVY", "HX", "HY", "HT", "HA", "HELD", "PIN", "N_BODY", "STOPPING", "ZEROED", "LAW_DRY", "LAW_VISCOUS", "DEFER", "TABLE_NONE", "TABLE_CIRCLE", "TABLE_FOOTPRINT", "N_STATUS", "ROWMAP", "ROW_ID", "STATUS", "SEEN", "BAD", "FIRST_BAD"]
+__all__ = ["MASS", "IPM", "LAW", "COEFF", "REACH", "SNAP", "S0", "S1", "VEPS", "STAG", "PVX", "PVY", "PW", "GAP",
+           "STOP", "EA", "EW", "DRV", "MUS", "GTX", "GTY", "FFX", "FFY", "FFT", "FEET", "TKIND", "TAB",
+           "DEFR", "VGX", "VGY", "VJ", "OMG", "DD", "ANX", "ANY", "T0", "DPX", "DPY", "DVX", "DVY", "HX",
+           "HY", "HT", "HA", "HELD", "PIN", "N_BODY", "STOPPING", "ZEROED", "LAW_DRY", "LAW_VISCOUS",
+           "DEFER", "TABLE_NONE", "TABLE_CIRCLE", "TABLE_FOOTPRINT", "N_STATUS", "ROWMAP", "ROW_ID",
+           "STATUS", "SEEN", "BAD", "FIRST_BAD"]
 
 # the columns every step reads or writes come first (four of the row's six cache lines), the rest after
 (MASS, IPM, LAW, COEFF, REACH, SNAP, S0, S1, VEPS, STAG, PVX, PVY, PW, GAP, STOP, EA, EW, DRV, MUS, GTX, GTY, FFX,

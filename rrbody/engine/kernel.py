@@ -322,6 +322,21 @@ def _commit(j: int, bodies: np.ndarray, vx: float, vy: float, w: float, alpha: f
 
 
 @njit(cache=True, inline="always")
+def _evaluate(i, j, ca, sa, vx, vy, w, ex, ey, ew, dt, was, bodies, shapes, geo, tables, out):  # noqa: ANN001, ANN202
+    """Friction (ax, ay, alpha_dot) of body j at the velocity (ex, ey, ew), its limiter's factor s
+    (:func:`limited`, under the load in ``out[i]``) and whether the rest rule may stop the body in this
+    step: every point slower than the deceleration friction leaves, where the limiter cut the impulse
+    or, the step after a stop, where what is left is rounding (friction, in its dead band, may then
+    give no impulse to limit). Changes no state."""
+    m0 = bodies[j, MASS]
+    ax, ay, aw, s = limited(j, ca, sa, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo, tables, out[i, 0] / m0,
+                            out[i, 1] / m0, out[i, 2] / (m0 * bodies[j, IPM]))
+    stop = (s < 1.0 or was == STOPPING) and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY \
+        and _slow_enough(i, j, vx, vy, w, dt, bodies, out)
+    return ax, ay, aw, s, stop
+
+
+@njit(cache=True, inline="always")
 def _friction(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_break,  # noqa: ANN001, ANN202
               defer, alpha, ca, sa):
     """Add this step's friction on plugin body ``j`` (row ``i`` of the space's read) to ``out[i]``, which
@@ -353,17 +368,13 @@ def _friction(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_
     if defer and static and (resting or feet):
         return DEFER
     m0 = bodies[j, MASS]
-    # (the step after a stop: what is left is rounding, zeroed where the body is slow enough even if
-    # friction, in its dead band, gives no impulse to limit)
     ax = ay = aw = 0.0
     s = 1.0
     stop = False
     if not (resting or feet):
-        # (friction's evaluation changes no state: a body about to stop can still be deferred)
-        ax, ay, aw, s = limited(j, ca, sa, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo, tables,
-                                out[i, 0] / m0, out[i, 1] / m0, out[i, 2] / (m0 * bodies[j, IPM]))
-        stop = (s < 1.0 or was == STOPPING) and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY \
-            and _slow_enough(i, j, vx, vy, w, dt, bodies, out)
+        # (the evaluation changes no state: a body about to stop can still be deferred)
+        ax, ay, aw, s, stop = _evaluate(i, j, ca, sa, vx, vy, w, ex, ey, ew, dt, was, bodies, shapes, geo,
+                                              tables, out)
         if stop and static and defer:
             return DEFER
     _commit(j, bodies, vx, vy, w, alpha, ew, t, dt)
@@ -399,10 +410,8 @@ def _friction(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_
             out[i, 2] += m0 * tq
             return 0
         bodies[j, PIN] = 0.0
-        ax, ay, aw, s = limited(j, ca, sa, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo, tables,
-                                out[i, 0] / m0, out[i, 1] / m0, out[i, 2] / (m0 * bodies[j, IPM]))
-        stop = (s < 1.0 or was == STOPPING) and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY \
-            and _slow_enough(i, j, vx, vy, w, dt, bodies, out)
+        ax, ay, aw, s, stop = _evaluate(i, j, ca, sa, vx, vy, w, ex, ey, ew, dt, was, bodies, shapes, geo,
+                                              tables, out)
     if stop and (not static or held(i, j, got[i, 0], bodies, shapes, geo, out)):
         # every point slower than decel dt: friction stops the body within this step (if a load
         # acts, only where static friction then holds it; else it slides on)

@@ -24,7 +24,8 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from rrbody.engine.bodymem import ANGLE, FX, FY, SPACE, SPIN, TORQUE, VX, VY, address, f64_at, i64_at, layout, set_f64
+from rrbody.engine.bodymem import (ANGLE, FX, FY, SPACE, SPIN, TORQUE, VX, VY, address, addresses, f64_at, i64_at,
+                                   layout, set_f64)
 from rrbody.engine.lean import NO_REFCOUNT
 
 __all__ = ["StructIO", "gather", "scatter"]
@@ -80,7 +81,7 @@ class StructIO:
         if one of them is not in the space (the caller then reads the space in bulk)."""
         pf = self._pf
         if self._members != pf.members:  # membership changed: the addresses again (O(n), once per change)
-            self._addr = np.array([address(b._body) for b in pf._list], dtype=np.int64)
+            self._addr = addresses(pf._list)
             n = self._addr.shape[0]
             self._got = np.zeros((n, 7))
             self._out = np.zeros((n, 3))

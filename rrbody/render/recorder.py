@@ -43,7 +43,7 @@ import numpy as np
 
 from rrbody.engine import kernel as K
 from rrbody.engine.batchio import BatchIO, body_uid
-from rrbody.engine.bodymem import address
+from rrbody.engine.bodymem import address, addresses
 from rrbody.engine.capture import capture_direct, capture_rows, layout
 from rrbody.engine.lean import fast_entry
 from rrbody.engine.rows import Rows
@@ -179,7 +179,7 @@ class Recorder:
         self._offs = layout()
         self._io = BatchIO(space, poses=True) if self._offs is None else None
         if self._offs is not None:
-            self._addr = np.array([address(b._body) for b in self.bodies], dtype=np.int64)
+            self._addr = addresses(self.bodies)
             self._space_addr = address(space._space)
 
     # ---- capture ---------------------------------------------------------------------------------
