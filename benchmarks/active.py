@@ -122,12 +122,75 @@ def _effect_share(pf: object, reps: int = 7, block: int = 20) -> tuple[float, fl
     return best[0] - best[1], best[2]
 
 
+def _breakdown(pf: object, reps: int = 15, block: int = 20) -> dict[str, float]:
+    """Where ``pf.step``'s own time goes, on one frozen state (us per step, best block of each, interleaved;
+    measured apart, so only roughly additive): the compiled call with friction off (every body's mu g
+    zeroed), with the disks' friction alone, with the L-shapes' alone (from their table), and with the
+    L-shapes' exact wrench in place of the table; the reads and writes through the bodies' structs and
+    through ``pymunk.batch``; and the share of the L-shapes' table calls handed to the exact wrench
+    (their instantaneous centre on or next to an edge of the L)."""
+    import numpy as np
+
+    from rrbody.engine import kernel as K
+    from rrbody.physics.footprint_table import table_covers
+    from rrbody.physics.effects.drive_circular import sincos_reduced
+
+    io = pf._sio if pf._sio is not None else pf._io  # type: ignore[attr-defined]
+    got, ids, out = io.read()
+    rows, noise = pf._act.arrays(pf)  # type: ignore[attr-defined]
+    B = pf._bodies  # type: ignore[attr-defined]
+    base = (got, ids, pf._k_lookup, pf._cache, B, pf._k_shapes, pf._k_geo,  # type: ignore[attr-defined]
+            pf._k_tables, pf.t, DT, out)  # type: ignore[attr-defined]
+    kernel = pf._kernel  # type: ignore[attr-defined]
+    disk = B[:, K.TKIND] == K.TABLE_CIRCLE
+    coeff = B[:, K.COEFF]
+    states = {"no friction": B.copy(), "disks": B.copy(), "L-shapes (table)": B.copy(), "L-shapes (exact)": B.copy()}
+    states["no friction"][:, K.COEFF] = 0.0
+    states["disks"][:, K.COEFF] = np.where(disk, coeff, 0.0)
+    for name in ("L-shapes (table)", "L-shapes (exact)"):
+        states[name][:, K.COEFF] = np.where(disk, 0.0, coeff)
+    states["L-shapes (exact)"][~disk, K.TKIND] = K.TABLE_NONE
+    saved = B.copy()
+    calls = {name: (lambda st=st: (B.__setitem__(slice(None), st), kernel(*base, rows, noise)))
+             for name, st in states.items()}
+    calls["copy only"] = lambda: B.__setitem__(slice(None), saved)
+    calls["struct read + write"] = lambda: (pf._sio.read(), pf._sio.write_forces())  # type: ignore[attr-defined]
+    calls["pymunk.batch read + write"] = lambda: (pf._io.read(), pf._io.write_forces())  # type: ignore[attr-defined]
+    if pf._sio is None:  # type: ignore[attr-defined]
+        del calls["struct read + write"]
+    best = dict.fromkeys(calls, math.inf)
+    for _ in range(reps):
+        for name, call in calls.items():
+            w0 = time.perf_counter()
+            for _ in range(block):
+                call()
+            best[name] = min(best[name], (time.perf_counter() - w0) / block)
+    B[:] = saved
+    copy = best.pop("copy only")
+    res = {name: 1e6 * (t - copy if name in states else t) for name, t in best.items()}
+    for name in ("disks", "L-shapes (table)", "L-shapes (exact)"):
+        res[name] -= res["no friction"]
+    handed, n_l = 0, 0
+    for i in range(got.shape[0]):
+        j = pf._cache[K.ROWMAP, i]  # type: ignore[attr-defined]
+        if j < 0 or disk[j]:
+            continue
+        sa, ca = sincos_reduced(got[i, 0] + got[i, 3] * DT)
+        vbx, vby = ca * got[i, 1] + sa * got[i, 2], -sa * got[i, 1] + ca * got[i, 2]
+        n_l += 1
+        handed += not table_covers(pf._k_tables, int(B[j, K.TAB]), vbx, vby, got[i, 3],  # type: ignore[attr-defined]
+                                   B[j, K.VEPS])
+    res["handed over"] = handed / max(n_l, 1)
+    return res
+
+
 def run(out: Path, *, quick: bool = False) -> StudyResult:
     ok, why = module_available("pymunk")
     if not ok:
         return StudyResult(NAME, TITLE, skipped=f"pymunk not importable ({why})")
     sizes = SIZES[:3] if quick else SIZES
     rows = []
+    parts: dict[str, float] = {}
     for n in sizes:
         space, pf, pf0, _, pfx = build(n)
         for _ in range(5):  # compiled step, first allocations, the half kicks: not counted
@@ -164,6 +227,10 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
             contacts = max(contacts, _contacts(space))
         space.step = bare
         effect, draw = _effect_share(pf, reps=7 if n >= 10000 else 15)
+        if n == 1000:
+            parts = _breakdown(pf)
+            print("[active] N=1000 breakdown (us per step, frozen state): " + ", ".join(
+                f"{k} {v:.1%}" if k == "handed over" else f"{k} {v:.1f}" for k, v in parts.items()), flush=True)
         rows.append({"effect_us": effect * 1e6, "draw_us": draw * 1e6, "N": n, "pymunk_ms": best["pymunk"] * 1e3, "active_ms": best["active"] * 1e3,
                      "added": best["active"] / best["pymunk"] - 1.0, "alone_ms": best["alone"] * 1e3,
                      "added_alone": best["alone"] / best["pymunk"] - 1.0, "contacts": contacts, "block": block,
@@ -197,6 +264,10 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
         targets.append(Target("the same with the L-shapes' exact polygon wrench every step (no table)", "(no bound)",
                               f"{r1k['added_exact']:.1%} over pymunk's step of the same states "
                               f"({r1k['exact_ms']:.3f} ms per step)", None))
+    if r1k is not None and parts:
+        targets.append(Target("breakdown at N = 1,000 (one frozen state, us per step; not additive exactly)",
+                              "(no bound)", ", ".join(f"{k} {v:.1%}" if k == "handed over" else f"{k} {v:.0f}"
+                                                      for k, v in parts.items()), None))
     if r1k is not None:  # "1,000 bodies on one core interactively": at least 60 steps per s of computing
         rate = 1e3 / r1k["active_ms"]
         targets.append(Target("1,000 active bodies interactively, one core", ">= 60 steps/s (pf.step <= 16.7 ms)",
