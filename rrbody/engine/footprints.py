@@ -6,13 +6,15 @@ A footprint is a body's parts (rows of :mod:`rrbody.physics.contact`, geometry i
 its centre of gravity, m) and their geometry block; placed, its polygon and sample ranges are shifted
 to where its block lands. A wrench table (rows of 3) is named: "disk" (the disk's table,
 :mod:`rrbody.physics.icr_table`, scale-free) or "footprint:" and a hash of a footprint's rows (its own
-table, :mod:`rrbody.physics.footprint_table`); the process keeps every table it built (:data:`BUILT`),
-so a shape's table is built once per process and copied into each plugin that uses it.
+table, :mod:`rrbody.physics.footprint_table`); the process keeps every table it built or loaded
+(:data:`BUILT`), and the cache folder keeps them across processes (:func:`stored`), so a shape's table
+is built once per machine (and per version of the sources) and copied into each plugin that uses it.
 """
 
 from __future__ import annotations
 
 import hashlib
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -23,10 +25,46 @@ from rrbody.physics import contact as C
 from rrbody.physics.footprint_table import build_footprint_table
 from rrbody.physics.icr_table import build_table
 
-__all__ = ["Footprints", "BUILT"]
+__all__ = ["Footprints", "BUILT", "stored"]
 
 #: the wrench tables built in this process, by name: a few MB each, kept for the process's life
 BUILT: dict[str, np.ndarray] = {}
+
+
+def stored(name: str, build: Any) -> np.ndarray:
+    """The wrench table ``name`` from the cache folder, or ``build()`` and stored there.
+
+    Tables live beside the compiled kernels (``rrbody._cache.kernels_dir()/tables``): a table is a
+    pure function of the footprint and of the kernel sources that build and read it, which that
+    folder's name hashes, so an edit to them never loads a stale table, and old tables go with old
+    kernels. Written to a temporary file and renamed (two processes may build the same table at
+    once: either's is the same); a folder that cannot be written (a read-only install) only costs
+    the build, and an unreadable file is built again."""
+    import os
+    import tempfile
+
+    from rrbody._cache import kernels_dir
+
+    path = kernels_dir() / "tables" / (name.replace(":", "-") + ".npy")
+    try:
+        table = np.load(path, allow_pickle=False)
+        if table.ndim == 2 and table.shape[1] == 3 and table.dtype == np.float64:
+            return table
+    except (OSError, ValueError):
+        pass
+    table = np.ascontiguousarray(build(), dtype=np.float64)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".npy.tmp")
+    except OSError:
+        return table
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            np.save(fh, table, allow_pickle=False)
+        os.replace(tmp, path)
+    except OSError:
+        Path(tmp).unlink(missing_ok=True)
+    return table
 
 
 class Footprints:
@@ -65,12 +103,13 @@ class Footprints:
 
     def _table(self, name: str, build: Any) -> int:
         """The first row of the wrench table ``name`` in ``tables``, appended the first time it is
-        asked for: from the process's tables (:data:`BUILT`), or built by ``build()`` and kept there."""
+        asked for: from the process's tables (:data:`BUILT`), else from the cache folder
+        (:func:`stored`), else built by ``build()`` and kept in both."""
         at = self._table_at.get(name)
         if at is None:
             table = BUILT.get(name)
             if table is None:
-                table = BUILT[name] = np.asarray(build(), dtype=float)
+                table = BUILT[name] = stored(name, build)
             at = self._table_at[name] = self._tables.append(table)
         return at
 

@@ -16,8 +16,8 @@ from rrbody.physics import contact as C
 from rrbody.physics.contact import footprint_wrench
 from rrbody.physics.icr_table import cheb
 
-__all__ = ["fit_cells", "table_reach", "deadband_factor", "N", "BLOCK", "OFF", "TAIL_TOL", "VALID_TOL",
-           "VALID_PTS"]
+__all__ = ["fit_cells", "table_reach", "deadband_factor", "edge_lines", "cell_line", "singular_part", "N", "BLOCK",
+           "OFF", "TAIL_TOL", "VALID_TOL", "VALID_PTS"]
 
 #: Chebyshev points per direction of every cell; its polynomial keeps total degree <= N - 1 (the
 #: table's kernel, rrbody.physics.footprint_table._block, is written out for N = 8)
@@ -76,18 +76,117 @@ def twists(side: int, rects: np.ndarray, z: np.ndarray, p0: float) -> np.ndarray
     return np.column_stack([cyw, -cxw, w])  # c w = (-vby, vbx)
 
 
+#: a line of :func:`edge_lines`: (nx, ny, d, pieces (t0, t1, kappa))
+Line = tuple[float, float, float, list[tuple[float, float, float]]]
+
+
+def edge_lines(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int, R: float) -> list[Line]:
+    """The lines the uniformly loaded polygons of ``shapes[s0:s1]`` have edges on: (nx, ny, d, pieces),
+    n the unit normal (nx > 0, or nx = 0 and ny > 0), d = n . p for p on the line (m, body frame from
+    the centre of gravity), pieces (t0, t1, kappa) the edges on it, t along (-ny, nx) (m), kappa the
+    polygon's load share over its area (1/m^2), negative where the polygon lies on the +n side
+    (its outward normal is -n). Collinear edges (to 1e-12 R) share one line."""
+    lines: list[Line] = []
+    for k in range(s0, s1):
+        if shapes[k, C.KIND] != C.POLYGON:
+            continue
+        v = geo[int(shapes[k, C.V0]):int(shapes[k, C.V1]), :2]  # counter-clockwise
+        kap = shapes[k, C.WEIGHT] / shapes[k, C.AREA]
+        for a, b in zip(v, np.roll(v, -1, axis=0)):
+            L = math.hypot(b[0] - a[0], b[1] - a[1])
+            if L == 0.0:
+                continue
+            nx, ny = (b[1] - a[1]) / L, -(b[0] - a[0]) / L  # outward
+            sg = 1.0 if nx > 0.0 or (nx == 0.0 and ny > 0.0) else -1.0
+            nx, ny = sg * nx, sg * ny
+            d = nx * a[0] + ny * a[1]
+            ta, tb = -ny * a[0] + nx * a[1], -ny * b[0] + nx * b[1]
+            piece = (min(ta, tb), max(ta, tb), sg * kap)
+            for ln in lines:
+                if abs(ln[0] - nx) <= 1e-12 and abs(ln[1] - ny) <= 1e-12 and abs(ln[2] - d) <= 1e-12 * R:
+                    ln[3].append(piece)
+                    break
+            else:
+                lines.append((nx, ny, d, [piece]))
+    return lines
+
+
+def cell_line(lines: list[Line], rect: tuple[float, float, float, float], R: float) -> tuple[float, float, float, float]:
+    """(nx, ny, d, kappa) of the one line of ``lines`` (:func:`edge_lines`) whose edges cross the ICR
+    rectangle ``rect`` (x0, x1, y0, y1; m), widened by its own size on every side (a line just
+    outside a cell slows its fit's convergence as much as one through it), with a net kappa (the
+    sum over the pieces there) that is the same all along the widened rectangle's stretch of it and
+    not zero; kappa = 0 if none, or if a vertex of the net outline lies in the widened rectangle
+    (the subtracted term would then add a singularity the wrench does not have), or if two lines
+    qualify."""
+    x0, x1, y0, y1 = rect
+    grow = max(x1 - x0, y1 - y0)
+    x0, x1, y0, y1 = x0 - grow, x1 + grow, y0 - grow, y1 + grow
+    eps = 1e-9 * R
+    found = (0.0, 0.0, 0.0, 0.0)
+    for nx, ny, d, pieces in lines:
+        # the line's stretch in the closed rectangle: t along (-ny, nx) from the foot point d n
+        lo, hi = -math.inf, math.inf
+        for p, dp, a0, a1 in ((d * nx, -ny, x0, x1), (d * ny, nx, y0, y1)):
+            if abs(dp) < 1e-15:
+                if not a0 - eps <= p <= a1 + eps:
+                    lo, hi = 1.0, -1.0
+                continue
+            ta, tb = sorted(((a0 - eps - p) / dp, (a1 + eps - p) / dp))
+            lo, hi = max(lo, ta), min(hi, tb)
+        if lo > hi:
+            continue
+        ends = sorted({t for t0, t1, _ in pieces for t in (t0, t1)})
+
+        def net(t: float, pieces: list = pieces) -> float:
+            return sum(kp for t0, t1, kp in pieces if t0 < t < t1)
+        tol = 1e-9 * max(abs(kp) for _, _, kp in pieces)
+        # a vertex of the net outline (the net kappa jumps there) in the rectangle: no single line
+        jumps = [t for t in ends if abs(net(t - 1e-9 * R) - net(t + 1e-9 * R)) > tol]
+        if any(lo - eps <= t <= hi + eps for t in jumps):
+            return 0.0, 0.0, 0.0, 0.0
+        # (the net at a point of the stretch that is no piece's end: at an end a piece does not count)
+        cuts = sorted([lo, hi] + [t for t in ends if lo < t < hi])
+        k = int(np.argmax(np.diff(cuts)))
+        kap = net(0.5 * (cuts[k] + cuts[k + 1]))
+        if abs(kap) <= tol:
+            continue
+        if found[3] != 0.0:
+            return 0.0, 0.0, 0.0, 0.0
+        found = (nx, ny, d, kap)
+    return found
+
+
+def singular_part(line: np.ndarray, cx: np.ndarray, cy: np.ndarray, R: float) -> np.ndarray:
+    """The part of the wrench (force, torque / R; per unit load and mu g; spin > 0) that is not smooth
+    across the line (nx, ny, d, kappa) (:func:`cell_line`), at the ICRs (cx, cy) (m): an edge of a
+    uniformly loaded polygon contributes kappa h^2 log|h| (-ny, nx, (d - 2 h / 3) / R), h = d - n . c
+    (from the closed forms of :mod:`rrbody.physics.polygon`: the fan triangle on the edge gives
+    Int u dA a term -h^2 log|h| n, and Int |s - c| dA one -(h^3 / 3) log|h|). Rows (force x, force y,
+    torque / R)."""
+    nx, ny, d, kap = line
+    h = d - nx * cx - ny * cy
+    L = np.where(h == 0.0, 0.0, kap * h * h * np.log(np.where(h == 0.0, 1.0, np.abs(h))))
+    return np.stack([-ny * L, nx * L, L * (d - 2.0 * h / 3.0) / R], axis=-1)
+
+
 def fit_cells(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int, R: float, side: int, rects: np.ndarray,
-              p0: float) -> tuple[np.ndarray, np.ndarray]:
+              p0: float, lines: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Fits of the footprint ``shapes[s0:s1]`` (reach R, m) on the rectangles ``rects`` of the inner
     ICR plane (side -1) or of an outer side (:func:`twists`): the packed triangular monomial coefficients
     (n, BLOCK, 3) from the exact values at their N x N Chebyshev points (torque divided by R), and
     whether each passes: the Chebyshev terms it drops (total degree > N - 1) sum to at most TAIL_TOL
     (|T_i T_j| <= 1: a bound on what dropping them changes), its last kept ones (total degree N - 1)
     are below TAIL_TOL (the series has converged), and it is within VALID_TOL of the exact values at
-    the validation points."""
+    the validation points. ``lines`` (inner rectangles only; a row (nx, ny, d, kappa) per rectangle,
+    kappa = 0 for none, :func:`cell_line`): the polynomial fits the wrench less the line's
+    :func:`singular_part` (smooth across the edge), and is validated with it added back."""
     n = rects.shape[0]
     scale = np.array([1.0, 1.0, 1.0 / R])
-    F = _values(shapes, geo, s0, s1, twists(side, rects, _Z, p0)).reshape(n, N, N, 3) * scale
+    tw = twists(side, rects, _Z, p0)
+    F = _values(shapes, geo, s0, s1, tw).reshape(n, N, N, 3) * scale
+    if lines is not None:
+        F -= singular_part(lines.T[:, :, None, None], -tw[:, 1].reshape(n, N, N), tw[:, 0].reshape(n, N, N), R)
     c = np.einsum("ia,jb,nabk->nijk", _V, _V, F)
     dropped = np.abs(c[:, ~_KEEP, :]).sum(axis=1).max(axis=1)
     last = np.abs(c[:, _LAST, :]).max(axis=(1, 2))
@@ -97,6 +196,9 @@ def fit_cells(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int, R: float, s
     if idx.size:
         tw = twists(side, rects[idx], _ZV, p0)
         G = _values(shapes, geo, s0, s1, tw).reshape(idx.size, VALID_PTS, VALID_PTS, 3) * scale
+        if lines is not None:  # (c w = (-vby, vbx), w = 1)
+            G -= singular_part(lines[idx].T[:, :, None, None], -tw[:, 1].reshape(G.shape[:3]),
+                               tw[:, 0].reshape(G.shape[:3]), R)
         P = np.einsum("ap,npqk,bq->nabk", _XV, mono[idx], _XV)
         err = np.abs(P - G).max(axis=(1, 2, 3))
         ok[idx] = (err <= VALID_TOL) & np.isfinite(err)

@@ -23,8 +23,11 @@ Each cell or panel holds a polynomial of total degree <= N - 1 in its local coor
 drops sum to at most TAIL_TOL, its last kept terms are below TAIL_TOL, and it is within VALID_TOL of
 the exact formula at VALID_PTS x VALID_PTS equally spaced points of the cell (edges and corners
 included). A polygon's wrench is non-analytic where the ICR crosses the footprint's boundary (terms
-h^2 log|h| at a distance h from an edge), so the cells on and next to the boundary fail and stay
-exact: there the kernel calls :func:`footprint_wrench` itself. It does too in the dead band, wherever
+h^2 log|h| at a distance h from an edge): a cell on or next to one edge fits the wrench less that
+edge's terms (:func:`rrbody.physics.footprint_fit.singular_part`, on the line
+:func:`rrbody.physics.footprint_fit.cell_line` gives it), which the kernel adds back with one
+logarithm; the cells at and next to a vertex fail and stay exact: there the kernel calls
+:func:`footprint_wrench` itself. It does too in the dead band, wherever
 some part could be slower than v_eps (max(|v|, |w| R) <= K v_eps, K from
 :func:`rrbody.physics.footprint_fit.deadband_factor`). An exact cell's block is all NaN: the kernel
 sums it like any other and tests the result, so no test stands between the look-up and the sum.
@@ -32,12 +35,13 @@ sums it like any other and tests the result, so no test stands between the look-
 Layout of a table ``T`` (rows of 3; row offsets are relative to its first row, so tables can be
 concatenated): row 0 (N, CELLS, P0); row 1 (R, K, number of rows); row 2 (NF / (2 P0), NU, first row
 of the outer blocks); from row HEAD an index of the inner square at its finest resolution, NF x NF
-entries (NF = CELLS SPLIT^LEVELS, x-major), each (0, first row of its cell's block, q) with
-q = 1 / (the cell's side in finest cells), so that the block's local coordinates follow from the
-finest-cell position without a branch; then the blocks: one NaN block (every exact inner cell's),
-4 x S_PANELS x NU outer blocks (side +x, -x, +y, -y, then s-panel, then u-panel; an exact panel's is
-NaN), then the inner cells' blocks. A block is BLOCK rows: the coefficients of zx^i zy^j (three
-components each) for i = 0 .. N - 1 and j = 0 .. N - 1 - i in that order.
+entries (NF = CELLS SPLIT^LEVELS, x-major), each (first row of its cell's line record or 0, first
+row of its cell's block, q) with q = 1 / (the cell's side in finest cells), so that the block's local
+coordinates follow from the finest-cell position without a branch; then the blocks: one NaN block
+(every exact inner cell's), 4 x S_PANELS x NU outer blocks (side +x, -x, +y, -y, then s-panel, then
+u-panel; an exact panel's is NaN), then the inner cells' blocks; then the line records, two rows
+each: (nx, ny, d) and kappa (-ny, nx, 1 / R). A block is BLOCK rows: the coefficients of zx^i zy^j
+(three components each) for i = 0 .. N - 1 and j = 0 .. N - 1 - i in that order.
 """
 
 from __future__ import annotations
@@ -49,7 +53,7 @@ from numba import njit
 
 from rrbody.physics import contact as C
 from rrbody.physics.contact import footprint_wrench
-from rrbody.physics.footprint_fit import BLOCK, N, OFF, deadband_factor, fit_cells, table_reach
+from rrbody.physics.footprint_fit import BLOCK, N, OFF, cell_line, deadband_factor, edge_lines, fit_cells, table_reach
 from rrbody.physics.icr_table import HUGE, TINY, twist_scale
 
 __all__ = ["build_footprint_table", "footprint_table_wrench", "table_covers", "table_reach", "RHO", "CELLS", "SPLIT",
@@ -100,13 +104,15 @@ def build_footprint_table(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int)
     pending = [((edges[i], edges[i + 1], edges[j], edges[j + 1]), top, i * CELLS + j)
                for i in range(CELLS) for j in range(CELLS)]
     covered = []
+    lines = edge_lines(shapes, geo, s0, s1, R)
     for level in range(LEVELS + 1):
         rects = np.array([p[0] for p in pending])
-        mono, ok = fit_cells(shapes, geo, s0, s1, R, -1, rects, p0)
+        sing = np.array([cell_line(lines, p[0], R) for p in pending])
+        mono, ok = fit_cells(shapes, geo, s0, s1, R, -1, rects, p0, sing)
         nxt = []
-        for (rect, cont, idx), m, good in zip(pending, mono, ok):
+        for (rect, cont, idx), m, good, line in zip(pending, mono, ok, sing):
             if good:
-                cont[idx] = ("poly", m)
+                cont[idx] = ("poly", m, line)
                 covered.append(rect)
             elif level < LEVELS:
                 kids: list = [None] * (SPLIT * SPLIT)
@@ -154,9 +160,16 @@ def _assemble(top: list, outer: list, nu: int, R: float, p0: float, K: float) ->
     blocks: list[np.ndarray] = [np.full((BLOCK, 3), np.nan)]
     blocks += [np.full((BLOCK, 3), np.nan) if m is None else m for m in outer]
 
+    lines: list[np.ndarray] = []  # the line records, each two rows
+
     def fill(node: tuple, i0: int, j0: int, size: int) -> None:
         if node[0] == "poly":
-            index[i0:i0 + size, j0:j0 + size] = (0.0, len(blocks), 1.0 / size)
+            at = 0.0
+            nx, ny, d, kap = node[2]
+            if kap != 0.0:
+                at = float(len(lines) + 1)  # (0: none)
+                lines.append(np.array([(nx, ny, d), (-kap * ny, kap * nx, kap / R)]))
+            index[i0:i0 + size, j0:j0 + size] = (at, len(blocks), 1.0 / size)
             blocks.append(node[1])
         elif node[0] == "split":
             h = size // SPLIT
@@ -166,14 +179,18 @@ def _assemble(top: list, outer: list, nu: int, R: float, p0: float, K: float) ->
     for k, node in enumerate(top):
         fill(node, (k // CELLS) * fine, (k % CELLS) * fine, fine)
     first_block = HEAD + _NF * _NF
-    nrows = first_block + len(blocks) * BLOCK
+    first_line = first_block + len(blocks) * BLOCK
+    nrows = first_line + 2 * len(lines)
     T = np.zeros((nrows, 3))
     T[0] = (N, CELLS, p0)
     T[1] = (R, K if math.isfinite(K) else 1e300, nrows)
     T[2] = (_NF / (2.0 * p0), nu, first_block + BLOCK)
     index[:, :, 1] = first_block + index[:, :, 1] * BLOCK
+    index[:, :, 0] = np.where(index[:, :, 0] > 0.0, first_line + 2.0 * (index[:, :, 0] - 1.0), 0.0)
     T[HEAD:first_block] = index.reshape(-1, 3)
-    T[first_block:] = np.stack(blocks).reshape(-1, 3)
+    T[first_block:first_line] = np.stack(blocks).reshape(-1, 3)
+    if lines:
+        T[first_line:] = np.concatenate(lines)
     return T
 
 
@@ -230,20 +247,20 @@ def _locate(T, t0, vbx, vby, w, v_eps):  # noqa: ANN001 (numba)
     R = T[t0 + 1, 0]
     kv = T[t0 + 1, 1] * v_eps
     if not abs(vbx) + abs(vby) + abs(w) < math.inf or R == 0.0:  # NaN or inf: never an index from it
-        return -1, 0.0, 0.0, 1.0
+        return -1, 0.0, 0.0, 1.0, 0, 0.0, 0.0
     big = max(abs(vbx), abs(vby), abs(w) * R)
     if big < TINY or big > HUGE:
         # (a body left with a velocity of 1e-166 m/s): the dead band, or else, the wrench depending on
         # the twist's direction only, a scaling by a power of two (exact): no square or reciprocal
         # below underflows or overflows
         if 2.0 * big <= kv or big == 0.0:
-            return -1, 0.0, 0.0, 1.0
+            return -1, 0.0, 0.0, 1.0, 0, 0.0, 0.0
         k = twist_scale(big)
         vbx *= k
         vby *= k
         w *= k
     elif vbx * vbx + vby * vby <= kv * kv and abs(w) * R <= kv:
-        return -1, 0.0, 0.0, 1.0
+        return -1, 0.0, 0.0, 1.0, 0, 0.0, 0.0
     # spin >= 0 by the odd symmetry; (cxw, cyw) = c w
     sg = 1.0 if w >= 0.0 else -1.0
     cxw = -sg * vby
@@ -258,14 +275,16 @@ def _locate(T, t0, vbx, vby, w, v_eps):  # noqa: ANN001 (numba)
         # inner: the finest cell (_NF per side) holding c; its record gives the block and the block
         # cell's size (q = 1 / its side in finest cells), hence the local coordinates
         inv = 1.0 / ww
+        cx = cxw * inv
+        cy = cyw * inv
         ih = T[t0 + 2, 0]
-        gx = min(max((cxw * inv + p0) * ih, 0.0), _NF * _BELOW1)
-        gy = min(max((cyw * inv + p0) * ih, 0.0), _NF * _BELOW1)
+        gx = min(max((cx + p0) * ih, 0.0), _NF * _BELOW1)
+        gy = min(max((cy + p0) * ih, 0.0), _NF * _BELOW1)
         rec = t0 + HEAD + int(gx) * _NF + int(gy)
         q = T[rec, 2]
         tx = gx * q
         ty = gy * q
-        return t0 + int(T[rec, 1]), 2.0 * (tx - int(tx)) - 1.0, 2.0 * (ty - int(ty)) - 1.0, sg
+        return t0 + int(T[rec, 1]), 2.0 * (tx - int(tx)) - 1.0, 2.0 * (ty - int(ty)) - 1.0, sg, int(T[rec, 0]), cx, cy
     # outer: side (+x, -x, +y, -y: no branch), s = P0 / |c|_inf and u; every s-panel has nu u-panels
     inv = 1.0 / m
     xs = ax >= ay
@@ -277,13 +296,13 @@ def _locate(T, t0, vbx, vby, w, v_eps):  # noqa: ANN001 (numba)
     hu = min(max((u + 1.0) * (0.5 * nu), 0.0), nu * _BELOW1)
     k = int(hu)
     base = int(T[t0 + 2, 2]) + ((side * S_PANELS + sp) * int(nu) + k) * BLOCK
-    return t0 + base, 2.0 * (hs - sp) - 1.0, 2.0 * (hu - k) - 1.0, sg
+    return t0 + base, 2.0 * (hs - sp) - 1.0, 2.0 * (hu - k) - 1.0, sg, 0, 0.0, 0.0
 
 
 @njit(cache=True)
 def table_covers(T, t0, vbx, vby, w, v_eps):  # noqa: ANN001 (numba)
     """Whether :func:`footprint_table_wrench` evaluates this twist from the table (False: the exact formula)."""
-    base, zx, zy, sg = _locate(T, t0, vbx, vby, w, v_eps)
+    base = _locate(T, t0, vbx, vby, w, v_eps)[0]
     return base >= 0 and T[base, 0] == T[base, 0]  # an exact cell's block is NaN
 
 
@@ -297,10 +316,19 @@ def footprint_table_wrench(T, t0, shapes, geo, s0, s1, vbx, vby, w, v_eps):  # n
     from its table ``T[t0:]`` (:func:`build_footprint_table`), or from footprint_wrench itself where
     the table does not reach (cells on the footprint's boundary, the dead band below ``v_eps`` m/s).
     Allocates nothing."""
-    base, zx, zy, sg = _locate(T, t0, vbx, vby, w, v_eps)
+    base, zx, zy, sg, line, cx, cy = _locate(T, t0, vbx, vby, w, v_eps)
     if base < 0:
         return footprint_wrench(shapes, geo, s0, s1, vbx, vby, w, v_eps)
     f0, f1, f2 = _block(T, base, zx, zy)
     if f0 != f0:  # an exact cell (its block is NaN): no test before the sum, which then starts sooner
         return footprint_wrench(shapes, geo, s0, s1, vbx, vby, w, v_eps)
+    if line > 0:  # a cell on an edge: its polynomial is the wrench less the edge's h^2 log|h| terms
+        r = t0 + line
+        d = T[r, 2]
+        h = d - T[r, 0] * cx - T[r, 1] * cy
+        if h != 0.0:
+            L = h * h * math.log(abs(h))
+            f0 += L * T[r + 1, 0]
+            f1 += L * T[r + 1, 1]
+            f2 += L * T[r + 1, 2] * (d - 2.0 * h / 3.0)
     return sg * f0, sg * f1, sg * T[t0 + 1, 0] * f2
