@@ -61,11 +61,12 @@ def test_ode_path_circle_through_the_centre() -> None:
     assert math.hypot(tr.x_cm[-1], tr.y_cm[-1]) < 1e-9 * rad  # back at the start after one period 2 pi / W
 
 
-def test_noise_and_drive_are_refused_on_the_ode_path() -> None:
+def test_a_driven_active_body_is_refused_and_noise_runs_on_the_ode_path() -> None:
     from rrbody.model.drive import CircularDrive
 
-    with pytest.raises(ValueError, match="runs on the plugin path only"):
-        Scene(body=Disk(R=0.05), drive=None, active=Active(force=1.0, rot_drag=1.0, rot_diffusion=0.1))
+    # noise runs on the ODE path too (rrbody.integrate.sde; tests/test_active_ode_noise.py)
+    sc = Scene(body=Disk(R=0.05), drive=None, active=Active(force=1.0, rot_drag=1.0, rot_diffusion=0.1))
+    assert simulate(sc, method="ode", t_max=0.1, dt_out=0.1).meta["status"] == "reached t_end"
     with pytest.raises(ValueError, match="active applies to a free body"):
         Scene(body=Disk(R=0.05, l=0.02), drive=CircularDrive(omega=1.0, d=1.0), active=Active(force=1.0))
 

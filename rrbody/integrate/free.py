@@ -36,6 +36,10 @@ Point feet (pressure ``points``) under dry friction: a foot can come to rest whi
 turns about it (a pivot), and break away again; :class:`rrbody.integrate.pivot.FeetRun` steps the
 same loop one accepted step at a time and reports ``events['pivots']`` (foot, start and end times,
 what ended each).
+
+An active body with Langevin noise (or with the scene's ``noise_dt``) runs with fixed steps of the
+stochastic Runge-Kutta scheme SRA1 instead (:mod:`rrbody.integrate.sde`: strong order 1.5, weak order
+2 for its additive noise), seeded by the scene's ``seed``; the same right-hand side, no rest rule.
 """
 
 from __future__ import annotations
@@ -50,6 +54,7 @@ from rrbody.integrate.events import E_TSTOP, STEP_FRACTION, STOP_REST, STOP_SPEE
 from rrbody.integrate.chunks import run_in_chunks
 from rrbody.integrate.loop import L_NEXTOUT, L_NREJ, L_NOUT, L_NSTEP, L_T, STEP_METHODS, advance_for, new_loop_state
 from rrbody.integrate.pivot import FeetRun
+from rrbody.integrate.sde import run_sde, uses_sde
 from rrbody.model.scene import Scene
 from rrbody.model.trajectory import Trajectory
 from rrbody.physics import params as P
@@ -79,13 +84,19 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     velocities by the initial speed, angles by pi, spin by the initial rotation rate. ``stepper``
     (:data:`FREE_STEPPERS`): "auto" (DOP853, switching to RODAS4 where stiff), "dop853" or "rodas".
     A body on point feet also reports ``events['pivots']`` (:mod:`rrbody.integrate.pivot`; its run
-    shows no progress bar: it goes one accepted step at a time).
+    shows no progress bar: it goes one accepted step at a time). An active body with noise (or with
+    ``scene.noise_dt``) takes fixed steps of :mod:`rrbody.integrate.sde` (``rtol`` unused; ``meta``
+    records the step ``dt``, the ``seed`` and the ``scheme``).
     """
     if scene.driven:
         raise ValueError("simulate_free needs a free scene (drive=None); use rrbody.simulate for driven ones")
     if stepper not in FREE_STEPPERS:
         raise ValueError(f"stepper must be one of {', '.join(repr(m) for m in FREE_STEPPERS)} for a free body "
                          f"(Radau IIA is the driven body's stiff method), got {stepper!r}")
+    sde = uses_sde(scene)
+    if sde and stepper != "auto":
+        raise ValueError(f"stepper must be 'auto' for an active body with noise (it runs with the fixed steps "
+                         f"of rrbody.integrate.sde, set by the scene's noise_dt), got {stepper!r}")
     a = scene.active
     if a is not None and scene.friction.active and scene.friction.law == "dry" and a.force <= scene.friction.coeff * \
             math.cos(scene.tilt) * scene.body.mass:
@@ -141,7 +152,11 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     t0 = time.perf_counter()
     n_breaks = 0  # stops static friction could not hold, each followed by a break-away
     pivots: list[dict[str, object]] | None = None  # a body on feet: its pivots (rrbody.integrate.pivot)
-    if u0 == 0.0 and dry:
+    h_sde = 0.0
+    if sde:  # Langevin noise: fixed steps of the stochastic scheme, the same right-hand side
+        status, h_sde = run_sde(scene, p, S, y, st, out, t_max=t_max, dt_out=dt_out, max_steps=max_steps,
+                                progress=progress)
+    elif u0 == 0.0 and dry:
         ev[E_TSTOP] = 0.0
         status = 1
         out[:, 0] = np.arange(n_out) * dt_out
@@ -218,6 +233,9 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     }
     traj.meta = {**traj.meta, "method": "ode", "rtol": rtol, "status": statuses.get(status, str(status)),
                  "n_steps": int(st[L_NSTEP]), "n_rejected": int(st[L_NREJ]), "wall_s": wall}
+    if sde:
+        traj.meta.update(scheme="SRA1 (fixed steps, rrbody.integrate.sde)", dt=h_sde, seed=scene.seed)
+        del traj.meta["rtol"]
     if status in (3, 4):
         traj.meta["warning"] = (f"integration stopped early: {statuses[status]} at t={st[L_T]:.6g} s "
                                 f"after {wall:.3g} s of computing")

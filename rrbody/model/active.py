@@ -2,7 +2,8 @@
 
 :class:`Active` is validated plain data, read by both paths: the pymunk plugin
 (``PlaneFriction.activate``, :mod:`rrbody.engine.active`) and, for one body, the ODE path (a free
-scene's ``active``, :mod:`rrbody.physics.effects.active`, deterministic part only).
+scene's ``active``, :mod:`rrbody.physics.effects.active`; with noise, the fixed-step stochastic
+Runge-Kutta scheme of :mod:`rrbody.integrate.sde`, seeded by the scene's ``seed``).
 
 Model (per body, mass m, moment I about its centre of gravity G; world frame; body angle alpha):
 

@@ -14,15 +14,21 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 from rrbody.model.active import Active
-from rrbody.model.checks import LIMITS, MissingParameters, check, check_choice
+from rrbody.model.checks import LIMITS, MAX_TIME, MissingParameters, check, check_choice, check_int, check_range
 from rrbody.model.bodies import BODY_KINDS, Body, Polygon, RodMass
 from rrbody.model.drive import CircularDrive
 from rrbody.model.friction import LAWS, Friction, check_mu_static
 from rrbody.model.pressure import Pressure, as_pressure, pressure_from_description, uniform
 
-__all__ = ["Scene", "rod_mass_scene", "scene_from_params", "SCENE_PARAMS", "NUMERIC_SCENE_PARAMS", "FRICTION_METHODS"]
+__all__ = ["Scene", "rod_mass_scene", "scene_from_params", "SCENE_PARAMS", "NUMERIC_SCENE_PARAMS", "FRICTION_METHODS",
+           "NOISE_STEP_MAX", "MAX_SEED"]
 
 FRICTION_METHODS: tuple[str, ...] = ("auto", "sampled", "icr", "table", "contact")
+#: the largest noise_dt times the fastest linear rate (drag, rotational drag, viscous friction) a Scene
+#: takes: the fixed-step scheme's stationary variance is then off by < 5 % (docs/active.md), and it is
+#: unstable beyond 2
+NOISE_STEP_MAX: float = 0.5
+MAX_SEED: int = 2**63 - 1  # the seed of numpy's PCG64, as the plugin's (PlaneFriction.seed)
 
 
 @dataclass(frozen=True)
@@ -70,6 +76,19 @@ class Scene:
     mu_static : float or None
         Static friction coefficient (>= mu = coeff / g; None: equal to mu). A free body that comes to
         rest stays at rest while static friction holds gravity's pull (docs: Contacts).
+    active : rrbody.model.active.Active or None
+        A free body's self-propulsion, its medium's drag and Langevin noise (:mod:`rrbody.model.active`).
+    seed : int
+        The active noise's seed on the ODE path, an integer in [0, 2^63 - 1] (numpy's PCG64; default 0):
+        the same scene, seed, horizon and output interval give bit-identical runs. Non-zero only with a
+        noisy ``active`` (diffusion or rot_diffusion > 0).
+    noise_dt : float or None
+        The fixed step (s) of the ODE path's stochastic scheme (:mod:`rrbody.integrate.sde`), in
+        (0, 0.5 / r] with r the fastest of drag, rot_drag and a viscous friction's gamma (1/s); shortened
+        to divide the output interval. None (default): 0.05 over the fastest rate of the motion
+        (:func:`rrbody.integrate.sde.default_noise_dt`) for a noisy ``active``, the adaptive methods
+        otherwise; given for an active body without noise, it runs the same fixed-step scheme (the
+        deterministic limit).
     """
 
     body: Body
@@ -88,6 +107,8 @@ class Scene:
     g: float = 9.81
     mu_static: float | None = None
     active: Active | None = None
+    seed: int = 0
+    noise_dt: float | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.body, Body):
@@ -122,10 +143,11 @@ class Scene:
                 raise ValueError(f"active must be an rrbody.model.active.Active or None, got {self.active!r}")
             if self.drive is not None:
                 raise ValueError("active applies to a free body (drive=None): a driven body's pivot holds it")
-            if self.active.noisy:
-                raise ValueError(f"active noise (diffusion, rot_diffusion) runs on the plugin path only "
-                                 f"(PlaneFriction.activate); the ODE path is deterministic, got diffusion "
-                                 f"{self.active.diffusion!r}, rot_diffusion {self.active.rot_diffusion!r}")
+            if self.active.rot_diffusion > 0.0 and self.body.is_point:
+                raise ValueError(f"rot_diffusion must be 0 for a {self.body.kind} body (a point mass: its spin is "
+                                 f"kinematic, no torque turns it; use a disk, ellipse or polygon), got "
+                                 f"{self.active.rot_diffusion!r} rad^2/s")
+        self._check_noise()
         if not self.pressure.is_uniform and self.body.is_point:
             raise ValueError(f"pressure {self.pressure.kind!r} needs an extended body (disk or ellipse): a "
                              f"{self.body.kind} body is a point mass, got body {self.body.kind!r}")
@@ -138,6 +160,35 @@ class Scene:
             # H enters every equation as omega/H and k/H: a derived H outside its range (a pivot a few
             # nanometres off a large body's centre) loses every digit; l = 0 is the legitimate limit
             check("H", self.H, label="H (derived from l, d and the body's size)")
+
+    def _check_noise(self) -> None:
+        """``seed`` and ``noise_dt``: each valid, and each with the active body it applies to."""
+        object.__setattr__(self, "seed", check_int("seed", self.seed, 0, MAX_SEED))
+        noisy = self.active is not None and self.active.noisy
+        if self.seed != 0 and not noisy:
+            raise ValueError(f"seed applies to an active body's noise (active=Active(..., diffusion or rot_diffusion "
+                             f"> 0)), got seed {self.seed!r} with "
+                             + ("no active body" if self.active is None else "an active body without noise"))
+        if self.noise_dt is None:
+            return
+        if self.active is None:
+            raise ValueError(f"noise_dt applies to an active body (active=Active(...)), got noise_dt "
+                             f"{self.noise_dt!r} with no active body")
+        rate = self.noise_rate
+        hi = NOISE_STEP_MAX / rate if rate > 0.0 else MAX_TIME
+        object.__setattr__(self, "noise_dt", check_range("noise_dt", self.noise_dt, 0.0, hi, lo_open=True, unit="s"))
+
+    @property
+    def noise_rate(self) -> float:
+        """The fastest linear rate of an active body's medium and friction (1/s): drag, rot_drag (a body
+        with a moment of inertia) and a viscous friction's gamma; 0 without an active body. The
+        fixed-step scheme's stability (noise_dt * rate < 2) and accuracy depend on it."""
+        if self.active is None:
+            return 0.0
+        rates = [self.active.drag, self.active.rot_drag if not self.body.is_point else 0.0]
+        if self.friction.active and self.friction.law == "viscous":
+            rates.append(self.friction.coeff)
+        return max(rates)
 
     # ---- derived quantities ------------------------------------------------------------------
     @property
@@ -210,6 +261,8 @@ class Scene:
             **({} if self.tilt == 0.0 else {"tilt": self.tilt, "downhill": self.downhill, "g": self.g}),
             **({} if self.mu_static is None else {"mu_static": self.mu_static, "g": self.g}),
             **({} if self.active is None else {"active": {**vars(self.active), "point": list(self.active.point)}}),
+            **({} if self.seed == 0 else {"seed": self.seed}),
+            **({} if self.noise_dt is None else {"noise_dt": self.noise_dt}),
         }
 
     @classmethod
@@ -236,7 +289,8 @@ class Scene:
                    pressure=pressure_from_description(desc.get("pressure")), tilt=desc.get("tilt", 0.0),
                    downhill=desc.get("downhill", 0.0), g=desc.get("g", 9.81), mu_static=desc.get("mu_static"),
                    active=None if desc.get("active") is None else Active(**{**desc["active"],
-                                                                            "point": tuple(desc["active"]["point"])}))
+                                                                            "point": tuple(desc["active"]["point"])}),
+                   seed=desc.get("seed", 0), noise_dt=desc.get("noise_dt"))
 
 
 def rod_mass_scene(H: float, k: float, omega: float, phi0: float = math.pi, *, friction: str = "dry",

@@ -106,7 +106,7 @@ def kernel_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
         p[P.TILTED] = 1.0
         p[P.GTX] = pull * math.cos(scene.downhill)
         p[P.GTY] = pull * math.sin(scene.downhill)
-    if scene.active is not None:  # a free body's self-propulsion and its medium's drag (no noise here)
+    if scene.active is not None:  # a free body's self-propulsion, its medium's drag and Langevin noise
         a = scene.active
         m = scene.body.mass
         p[P.ACTIVE] = 1.0
@@ -115,6 +115,10 @@ def kernel_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
         p[P.AALPHA] = a.torque / (m * icm) if icm > 0.0 else 0.0
         p[P.ADRAG] = a.drag
         p[P.ARDRAG] = a.rot_drag if icm > 0.0 else 0.0
+        # the noise per unit mass (moment): the force m gamma_t sqrt(2 D_t) dW over m; a point mass's spin is
+        # kinematic, and a Scene refuses rot_diffusion for it
+        p[P.ANOISE] = a.drag * math.sqrt(2.0 * a.diffusion)
+        p[P.ARNOISE] = a.rot_drag * math.sqrt(2.0 * a.rot_diffusion) if icm > 0.0 else 0.0
     p[P.VEPS] = (DRIVEN_DEAD_BAND if scene.driven else FREE_DEAD_BAND) * scene.velocity_scale()
     ra, rb = scene.body.semi_axes
     p[P.RA] = ra

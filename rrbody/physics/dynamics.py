@@ -20,6 +20,8 @@ simply the body angle shifted by beta. tau_P is the friction torque about P (wor
 Free body, y = (x, y, alpha, vx, vy, spin) (m, rad, m/s, rad/s): friction, on a tilted plane
 gravity's pull along it (:mod:`rrbody.physics.effects.tilt`, which adds its torque about P to a
 driven body's phi''), and an active body's propulsion and drag (:mod:`rrbody.physics.effects.active`).
+Its Langevin noise is no term of the right-hand side: it is additive, and the fixed-step scheme of
+:mod:`rrbody.integrate.sde` adds it to this drift (:func:`rrbody.physics.effects.active.ode_noise`).
 """
 
 from __future__ import annotations

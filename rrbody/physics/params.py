@@ -36,7 +36,10 @@ AFY = 21       # ... and y
 AALPHA = 22    # its torque about the CM over I_cm (rad/s^2)
 ADRAG = 23     # the medium's translational drag rate gamma_t (1/s)
 ARDRAG = 24    # ... and its rotational one gamma_r (1/s)
-SIZE = 25
+ANOISE = 25    # its Langevin noise on the velocity, gamma_t sqrt(2 D_t) (m s^-1.5, each world component;
+               # 0: none); read by the fixed-step scheme of rrbody.integrate.sde, not by the right-hand side
+ARNOISE = 26   # ... and on the spin, gamma_r sqrt(2 D_r) (rad s^-1.5; 0: none)
+SIZE = 27
 
 # area models: the effects registry's codes (one table; the system code carries the same number)
 BODY_POINT = AREAS["point"]

@@ -5,8 +5,10 @@ what both paths compile: the layout of the plugin's ``active`` array (one row pe
 row of zeros for a body that is not active) and the per-body load :func:`load` that
 :func:`rrbody.engine.kernel.plane_step` adds to each body's force where a tilt's pull is added,
 before friction is evaluated (so the limiter, the rest rule and static friction see it as a load);
-and :func:`ode_terms`, the same deterministic terms for a free body's right-hand side on the ODE
-path (:mod:`rrbody.physics.dynamics`; parameters in ``p``, :mod:`rrbody.physics.params`).
+and, for one free body on the ODE path, :func:`ode_terms`, the same deterministic terms for its
+right-hand side (:mod:`rrbody.physics.dynamics`; parameters in ``p``, :mod:`rrbody.physics.params`), and
+:func:`ode_noise`, the noise's additive scales on the velocity and the spin, which the fixed-step
+scheme of :mod:`rrbody.integrate.sde` adds (docs/active.md, "Noise on the ODE path").
 
 Time stepping on the plugin path (docs/active.md)
 -------------------------------------------------
@@ -33,7 +35,7 @@ from numba import njit
 from rrbody.physics import params as P
 
 __all__ = ["FBX", "FBY", "TQ", "DRAG", "RDRAG", "SIG", "RSIG", "NZ", "N_ACTIVE", "row", "noise_count", "load",
-           "ode_terms"]
+           "ode_terms", "ode_noise"]
 
 NAME = "active"
 
@@ -118,3 +120,22 @@ def ode_terms(alpha, vx, vy, w, p):  # noqa: ANN001 (numba)
     fby = p[P.AFY]
     return (ca * fbx - sa * fby - p[P.ADRAG] * vx, sa * fbx + ca * fby - p[P.ADRAG] * vy,
             p[P.AALPHA] - p[P.ARDRAG] * w)
+
+
+def ode_noise(p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The active effect's Langevin noise on a free body's ODE state y = (x, y, alpha, vx, vy, w): the
+    components it enters (int64 array: 3 and 4 for a translational noise, then 5 for a rotational one,
+    the plugin's order) and their additive scales, dv = ... + sigma dW (float64 array: gamma_t sqrt(2 D_t)
+    in m s^-1.5, gamma_r sqrt(2 D_r) in rad s^-1.5; from ``p``, :mod:`rrbody.physics.params`). Empty
+    arrays without noise. The noise is additive (its scales depend on nothing in the state), which is
+    what the stochastic Runge-Kutta scheme of :mod:`rrbody.integrate.sde` needs."""
+    idx: list[int] = []
+    sig: list[float] = []
+    if p[P.ACTIVE] != 0.0:
+        if p[P.ANOISE] > 0.0:
+            idx += [3, 4]
+            sig += [float(p[P.ANOISE])] * 2
+        if p[P.ARNOISE] > 0.0:
+            idx.append(5)
+            sig.append(float(p[P.ARNOISE]))
+    return np.array(idx, dtype=np.int64), np.array(sig, dtype=np.float64)
