@@ -20,7 +20,7 @@ from dataclasses import fields
 from pathlib import Path
 from typing import Any
 
-from rrbody.cli.args import CliError, check_options, emit, given, integer, number, option_help
+from rrbody.cli.args import CliError, check_options, emit, given, integer, number, option_help, ranged
 from rrbody.cli.active_options import SEED_MAX, rename
 
 __all__ = ["add_parser", "cmd_active", "cmd_active_ensemble", "BOX_OPTIONS"]
@@ -41,36 +41,34 @@ def _box_defaults() -> dict[str, Any]:
     return {f.name: f.default for f in fields(Box)}
 
 
-def _box_help(name: str, default: Any, *, listed: bool = False) -> str:
-    from rrbody.analysis.active_study import BOX_RANGES
+def _box_valid(name: str) -> str:
+    """A Box parameter's range as the help and the messages show it (Box's own table)."""
+    from rrbody.analysis.active_study import BOX_RANGES, BOX_INTEGERS
     from rrbody.model.checks import range_text
 
     lo, hi, lo_open, unit = BOX_RANGES[name]
-    valid = f"an integer in [{int(lo)}, {'2^63 - 1' if hi == SEED_MAX else int(hi)}]" \
-        f"{' ' + unit if unit else ''}" if name in ("n", "seed", "every") else range_text(lo, hi, lo_open, unit=unit)
-    what = f"{_HELP[name]}: a comma-separated list, each {valid}" if listed else f"{_HELP[name]}, {valid}"
-    return f"{what}; default {default:.6g}" if isinstance(default, float) else f"{what}; default {default}"
+    if name in BOX_INTEGERS:
+        return f"an integer in [{int(lo)}, {'2^63 - 1' if hi == SEED_MAX else int(hi)}]{' ' + unit if unit else ''}"
+    return range_text(lo, hi, lo_open, unit=unit)
 
 
 def _box_options(p: argparse.ArgumentParser, *, lists: bool) -> None:
+    from rrbody.analysis.active_study import BOX_INTEGERS
+
     g = p.add_argument_group("box (docs: Active bodies)")
+    defaults = _box_defaults()
     for name, opt in BOX_OPTIONS.items():
-        default = _box_defaults()[name]
         listed = lists and name in _LISTS
-        kind = (_int_list if name == "seed" else _number_list) if listed else \
-            (integer if name in ("n", "seed", "every") else number)
-        g.add_argument(opt, type=kind(opt), default=None, metavar="V1,V2,..." if listed else None,
-                       help=_box_help(name, default, listed=listed))
-
-
-def _number_list(option: str) -> Any:
-    """argparse type: comma-separated numbers (:func:`number`), at least one."""
-    return _list(option, number(option))
-
-
-def _int_list(option: str) -> Any:
-    """argparse type: comma-separated integers (:func:`integer`), at least one."""
-    return _list(option, integer(option))
+        valid = _box_valid(name)
+        # in the parser's message: '--n must be an integer in [2, ...]', '--packing must be a finite number in ...'
+        shown = valid.removeprefix("an integer") if name in BOX_INTEGERS else " " + valid
+        one = (integer if name in BOX_INTEGERS else number)(opt, shown)
+        what = f"{_HELP[name]}: a comma-separated list, each {valid}" if listed else f"{_HELP[name]}, {valid}"
+        d = defaults[name]
+        ranged(g.add_argument(opt, type=_list(opt, one) if listed else one, default=None,
+                              metavar="V1,V2,..." if listed else None,
+                              help=f"{what}; default {d:.6g}" if isinstance(d, float) else f"{what}; default {d}"),
+               valid)
 
 
 def _list(option: str, parse_one: Any) -> Any:
@@ -105,8 +103,9 @@ def add_parser(sub: Any) -> None:
     o.add_argument("--movie-speed", type=number("--movie-speed"), default=None,
                    help=option_help("movie_speed", "simulated seconds per second of movie", 1))
     o.add_argument("--rerun", help="a rerun recording (.rrd), coloured as the movie")
-    o.add_argument("--rerun-every", type=integer("--rerun-every"), default=None,
-                   help="keep every N-th sample in the rerun recording, an integer in [1, 1e6]; default 1")
+    ranged(o.add_argument("--rerun-every", type=integer("--rerun-every", " in [1, 1000000]"), default=None,
+                          help="keep every N-th sample in the rerun recording, an integer in [1, 1000000]; default 1"),
+           "an integer in [1, 1000000]")
     _outputs(a)
     a.set_defaults(func=cmd_active)
 

@@ -14,7 +14,7 @@ import dataclasses
 import re
 from typing import Any
 
-from rrbody.cli.args import CliError, angle, float_list, given, integer, number
+from rrbody.cli.args import CliError, angle, float_list, given, integer, number, ranged
 from rrbody.model.active import MAX_DIFFUSION, MAX_FORCE
 from rrbody.model.checks import MAX_FRICTION, MAX_LENGTH, check_int, range_text
 
@@ -28,28 +28,32 @@ SEED_MAX = 2**63 - 1  # the plugin's and the box study's seeds: numpy's PCG64 ta
 
 
 def add_active_options(p: argparse.ArgumentParser) -> None:
-    """The active group (free bodies, with --no-drive); each option's unit and range in its help."""
+    """The active group (free bodies, with --no-drive); each option's unit and range in its help
+    (Active's own, :func:`rrbody.cli.args.ranged`)."""
     g = p.add_argument_group("active body (free bodies, with --no-drive; docs: Active bodies)")
-    g.add_argument("--active-force", type=number("--active-force"), default=None,
-                   help=f"propulsion F fixed in the body frame, N, {range_text(0, MAX_FORCE)}")
-    g.add_argument("--active-angle", type=angle("--active-angle"), default=None,
-                   help="its direction in the body frame, rad from the body's x axis ('pi/2', '90deg'); any finite "
-                        "value; default 0 (with --active-force)")
-    g.add_argument("--active-point", type=float_list("--active-point", 2), default=None, metavar="X,Y",
-                   help=f"where it acts, m, body frame from the centre of gravity, each component "
-                        f"{range_text(-MAX_LENGTH, MAX_LENGTH)}; off the line through it, it torques the body; "
-                        f"default 0,0 (with --active-force)")
-    for opt, what, unit in (("--drag", "the medium's translational drag rate gamma_t (force -m gamma_t v)", "1/s"),
-                            ("--rot-drag", "the medium's rotational drag rate gamma_r (torque -I gamma_r w)", "1/s")):
-        g.add_argument(opt, type=number(opt), default=None, help=f"{what}, {unit}, {range_text(0, MAX_FRICTION)}; "
-                                                                 "default 0")
+
+    def add(opt: str, kind: Any, valid: str, text: str, **kw: Any) -> None:
+        ranged(g.add_argument(opt, type=kind, default=None, help=f"{text}, {valid}" + kw.pop("tail", ""), **kw),
+               valid)
+
+    v = range_text(0, MAX_FORCE, unit="N")
+    add("--active-force", number("--active-force", f" {v}"), v, "propulsion F fixed in the body frame")
+    add("--active-angle", angle("--active-angle"), "any finite value", "its direction in the body frame, rad "
+        "from the body's x axis ('pi/2', '90deg')", tail="; default 0 (with --active-force)")
+    add("--active-point", float_list("--active-point", 2), f"each component {range_text(-MAX_LENGTH, MAX_LENGTH)} m",
+        "where it acts, body frame from the centre of gravity (off the line through it, it torques the body)",
+        metavar="X,Y", tail="; default 0,0 (with --active-force)")
+    for opt, what in (("--drag", "the medium's translational drag rate gamma_t (force -m gamma_t v)"),
+                      ("--rot-drag", "the medium's rotational drag rate gamma_r (torque -I gamma_r w)")):
+        v = range_text(0, MAX_FRICTION, unit="1/s")
+        add(opt, number(opt, f" {v}"), v, what, tail="; default 0")
     for opt, what, unit, drag in (("--diffusion", "translational noise D_t", "m^2/s", "--drag"),
                                   ("--rot-diffusion", "rotational noise D_r", "rad^2/s", "--rot-drag")):
-        g.add_argument(opt, type=number(opt), default=None,
-                       help=f"{what}, {unit}, {range_text(0, MAX_DIFFUSION)}; default 0 (none); needs {drag} > 0")
-    g.add_argument("--seed", type=integer("--seed"), default=None,
-                   help="the noise's seed, an integer in [0, 2^63 - 1] (with --diffusion or --rot-diffusion); the "
-                        "same seed gives the same run")
+        v = range_text(0, MAX_DIFFUSION, unit=unit)
+        add(opt, number(opt, f" {v}"), v, what, tail=f"; default 0 (none); needs {drag} > 0")
+    v = "an integer in [0, 2^63 - 1]"
+    add("--seed", integer("--seed", " in [0, 2^63 - 1]"), v, "the noise's seed (with --diffusion or "
+        "--rot-diffusion; the same seed gives the same run)")
 
 
 def rename(msg: str, names: dict[str, str], *, anywhere: tuple[str, ...] = ()) -> str:
