@@ -90,7 +90,8 @@ def _api_run(**kw: object) -> dict:
 def test_active_run_gives_the_apis_summary_and_writes_its_files(tmp_path: Path) -> None:
     full, again, other = run_here([["active", *BOX, "--seed", "3", "--out", "r.json", "--movie", "r.mp4",
                                     "--fps", "10", "--rerun", "r.rrd", "--rerun-every", "3", "--json"],
-                                   ["active", *BOX, "--seed", "3", "--json"], ["active", *BOX, "--seed", "4", "--json"]],
+                                   ["active", *BOX, "--seed", "3", "--json"],
+                                   ["active", *BOX, "--seed", "4", "--json"]],
                                   cwd=tmp_path, real=0)
     for r in (full, again, other):
         assert r.code == 0, r.err

@@ -20,9 +20,9 @@ from typing import Any, NoReturn
 from rrbody.model.angles import parse_number
 from rrbody.model.checks import LIMITS, check
 
-__all__ = ["CliError", "Parser", "OPTION_PARAMS", "emit", "ranged", "number", "integer", "angle", "float_list", "option_help",
-           "check_options", "option_message", "preprocess_argv", "suggest", "commands", "subparser", "parse",
-           "check_repeats", "given", "plain_text", "_angle", "_finite", "_float_list"]
+__all__ = ["CliError", "Parser", "OPTION_PARAMS", "emit", "ranged", "number", "integer", "angle", "float_list",
+           "option_help", "check_options", "option_message", "preprocess_argv", "suggest", "commands", "subparser",
+           "parse", "check_repeats", "given", "plain_text", "_angle", "_finite", "_float_list"]
 
 
 class CliError(ValueError):
