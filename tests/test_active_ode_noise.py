@@ -104,6 +104,15 @@ def test_the_same_seed_gives_bit_identical_runs_whatever_the_chunking(monkeypatc
     assert a[-1, 0] == 3.0 and len(a) == 301
 
 
+def test_the_engine_path_reads_the_scene_seed() -> None:
+    """``simulate(..., method="engine")`` seeds its plugin's noise with ``Scene.seed``: the same seed the
+    same run, another seed another run."""
+    sc = _disk_scene(NOISY, friction=Friction("viscous", 1.0), seed=7)
+    a = _state(simulate(sc, method="engine", t_max=0.5, dt_out=0.05))
+    assert np.array_equal(a, _state(simulate(sc, method="engine", t_max=0.5, dt_out=0.05)))
+    assert not np.array_equal(a, _state(simulate(sc.with_(seed=8), method="engine", t_max=0.5, dt_out=0.05)))
+
+
 # ---- the two paths agree statistically -------------------------------------------------------------
 def _ends(x: np.ndarray, y: np.ndarray, da: np.ndarray) -> dict[str, np.ndarray]:
     return {"x": x, "y": y, "cos": np.cos(da), "sin": np.sin(da), "r2": x * x + y * y}

@@ -36,19 +36,34 @@ import numpy as np
 from rrbody.analysis.episodes import reverse_episodes
 from rrbody.model.checks import check_int, check_range
 
-__all__ = ["Box", "build", "run_box", "species_stats", "ensemble", "SPECIES", "WINDOW", "MU"]
+__all__ = ["Box", "build", "run_box", "species_stats", "ensemble", "seed_table", "summary", "SPECIES", "WINDOW",
+           "MU", "BOX_RANGES", "STAT_KEYS", "MEAN_KEYS"]
 
 SPECIES = ("L", "disk")
 A_ARM, R_DISK, DENSITY = 0.08, 0.1, 20.0  # m, m, kg/m^2
 MU, G, DRAG, ROT_DRAG, D_ROT, OFFSET = 0.1, 9.81, 2.0, 2.0, 0.2, 0.02  # -, m/s^2, 1/s, 1/s, rad^2/s, m
 WINDOW = 0.5  # s: an episode began at a collision if a contact with another body began this long before
+#: Box's parameters: (lo, hi, lo open, unit), checked in this order; the command line's help shows them
+BOX_RANGES: dict[str, tuple[float, float, bool, str]] = {
+    "n": (2, 100_000, False, "bodies"), "packing": (0.01, 0.6, False, ""), "activity": (0.0, 100.0, True, ""),
+    "mix": (0.0, 1.0, False, ""), "seed": (0, 2**63 - 1, False, ""), "t_end": (0.0, 1e5, True, "s"),
+    "every": (1, 1000, False, "steps"), "dt": (1e-6, 0.1, False, "s")}
+BOX_INTEGERS = ("n", "seed", "every")
+#: the statistics of one species (species_stats), in the order tables list them
+STAT_KEYS = ("bodies", "episodes", "episodes_per_body_per_min", "fraction_at_collision", "chance_at_collision",
+             "fraction_at_wall_only", "duration_mean_s", "duration_median_s", "time_fraction", "reversed_fraction",
+             "collisions_per_body_per_min")
+#: the statistics averaged over seeds by seed_table
+MEAN_KEYS = ("episodes_per_body_per_min", "fraction_at_collision", "chance_at_collision", "fraction_at_wall_only",
+             "duration_mean_s", "time_fraction", "reversed_fraction", "collisions_per_body_per_min")
 
 
 @dataclass(frozen=True)
 class Box:
     """One run's parameters: ``n`` bodies (in [2, 100000]), area fraction ``packing`` (in [0.01, 0.6]),
     ``activity`` = F / (mu m g) (in (0, 100]), fraction ``mix`` of L-shapes (in [0, 1]), ``seed``
-    (integer >= 0), horizon ``t_end`` (s, in (0, 1e5]), ``every`` steps between samples (in [1, 1000])."""
+    (integer in [0, 2^63 - 1]), horizon ``t_end`` (s, in (0, 1e5]), ``every`` steps between samples (in [1, 1000]),
+    time step ``dt`` (s, in [1e-6, 0.1]): :data:`BOX_RANGES`; ValueError naming the parameter otherwise."""
 
     n: int = 200
     packing: float = 0.25
@@ -60,15 +75,10 @@ class Box:
     dt: float = 1.0 / 120.0
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "n", check_int("n", self.n, 2, 100_000))
-        object.__setattr__(self, "packing", check_range("packing", self.packing, 0.01, 0.6))
-        object.__setattr__(self, "activity", check_range("activity", self.activity, 0.0, 100.0, lo_open=True))
-        object.__setattr__(self, "mix", check_range("mix", self.mix, 0.0, 1.0))
-        object.__setattr__(self, "seed", check_int("seed", self.seed, 0, 2**63 - 1))
-        object.__setattr__(self, "t_end", check_range("t_end", self.t_end, 0.0, 1e5, lo_open=True, unit="s"))
-        object.__setattr__(self, "every", check_int("every", self.every, 1, 1000))
-        object.__setattr__(self, "dt", check_range("dt", self.dt, 1e-6, 0.1, unit="s"))
-
+        for name, (lo, hi, lo_open, unit) in BOX_RANGES.items():
+            v = getattr(self, name)
+            object.__setattr__(self, name, check_int(name, v, int(lo), int(hi), unit=unit) if name in BOX_INTEGERS
+                               else check_range(name, v, lo, hi, lo_open=lo_open, unit=unit))
 
 def build(box: Box) -> tuple[Any, Any, list[Any], list[str], np.ndarray, float]:
     """(space, pf, bodies, species, senses, side): the bodies on a jittered grid in a walled square box
@@ -235,6 +245,32 @@ def species_stats(per_body: list[dict[str, Any]], species: str, span: float) -> 
             "collisions_per_body_per_min": 60.0 * sum(b["collisions"] for b in rows) / (len(rows) * span)}
 
 
+def summary(res: dict[str, Any]) -> dict[str, Any]:
+    """A run's result (:func:`run_box`) without its samples and watcher: the parameters, the box's side
+    (m), per body its species, sense, contacts and episodes, per species the statistics (plain JSON)."""
+    return {k: res[k] for k in ("params", "side", "bodies", "stats")}
+
+
+def seed_table(rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """An ensemble's rows (:func:`ensemble`) averaged over seeds: per (packing, activity) and species, in
+    the order the rows first give them, the episodes summed over seeds, each of :data:`MEAN_KEYS` its
+    mean over the seeds where it is defined (None where none) and ``<key>_sd`` its sample standard
+    deviation (None with fewer than two), and ``seeds`` the number of runs."""
+    groups: dict[tuple[float, float], list[dict[str, Any]]] = {}
+    for r in rows:
+        groups.setdefault((r["packing"], r["activity"]), []).append(r)
+    table = []
+    for (p, a), grp in groups.items():
+        for sp in SPECIES:
+            st = [r["stats"][sp] for r in grp]
+            vals = {k: [s[k] for s in st if s.get(k) is not None] for k in MEAN_KEYS}
+            table.append({"packing": p, "activity": a, "species": sp, "seeds": len(grp),
+                          "episodes": sum(s.get("episodes", 0) for s in st),
+                          **{k: (float(np.mean(v)) if v else None) for k, v in vals.items()},
+                          **{f"{k}_sd": (float(np.std(v, ddof=1)) if len(v) > 1 else None) for k, v in vals.items()}})
+    return table
+
+
 def _run_points(spec: dict[str, Any], batch: list[int]) -> list[dict[str, Any]]:
     """A pool task: the statistics rows of the points ``batch`` of ``spec["points"]``."""
     rows = []
@@ -245,7 +281,7 @@ def _run_points(spec: dict[str, Any], batch: list[int]) -> list[dict[str, Any]]:
 
 
 def ensemble(points: list[Box], *, workers: int | None = None, checkpoint: str | os.PathLike[str] | None = None,
-             scheduler: Any = None) -> list[dict[str, Any]]:
+             scheduler: Any = None, progress: bool = False) -> list[dict[str, Any]]:
     """Every point's statistics (``i``, its parameters, ``stats``), in the points' order, computed on
     local processes (:func:`rrbody.analysis.pool.iter_local`; ``workers=0``: in this process). Each point
     is deterministic, so the rows do not depend on ``workers``.
@@ -255,10 +291,11 @@ def ensemble(points: list[Box], *, workers: int | None = None, checkpoint: str |
     rrbody version is resumed (only the missing points are computed), one for other points refused
     (ValueError). The caller deletes it when the ensemble is no longer needed. ``scheduler``: a Dask
     scheduler's address or a ``distributed.Client`` (:func:`rrbody.analysis.pool.iter_dask`; overrides
-    ``workers``), as for the sweeps."""
+    ``workers``), as for the sweeps. ``progress``: a progress bar on stderr (the sweeps' bar)."""
     from rrbody._version import __version__
     from rrbody.analysis.pool import check_scheduler, connect_scheduler, iter_dask, iter_local, plan_batches, \
         plan_workers
+    from rrbody.analysis.sweep import _bar
     from rrbody.analysis.sweep_store import read_checkpoint, stream_checkpoint
 
     spec = {"kind": "active_study", "rrbody_version": __version__, "points": [asdict(p) for p in points]}
@@ -268,18 +305,24 @@ def ensemble(points: list[Box], *, workers: int | None = None, checkpoint: str |
     if scheduler is not None:
         check_scheduler(scheduler)
     client = connect_scheduler(scheduler) if isinstance(scheduler, str) and todo else scheduler
+    bar = _bar(len(points), len(done), progress and bool(todo), "active ensemble")
     try:
         w = 0 if client is not None or not todo else plan_workers(workers, len(todo))
         batches = plan_batches(todo, 1, w)
         results = iter_dask(_run_points, spec, batches, client) if client is not None and todo \
             else iter_local(_run_points, spec, batches, w)
         if path is not None:
-            for _ in stream_checkpoint(path, spec, results, done):
-                pass
+            for n in stream_checkpoint(path, spec, results, done):
+                if bar is not None:
+                    bar.update(n)
         else:
             for rows in results:
                 done.update((r["i"], r) for r in rows)
+                if bar is not None:
+                    bar.update(len(rows))
     finally:
+        if bar is not None:
+            bar.close()
         if client is not None and client is not scheduler:
             client.close()
     return [done[i] for i in range(len(points))]

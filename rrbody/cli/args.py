@@ -20,9 +20,9 @@ from typing import Any, NoReturn
 from rrbody.model.angles import parse_number
 from rrbody.model.checks import LIMITS, check
 
-__all__ = ["CliError", "Parser", "OPTION_PARAMS", "emit", "number", "integer", "angle", "float_list", "option_help",
-           "check_options", "option_message", "preprocess_argv", "suggest", "commands", "subparser", "parse",
-           "check_repeats", "given", "plain_text", "_angle", "_finite", "_float_list"]
+__all__ = ["CliError", "Parser", "OPTION_PARAMS", "emit", "ranged", "number", "integer", "angle", "float_list",
+           "option_help", "check_options", "option_message", "preprocess_argv", "suggest", "commands", "subparser",
+           "parse", "check_repeats", "given", "plain_text", "_angle", "_finite", "_float_list"]
 
 
 class CliError(ValueError):
@@ -105,13 +105,20 @@ def _valid(option: str) -> str:
     return f" {LIMITS[param].text()}" if param else ""
 
 
-def number(option: str) -> Callable[[str], float]:
+def ranged(action: argparse.Action, valid: str) -> argparse.Action:
+    """Mark an option whose range is not the model's table (:data:`OPTION_PARAMS`) but another checked
+    table's (a study's parameters): ``valid`` ('in [0, 1] m') is its range as its help shows it."""
+    action.valid = valid  # type: ignore[attr-defined]
+    return action
+
+
+def number(option: str, valid: str | None = None) -> Callable[[str], float]:
     """argparse type: a finite float written as a decimal literal, finite as written (``1e400`` is
     refused, not read as inf) and not a nonzero literal that underflows to 0 (``1e-400``); range
-    checks come later, from the model's table."""
+    checks come later, from the model's table (or the table ``valid``, ' in [0, 1] m', comes from)."""
     def parse(text: str) -> float:
         try:
-            return parse_number(text, name=option, valid=_valid(option))
+            return parse_number(text, name=option, valid=_valid(option) if valid is None else valid)
         except ValueError as e:
             raise argparse.ArgumentTypeError(str(e)) from None
 
@@ -122,8 +129,9 @@ def number(option: str) -> Callable[[str], float]:
 _INT = re.compile(r"^\s*[+-]?\d+\s*$", re.ASCII)
 
 
-def integer(option: str) -> Callable[[str], int]:
-    """argparse type: an integer written as one (``1e3`` and ``1.0`` count, ``1.5`` does not)."""
+def integer(option: str, valid: str | None = None) -> Callable[[str], int]:
+    """argparse type: an integer written as one (``1e3`` and ``1.0`` count, ``1.5`` does not); ``valid``
+    as for :func:`number`."""
     def parse(text: str) -> int:
         if _INT.match(text):
             try:
@@ -135,7 +143,8 @@ def integer(option: str) -> Callable[[str], int]:
         except ValueError:
             v = math.nan
         if not (math.isfinite(v) and v.is_integer()):
-            raise argparse.ArgumentTypeError(f"{option} must be an integer{_valid(option)}, got {text!r}")
+            raise argparse.ArgumentTypeError(f"{option} must be an integer"
+                                             f"{_valid(option) if valid is None else valid}, got {text!r}")
         return int(v)
 
     parse.__name__ = "integer"

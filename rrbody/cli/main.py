@@ -20,6 +20,7 @@ from typing import Any
 from rrbody._version import __version__
 from rrbody.cli.args import CliError, Parser, angle, check_options, commands, emit, number, option_help, option_message, \
     parse
+from rrbody.cli.active_options import add_active_options
 from rrbody.cli.cache import add_parser as add_cache_parser
 from rrbody.cli.options import (SIMULATE_OUTPUTS, add_accuracy_options, add_integrator_options,
                                 add_scene_options, check_contradictions, scene_from_args, stepper_option)
@@ -56,7 +57,9 @@ def _check_outputs(args: argparse.Namespace) -> dict[str, str]:
 
 def cmd_simulate(args: argparse.Namespace) -> int:
     check_options(args, ("--dt-out", "--fps", "--movie-speed"))
-    scene = scene_from_args(args, required=("--t-max",))
+    from rrbody.cli.active_options import with_active
+
+    scene = with_active(scene_from_args(args, required=("--t-max",)), args)
     stepper = stepper_option(args)
     paths = _check_outputs(args)
     pictures = bool(args.movie or args.rerun or args.rerun_spawn)
@@ -84,7 +87,10 @@ def _simulate(args: argparse.Namespace, scene: Any, stepper: dict[str, str], pic
         opts.update(rtol=args.rtol, accuracy=args.accuracy, **stepper)
     else:
         opts.update({k: v for k, v in (("dt", args.dt), ("iterations", args.iterations)) if v is not None})
-    traj = simulate(scene, method=args.method, dt_out=args.dt_out, progress=_progress(args), **opts)
+    try:
+        traj = simulate(scene, method=args.method, dt_out=args.dt_out, progress=_progress(args), **opts)
+    except ValueError as e:  # (run_command names the option; a hint at Python's method= is --method here)
+        raise ValueError(str(e).replace("method='engine'", "--method engine")) from None
     if "warning" in traj.meta:
         print(f"rrbody simulate: warning: {traj.meta['warning']}; the trajectory is partial", file=sys.stderr)
     written: dict[str, str] = {}
@@ -230,6 +236,7 @@ def build_parser() -> Parser:
                        description="Integrate one scene. Example: rrbody simulate --H 0.2 --k 0.05 --omega 0.6 "
                                    "--phi0 pi --t-max 60 --out traj.csv")
     add_scene_options(s)
+    add_active_options(s)
     add_integrator_options(s)
     s.add_argument("--dt-out", type=number("--dt-out"), default=None,
                    help=option_help("dt_out", "output interval (default: 1/64 of the fastest period)"))
@@ -290,6 +297,9 @@ def build_parser() -> Parser:
     from rrbody.cli.chaos import add_parser as add_chaos_parser
 
     add_chaos_parser(sub)
+    from rrbody.cli.active import add_parser as add_active_parser
+
+    add_active_parser(sub)
 
     dm = sub.add_parser("demo", help="the main job (what `make demo` runs): Movie S1",
                         description="Run the Movie S1 scene: movies/movie_s1.mp4 and results/movie-s1/. No options.")

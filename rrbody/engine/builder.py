@@ -150,6 +150,7 @@ class EngineHandle:
                         v_eps=1e-12 * scene.velocity_scale(), staggered=self._staggered, static=static)
         if scene.active is not None:  # a free body's propulsion and its medium (rrbody.engine.active)
             self.plane.activate(self.body, scene.active)
+            self.plane.seed(scene.seed)  # its noise: the scene's seed, as on the ODE path
         if self.driver is not None:
             j = self.plane._slots[self.body]
             self.plane._bodies[j, [K.DRV, K.OMG, K.DD, K.ANX, K.ANY, K.T0]] = \
