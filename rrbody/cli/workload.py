@@ -46,6 +46,9 @@ COMMANDS: tuple[list[str], ...] = (
     ["simulate", "--body", "disk", "--R0", "0.3", "--no-drive", "--v0", "1,0", "--spin0", "3", "--mu", "0.3",
      "--pressure", "ring:0.3", "--tilt", "0.3", "--mu-static", "0.5", "--t-max", "0.5", "--json"],
     ["simulate", *_ROD, "--k", "0.05", "--tilt", "0.2", "--t-max", "0.5", "--json"],
+    # an active body with noise on the ODE path: the fixed-step stochastic scheme (rrbody.integrate.sde)
+    ["simulate", "--body", "disk", "--R0", "0.3", "--no-drive", "--v0", "1,0", "--k", "1", "--friction", "viscous",
+     "--active-force", "1", "--rot-drag", "2", "--rot-diffusion", "0.1", "--seed", "1", "--t-max", "0.5", "--json"],
 )
 
 
