@@ -56,7 +56,7 @@ from rrbody.physics.icr import TRANSLATION_EPS, icr_wrench_body, translation_wre
 __all__ = ["build_table", "table_wrench_body", "cheb", "twist_scale", "TINY", "HUGE", "NT", "NM", "NTRI", "OCTAVES",
            "TAIL_TOL", "BUILD_NODES"]
 
-#: coefficients per panel along t (degree NT - 1) and along m (degree NM - 1)
+#: coefficients per panel along t (degree NT - 1; even: the disk's sum takes them in pairs) and along m (degree NM - 1)
 NT: int = 10
 NM: int = 10
 #: octaves of x = 1 - t that get panels; below 2^-OCTAVES (x log x < 2e-12) x is clamped
@@ -369,21 +369,24 @@ def table_wrench_body(S, ra, rb, vbx, vby, spin, coeff, v_eps):  # noqa: ANN001
     if S[0, 0] == 1.0:
         # disk: rotationally symmetric; r = |v| / (|Omega| R), force opposite v_cm (any frame)
         speed = math.sqrt(sp2)
-        r = speed / wr
-        if r < 1.0:
-            ip, zt = _locate(S, 1.0 - r, 0)
-        else:
-            ip, zt = _locate(S, (r - 1.0) / r, 1)
+        # x = 1 - r inside (r = speed / wr < 1), 1 - 1 / r outside: each one division from the
+        # speeds (both computed, then one chosen: no division waits for another, no branch to mispredict)
+        inside = speed < wr
+        x_in = (wr - speed) / wr
+        x_out = (speed - wr) / speed if speed > 0.0 else 0.0
+        ip, zt = _locate(S, x_in if inside else x_out, 0 if inside else 1)
+        inv = 1.0 / speed if speed > 0.0 else 0.0  # (off the critical path: the sum below takes longer)
         base = int(S[_HEADER + 2 * OCTAVES + ip, 0])
-        g = 0.0
-        h = 0.0
-        for i in range(NT - 1, -1, -1):
-            g = g * zt + S[base + i, 0]
-            h = h * zt + S[base + i, 1]
-        if speed > 0.0:
-            f = -coeff * g / speed
-            return f * vbx, f * vby, pre * rmax * h
-        return 0.0, 0.0, pre * rmax * h
+        # Estrin's scheme: pairs c_2k + c_2k+1 z (independent), then Horner in z^2: half the chain of
+        # dependent multiply-adds of Horner's (NT is even)
+        z2 = zt * zt
+        g = S[base + NT - 2, 0] + S[base + NT - 1, 0] * zt
+        h = S[base + NT - 2, 1] + S[base + NT - 1, 1] * zt
+        for i in range(NT - 4, -1, -2):
+            g = g * z2 + (S[base + i, 0] + S[base + i + 1, 0] * zt)
+            h = h * z2 + (S[base + i, 1] + S[base + i + 1, 1] * zt)
+        f = -coeff * g * inv
+        return f * vbx, f * vby, pre * rmax * h
     # the scaled ICR (scaled_icr) times spin ra rb, which keeps the divisions out: Q = (ux, uy) / (spin ra rb)
     ux = -vby * rb
     uy = vbx * ra
