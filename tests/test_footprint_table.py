@@ -22,6 +22,10 @@ from rrbody.physics.footprint import combine, ellipse_part, point_part, polygon_
 from rrbody.physics.polygon import polygon_geometry
 from rrbody.physics.footprint_table import build_footprint_table, footprint_table_wrench, table_covers, table_reach
 
+# `make test` (pytest-xdist, --dist loadgroup) runs this file's tests in one worker: the module fixture's
+# five tables (1-2 s each) and the uncached `_both` kernel are then built once, not in both workers
+pytestmark = pytest.mark.xdist_group("footprint_tables")
+
 TOL = 1e-10
 V_EPS = 1e-6  # m/s: the plugin's order of magnitude of the dead band
 A = 0.08  # m: the L's leg width (benchmarks/active.py)

@@ -28,6 +28,10 @@ from rrbody.physics.icr_table import _HEADER, NM, NT, OCTAVES, build_table
 from rrbody.physics.icr_table import _horner2 as _full_inline
 from rrbody.physics.icr_table import _horner_tri as _tri_inline
 
+# `make test` (pytest-xdist, --dist loadgroup) runs this file's tests in one worker: each ellipse table
+# (seconds to build; build_table caches it per process) is then built once, not in both workers
+pytestmark = pytest.mark.xdist_group("icr_tables")
+
 TOL = 1e-10
 
 
