@@ -66,8 +66,11 @@ demo: $(VENV)/.installed-demo
 	$(BIN)/rrbody demo
 
 ## make test: set up (test, engine, movie, rerun, dask, data, mujoco extras), then the whole test suite (2 workers)
+# --dist loadgroup: the tests marked xdist_group (a file that builds costly wrench tables) run in one
+# worker, which builds each table once; pytest-xdist hands those groups out first, then every other
+# test one at a time in the suite's order (tests/conftest.py: the slow ones first)
 test: $(VENV)/.installed-test $(VENV)/.kernels
-	$(BIN)/python -m pytest -n 2 --durations=15 tests
+	$(BIN)/python -m pytest -n 2 --dist loadgroup --durations=15 tests
 
 ## make bench: work-precision benchmarks -> benchmarks/results/, then every figure the README and docs quote
 bench: $(VENV)/.installed-test $(VENV)/.kernels

@@ -47,8 +47,10 @@ def pytest_configure(config: pytest.Config) -> None:
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """The longest tests (marked ``slow``: a fresh venv, the README's snippets) first, the rest in
-    file order. pytest-xdist (``make test``: ``-n 2``) hands tests out in this order, so none of the
-    long ones starts last, with the other worker idle until it ends. Every test still runs."""
+    file order. pytest-xdist (``make test``: ``-n 2 --dist loadgroup``) hands out the groups of tests
+    that run in one worker first (``xdist_group``: the files that build wrench tables), then every
+    other test, one at a time, in this order, so none of the long ones starts last, with the other
+    worker idle until it ends. Every test still runs."""
     items.sort(key=lambda item: item.get_closest_marker("slow") is None)  # stable: file order kept
 
 

@@ -22,6 +22,10 @@ from rrbody.physics.footprint import combine, ellipse_part, point_part, polygon_
 from rrbody.physics.polygon import polygon_geometry
 from rrbody.physics.footprint_table import build_footprint_table, footprint_table_wrench, table_covers, table_reach
 
+# `make test` (pytest-xdist, --dist loadgroup) runs this file's tests in one worker: the module fixture's
+# five tables (1-2 s each) and the uncached `_both` kernel are then built once, not in both workers
+pytestmark = pytest.mark.xdist_group("footprint_tables")
+
 TOL = 1e-10
 V_EPS = 1e-6  # m/s: the plugin's order of magnitude of the dead band
 A = 0.08  # m: the L's leg width (benchmarks/active.py)
@@ -236,16 +240,16 @@ def test_non_finite_twists_go_to_the_exact_formula(tables: dict) -> None:
         assert np.array_equal(np.array(got), np.array(ref), equal_nan=True)
 
 
-def test_tiny_and_huge_twists_read_the_same_table() -> None:
+def test_tiny_and_huge_twists_read_the_same_table(tables: dict) -> None:
     """The wrench depends on the twist's direction only (v_eps = 0): a twist scaled by 1e-166 or 1e300
     gives what the exact formula gives at scale 1, within the table's TOL (the table scales such a
     twist by a power of two, exactly, before it reads the table: a body left with a velocity of
     1e-166 m/s by a collision once made the plugin's kernel divide by zero). Subnormal twists (1e-320:
     a few significant bits) against the exact formula at the same twist scaled up by 2^1000 (exact),
-    and never inf or NaN."""
-    shapes, geo = _l_shape()
+    and never inf or NaN. The L's table of the module's fixture (a build is deterministic to the bit:
+    test_table_size_and_determinism)."""
+    shapes, geo, T = tables["L"]
     n = shapes.shape[0]
-    T = build_footprint_table(shapes, geo, 0, n)
     for twist in ((-7.5, -4.0, -13.0), (0.3, -0.1, 2.0), (1.0, 0.5, 0.0), (0.0, 0.0, 3.0)):
         R = table_reach(shapes, geo, 0, n)
         for k in (1e-166, 1e300, 1e-320):

@@ -28,6 +28,10 @@ from rrbody.physics.icr_table import _HEADER, NM, NT, OCTAVES, build_table
 from rrbody.physics.icr_table import _horner2 as _full_inline
 from rrbody.physics.icr_table import _horner_tri as _tri_inline
 
+# `make test` (pytest-xdist, --dist loadgroup) runs this file's tests in one worker: each ellipse table
+# (seconds to build; build_table caches it per process) is then built once, not in both workers
+pytestmark = pytest.mark.xdist_group("icr_tables")
+
 TOL = 1e-10
 
 
@@ -190,8 +194,8 @@ def test_flip_time_table_equals_icr() -> None:
     assert tf("table") == pytest.approx(tf("icr"), rel=1e-9)
 
 
-@pytest.mark.parametrize("ratio", [1.0, 0.5])
-def test_tiny_and_huge_twists_read_the_same_table(ratio: float) -> None:
+@pytest.mark.parametrize("delta", [0.0, 0.5])  # a disk and the ellipse b/a = 1/3 (the table the tests above build)
+def test_tiny_and_huge_twists_read_the_same_table(delta: float) -> None:
     """The dry wrench depends on the twist's direction only (v_eps = 0): scaled by 1e-166 or 1e-300
     (whose squares underflow), 1e-320 (subnormal) or 1e300 (overflow), the table gives what the
     quadrature gives at scale 1, within the table's 1e-10 (a disk left with a velocity of 1e-166 m/s
@@ -199,7 +203,7 @@ def test_tiny_and_huge_twists_read_the_same_table(ratio: float) -> None:
     dead band give zero."""
     from rrbody.physics.icr_table import table_wrench_body
 
-    a, b = 0.1, 0.1 * ratio
+    a, b = _axes(delta)
     S = build_table(a, b)
     for twist in ((-7.5, -4.0, -1.3), (0.3, -0.1, 20.0), (1.0, 0.5, 0.0), (0.0, 0.0, 3.0)):
         for k in (1e-166, 1e-300, 1e300, 1e-320):
