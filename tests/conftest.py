@@ -14,15 +14,19 @@ import pytest
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 _ROOT = Path(__file__).resolve().parents[1]
-_COMPILED = ("rrbody", "benchmarks")  # the trees whose sources the benchmarks' kernels may inline
+_COMPILED = ("rrbody", "benchmarks", "tests")  # the trees whose sources cached test and benchmark kernels may inline
+#: the trees whose own numba caches hold kernels compiled from rrbody's (purged when any source changes)
+_PURGED = ("benchmarks", "tests")
 
 
 def _purge_stale_numba_cache() -> None:
-    """Drop the benchmarks' kernels numba cached on disk once any source of rrbody or the benchmarks changed.
+    """Drop the kernels the benchmarks and the tests cached on disk once any source of rrbody, the
+    benchmarks or the tests changed.
 
     numba keys a cached function by the timestamp of its own file only: an edit to a kernel it
-    inlines from another file (rrbody's right-hand side into the benchmarks' lean loop) would leave
-    the stale compiled copy in use. rrbody's own kernels need no purge: they are cached under a hash
+    inlines or links from another file (rrbody's right-hand side into the benchmarks' lean loop, the
+    wrench table into a test's loop over twists) would leave the stale compiled copy in use, and the
+    test would check the old kernel. rrbody's own kernels need no purge: they are cached under a hash
     of the package's sources (``rrbody._cache.kernels_dir``). The sources' hash since the last purge
     is kept beside the benchmarks' caches."""
     h = hashlib.sha256()
@@ -34,8 +38,9 @@ def _purge_stale_numba_cache() -> None:
     digest = h.hexdigest()
     if stamp.is_file() and stamp.read_text() == digest:
         return
-    for f in (_ROOT / "benchmarks").rglob("__pycache__/*.nb[ic]"):
-        f.unlink(missing_ok=True)
+    for tree in _PURGED:
+        for f in (_ROOT / tree).rglob("__pycache__/*.nb[ic]"):
+            f.unlink(missing_ok=True)
     stamp.parent.mkdir(exist_ok=True)
     stamp.write_text(digest)
 
