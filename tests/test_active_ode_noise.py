@@ -67,6 +67,32 @@ def test_rotational_noise_orientation_autocorrelation_matches_its_closed_form(se
     assert np.all(tr.x_cm == 0.0) and np.all(tr.y_cm == 0.0)  # no force: the centre stays put exactly
 
 
+def _sra1_variance_ratio(x: float) -> float:
+    """SRA1's stationary variance of the OU process v' = -g v + s xi at the step h = x / g, over the exact
+    s^2 / (2 g). One step (rrbody.integrate.sde) is v_new = a v + s (dW - x I10 / h), a = 1 - x + x^2/2,
+    whose noise has variance s^2 h (1 - x + x^2/3) (E dW^2 = h, E dW I10 = h^2/2, E I10^2 = h^3/3); the
+    stationary variance solves V = a^2 V + that: 2 (1 - x + x^2/3) / ((1 - x/2)(2 - x + x^2/2)) of the
+    exact, 1 - x^2/6 + O(x^3): weak order 2."""
+    return 2.0 * (1.0 - x + x * x / 3.0) / ((1.0 - 0.5 * x) * (2.0 - x + 0.5 * x * x))
+
+
+@pytest.mark.parametrize("x", [0.5, 0.25])
+def test_large_steps_give_the_schemes_own_stationary_variance(x: float) -> None:
+    """The OU spin (no propulsion, rotational drag g and noise only) at steps h = x / g: its variance is
+    SRA1's exact stationary value, D_r g rho(x) (:func:`_sra1_variance_ratio`; -4.3 % at x = 0.5, -1.1 %
+    at 0.25), the error of a weak-order-2 scheme; at x = 0.5 distinct from the exact D_r g."""
+    D, G, n = 0.5, 20.0, 60000  # rad^2/s, 1/s, samples 0.15 s = 3 / g apart (correlation e^-3: nearly independent)
+    sc = _disk_scene(Active(force=0.0, rot_drag=G, rot_diffusion=D), seed=5, noise_dt=x / G)
+    tr = simulate(sc, method="ode", t_max=0.15 * (n + 10), dt_out=0.15)
+    assert math.isclose(tr.meta["dt"], x / G, rel_tol=1e-12)  # (0.15 / 6: the step divides the output interval)
+    w = tr.spin[10:]  # after 1.5 s = 30 / g: stationary
+    # a sample variance's relative sd: sqrt(2 / N) = 0.58 % (N = 60,000; the e^-3 correlation adds 0.25 % of it)
+    se = math.sqrt(2.0 / n)
+    assert abs(w.var() / (D * G * _sra1_variance_ratio(x)) - 1.0) < 4 * se, (w.var(), D * G * _sra1_variance_ratio(x))
+    if x == 0.5:  # the step's bias is resolved: the exact continuous variance is 7.4 standard errors off
+        assert abs(w.var() / (D * G) - 1.0) > 4 * se
+
+
 @pytest.mark.parametrize("seed", [3, 4])
 def test_translational_noise_gives_velocity_variance_dt_gamma_per_component(seed: int) -> None:
     D, G = 1e-3, 20.0  # m^2/s, 1/s: kT/m = D G = 0.02 m^2/s^2
