@@ -30,6 +30,9 @@ def cache_report() -> dict[str, Any]:
                         "stale": [str(p) for p in kernels if p != current],
                         "stale_bytes": sum(_size(p) for p in kernels if p != current)},
             "tables_bytes": _size(root / "tables"),
+            # the plugin's wrench tables live beside the kernels they belong to (rrbody.engine.footprints.stored)
+            "wrench_tables": {"count": len(list((current / "tables").glob("*.npy"))),
+                              "bytes": _size(current / "tables")},
             "installed_kernels": {"path": str(shipped_kernels_dir()), "bytes": _size(shipped_kernels_dir())}}
 
 
@@ -75,6 +78,8 @@ def cmd_cache(args: argparse.Namespace) -> int:
           f"  kernels of other versions or sources: {len(k['stale'])} folder(s), {_mb(k['stale_bytes'])} "
           "(never loaded; `rrbody cache clear` removes them)\n"
           f"  quadrature tables: {_mb(rep['tables_bytes'])}\n"
+          f"  the plugin's wrench tables (in the kernels' folder): {rep['wrench_tables']['count']}, "
+          f"{_mb(rep['wrench_tables']['bytes'])}\n"
           f"  kernels compiled at install: {rep['installed_kernels']['path']} "
           f"({_mb(rep['installed_kernels']['bytes']) if rep['installed_kernels']['bytes'] else 'none for these sources'}; "
           "copied into the cache folder on first use)")
