@@ -111,7 +111,8 @@ def edge_lines(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int, R: float) 
     return lines
 
 
-def cell_line(lines: list[Line], rect: tuple[float, float, float, float], R: float) -> tuple[float, float, float, float]:
+def cell_line(lines: list[Line], rect: tuple[float, float, float, float],
+              R: float) -> tuple[float, float, float, float]:
     """(nx, ny, d, kappa) of the one line of ``lines`` (:func:`edge_lines`) whose edges cross the ICR
     rectangle ``rect`` (x0, x1, y0, y1; m), widened by its own size on every side (a line just
     outside a cell slows its fit's convergence as much as one through it), with a net kappa (the
