@@ -10,6 +10,7 @@ translation, both spin signs, and speeds around the dead band v_eps.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -65,13 +66,20 @@ def _points() -> tuple[np.ndarray, np.ndarray]:
 FOOTPRINTS = {"L": _l_shape, "box": _box_off_g, "triangle": _triangle, "circle": _circle, "points": _points}
 
 
-@pytest.fixture(scope="module")
-def tables() -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+@functools.lru_cache(maxsize=1)
+def _built() -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
     out = {}
     for name, make in FOOTPRINTS.items():
         shapes, geo = make()
         out[name] = (shapes, geo, build_footprint_table(shapes, geo, 0, shapes.shape[0]))
     return out
+
+
+@pytest.fixture(scope="module")
+def tables() -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    # built once per process: an xdist worker that does not yet know its next test tears module
+    # fixtures down, and the suite's logs showed this setup (about 6 s) twice in one worker
+    return _built()
 
 
 @njit  # not cached: numba would key it by this file's time stamp alone and keep a stale inlined kernel
