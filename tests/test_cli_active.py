@@ -201,8 +201,21 @@ def test_ensemble_refuses_bad_input_in_one_line(tmp_path: Path) -> None:
              (["--seed", "0,0"], "--seed"), (["--seed", "0,x"], "--seed"), (["--seed", ","], "--seed"),
              (["--n", "1"], "--n"), (["--mix", "-0.1"], "--mix"), (["--t-end", "-1"], "--t-end"),
              (["--every", "1001"], "--every"), (["--dt", "0"], "--dt"), (["--workers", "-1"], "--workers"),
-             (["--plot", "e.jpg"], "--plot"), (["--resume", "--force"], "--resume")]
+             (["--plot", "e.jpg"], "--plot"), (["--resume", "--force"], "--resume"),
+             (["--scheduler", "foo"], "--scheduler"), (["--scheduler", "tcp://127.0.0.1:1"], "--scheduler")]
     runs = run_here([[*ens, *extra, "--out", "e.csv"] for extra, _ in cases]
                     + [[*ens, "--out", "e.txt"], ens], cwd=tmp_path)
     for r, (_, option) in zip(runs, [*cases, ([], "--out"), ([], "--out")]):
         assert_bad_input(r, option, tmp_path, set())
+
+
+def test_ensemble_on_a_dask_scheduler_gives_the_local_rows(tmp_path: Path) -> None:
+    """``--scheduler``: the runs on a Dask cluster (in this process, reached by its address), the same
+    rows as on local processes."""
+    from distributed import LocalCluster
+
+    with LocalCluster(processes=False, n_workers=1, threads_per_worker=1, dashboard_address=None) as cluster:
+        (r,) = run_here([[*ENS, "--out", "d.json", "--scheduler", cluster.scheduler_address]], cwd=tmp_path, real=0)
+    assert r.code == 0, r.err
+    assert json.loads((tmp_path / "d.json").read_text())["runs"] == json.loads(json.dumps(_jsonable(
+        ensemble(POINTS, workers=0))))

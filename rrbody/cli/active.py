@@ -122,6 +122,9 @@ def add_parser(sub: Any) -> None:
     o.add_argument("--plot", help="PNG of the statistics against packing (mean +- sd over the seeds)")
     o.add_argument("--workers", type=integer("--workers"), default=None,
                    help=option_help("workers", "local processes (default: the core count; never more than the runs)"))
+    o.add_argument("--scheduler", default=None, help="Dask scheduler address, e.g. tcp://127.0.0.1:8786, instead "
+                                                     "of local processes (its form, then that it answers, checked "
+                                                     "before anything is written)")
     o.add_argument("--resume", action="store_true", help="continue an interrupted ensemble from its checkpoint "
                                                          "(not with --force)")
     _outputs(e)
@@ -261,6 +264,17 @@ def cmd_active_ensemble(args: argparse.Namespace) -> int:
         from rrbody.model.extras import require
 
         require("matplotlib", purpose="a figure (--plot)")
+    if args.scheduler is not None:
+        from rrbody.analysis.pool import check_scheduler_address
+        from rrbody.cli.sweep import _quiet_dask
+        from rrbody.model.extras import require
+
+        try:
+            check_scheduler_address(args.scheduler)
+        except ValueError as e:
+            raise CliError("--" + str(e)) from None
+        require("distributed", purpose="a Dask scheduler (--scheduler)")
+        _quiet_dask()
     with claimed([*paths.items(), ("--out: checkpoint", ck)]):
         for opt, path in paths.items():
             check_writable(path, force=args.force or args.resume, name=opt)
@@ -278,8 +292,12 @@ def _run_ensemble(args: argparse.Namespace, points: list[Any], ck: Path) -> int:
     from rrbody.analysis.sweep_store import count_rows
 
     try:
-        rows = ensemble(points, workers=args.workers, checkpoint=ck,
+        rows = ensemble(points, workers=args.workers, checkpoint=ck, scheduler=args.scheduler,
                         progress=not args.json and sys.stderr.isatty())
+    except ValueError as e:  # no scheduler answers at the address (before anything is written), or a
+        # checkpoint of other runs (kept)
+        msg = str(e)
+        raise CliError("--" + msg if msg.startswith("scheduler") else msg) from None
     except KeyboardInterrupt:
         print(f"rrbody active-ensemble: interrupted: {count_rows(ck)} of {len(points)} runs are saved in "
               f"{str(ck)!r}; run the same command with --resume to compute the rest", file=sys.stderr)
