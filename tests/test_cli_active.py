@@ -219,3 +219,15 @@ def test_ensemble_on_a_dask_scheduler_gives_the_local_rows(tmp_path: Path) -> No
     assert r.code == 0, r.err
     assert json.loads((tmp_path / "d.json").read_text())["runs"] == json.loads(json.dumps(_jsonable(
         ensemble(POINTS, workers=0))))
+
+
+def test_a_run_with_its_progress_bar_is_the_same_run(capsys) -> None:  # noqa: ANN001
+    """``rrbody active`` on a terminal shows a bar over the steps (a watcher of the run): it counts every
+    step and changes nothing in the run."""
+    from rrbody.render.active_film import run_filmed
+
+    box = Box(n=6, t_end=0.5, packing=0.3)
+    res, rec, rrd = run_filmed(box, movie=False, progress=True)
+    assert rec is None and rrd is None
+    assert json.dumps(_jsonable(summary(res))) == json.dumps(_jsonable(summary(run_box(box))))
+    assert "60/60" in capsys.readouterr().err  # 0.5 s at dt = 1/120 s

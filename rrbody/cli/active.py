@@ -196,7 +196,8 @@ def _run_active(args: argparse.Namespace, box: Any, rerun_every: int) -> int:
     from rrbody.model.trajectory import _jsonable
     from rrbody.render.active_film import run_filmed, write_movie, write_rerun
 
-    res, rec, rrd = run_filmed(box, movie=bool(args.movie), rerun_every=rerun_every if args.rerun else None)
+    res, rec, rrd = run_filmed(box, movie=bool(args.movie), rerun_every=rerun_every if args.rerun else None,
+                               progress=not args.json and sys.stderr.isatty())
     out = _jsonable(summary(res))
     written: dict[str, str] = {}
     if args.out:

@@ -39,26 +39,48 @@ class _Films:
             r.capture()
 
 
+class _Steps:
+    """A progress bar over a run's steps, as a watcher (``capture`` is called once before the first step
+    and after every step)."""
+
+    def __init__(self, total: int) -> None:
+        from tqdm import tqdm
+
+        self.bar = tqdm(total=total, desc="active run", unit="step", dynamic_ncols=True)
+        self.started = False
+
+    def capture(self) -> None:
+        if self.started:
+            self.bar.update(1)
+        self.started = True
+
+
 def run_filmed(box: Any, *, movie: bool = True, rerun_every: int | None = None,
-               max_mb: float = 4000.0) -> tuple[dict[str, Any], Any, Any]:
+               max_mb: float = 4000.0, progress: bool = False) -> tuple[dict[str, Any], Any, Any]:
     """:func:`rrbody.analysis.active_study.run_box` of ``box`` watched by a Recorder (poses only) that
     keeps every sample the analysis keeps (``movie``) and one that keeps every ``rerun_every``-th of them
-    (None: no such recorder). Returns (the run's result, the movie's recorder or None, the rerun
-    recording's or None)."""
+    (None: no such recorder); ``progress``: a progress bar over the steps on stderr. Returns (the run's
+    result, the movie's recorder or None, the rerun recording's or None)."""
     from rrbody.analysis.active_study import run_box
     from rrbody.render.recorder import Recorder
 
     every = [box.every] if movie else []
     if rerun_every is not None:
         every.append(int(rerun_every) * box.every)
-    if not every:
+    if not every and not progress:
         return run_box(box), None, None
+    bar = _Steps(int(round(box.t_end / box.dt))) if progress else None
 
     def watch(space: Any, pf: Any, bodies: list[Any]) -> _Films:
-        return _Films(*(Recorder(space, pf, bodies=bodies, every=e, motion=False, max_mb=max_mb) for e in every))
+        recs = [Recorder(space, pf, bodies=bodies, every=e, motion=False, max_mb=max_mb) for e in every]
+        return _Films(*recs, *([bar] if bar is not None else []))
 
-    res = run_box(box, watch=watch)
-    recs = list(res.pop("watcher").recs)
+    try:
+        res = run_box(box, watch=watch)
+    finally:
+        if bar is not None:
+            bar.bar.close()
+    recs = [r for r in res.pop("watcher").recs if r is not bar]
     rec = recs.pop(0) if movie else None
     rrd = recs.pop(0) if rerun_every is not None else None
     return res, rec, rrd
