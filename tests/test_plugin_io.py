@@ -117,18 +117,20 @@ def test_layout_reads_and_writes_force_and_torque() -> None:
         assert (b.force.x, b.force.y, b.torque) == tuple(out[k])
 
 
+@pytest.mark.parametrize("pressure", ["uniform", "ring:0.08", "hertz:0.1"])
 @pytest.mark.parametrize("offset", [(0.0, 0.0), (0.03, -0.02)])
-def test_disk_table_matches_the_exact_wrench(offset: tuple[float, float]) -> None:
-    """A disk body's friction comes from the disk's wrench table (kernel.TABLE_CIRCLE): within 1e-10
-    of the exact footprint wrench (icr_table's stated accuracy; units mu m g and mu m g R), at spins
-    from pure translation to pure spin, both senses, a disk off the centre of gravity too."""
+def test_disk_table_matches_the_exact_wrench(offset: tuple[float, float], pressure: str) -> None:
+    """A disk body's friction comes from its profile's disk table (kernel.TABLE_CIRCLE; uniform
+    pressure, a ring, Hertz's): within 1e-10 of the exact footprint wrench (icr_table's stated accuracy;
+    units mu m g and mu m g R), at spins from pure translation to pure spin, both senses, a disk off the
+    centre of gravity too."""
     space = pymunk.Space()
     pf = PlaneFriction(space, g=G)
     b = pymunk.Body()
     s = pymunk.Circle(b, 0.1, offset)
     s.density = 5.0
     space.add(b, s)
-    pf.add(b, mu=0.4)
+    pf.add(b, mu=0.4, pressure=pressure)
     j = pf._slots[b]
     assert pf._bodies[j, K.TKIND] == K.TABLE_CIRCLE
     sh, geo = pf._k_shapes, pf._k_geo

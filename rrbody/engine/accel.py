@@ -63,10 +63,10 @@ def _accel(j: int, ca: float, sa: float, vx: float, vy: float, w: float, bodies:
 @njit(cache=True, inline="always")
 def _circle(j: int, vbx: float, vby: float, w: float, bodies: np.ndarray, shapes: np.ndarray,
             tables: np.ndarray) -> tuple[float, float, float]:
-    """Dry friction per unit load and mu g of body j, one uniformly loaded disk (its one footprint
-    row), from the disk's wrench table (within 1e-10 of the exact wrench, :mod:`rrbody.physics.icr_table`;
-    no trigonometric call, one square root): velocity (m/s) body frame, the force dimensionless, the
-    torque about the centre of gravity in m."""
+    """Dry friction per unit load and mu g of body j, one disk under a radial pressure profile (its one
+    footprint row: uniform, a ring or Hertz's), from that profile's disk table (within 1e-10 of the exact
+    wrench, :mod:`rrbody.physics.icr_table`; no trigonometric call, one square root): velocity (m/s)
+    body frame, the force dimensionless, the torque about the centre of gravity in m."""
     k = int(bodies[j, S0])
     ox = shapes[k, C.CX]
     oy = shapes[k, C.CY]

@@ -23,7 +23,7 @@ from rrbody.engine import columns as K
 from rrbody.engine.rows import Rows
 from rrbody.physics import contact as C
 from rrbody.physics.footprint_table import build_footprint_table
-from rrbody.physics.icr_table import build_table
+from rrbody.physics.icr_table import build_radial_table, build_table
 
 __all__ = ["Footprints", "BUILT", "stored"]
 
@@ -91,11 +91,15 @@ class Footprints:
 
     def friction_table(self, shapes: np.ndarray, geo: np.ndarray, tabulate: bool) -> tuple[float, float]:
         """(TKIND, TAB) of a dry body with this footprint: one uniformly loaded disk takes the disk's
-        table (as exact as its quadrature, within 1e-10, and ~6x cheaper); with ``tabulate`` any other
+        table (as exact as its quadrature, within 1e-10, and ~6x cheaper), one ring or Hertz patch its
+        profile's disk table (within 1e-10 of its closed forms); with ``tabulate`` any other
         its own table (one per distinct footprint: its rows and geometry, ranges local to it); else
         the exact wrench every step."""
         if shapes.shape[0] == 1 and shapes[0, C.KIND] == C.ELLIPSE and shapes[0, C.RA] == shapes[0, C.RB]:
             return K.TABLE_CIRCLE, self._table("disk", lambda: build_table(1.0, 1.0))
+        if shapes.shape[0] == 1 and shapes[0, C.KIND] in (C.RING, C.HERTZ):  # radial profiles: their own disk tables
+            profile = "ring" if shapes[0, C.KIND] == C.RING else "hertz"
+            return K.TABLE_CIRCLE, self._table(profile, lambda: build_radial_table(profile))
         if tabulate:
             key = "footprint:" + hashlib.sha256(shapes.tobytes() + geo.tobytes()).hexdigest()
             return K.TABLE_FOOTPRINT, self._table(key, lambda: build_footprint_table(shapes, geo, 0, shapes.shape[0]))

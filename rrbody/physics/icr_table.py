@@ -35,7 +35,8 @@ world-frame wrapper is :func:`rrbody.physics.effects.areas.body_wrench`. Pure tr
 :func:`icr_wrench_body` does; the viscous law is linear and exact, so it never uses the table.
 
 Layout of the table array ``S`` (rows of 3, what the kernels receive as the area-sample array):
-row 0 (kind 1 disk / 2 ellipse, NT, NM); row 1 (b/a, E octaves, radial panels inside);
+row 0 (kind 1 disk / 2 ellipse, NT, NM; a disk: its radial profile's near-translation factor
+<|s|^2 - (s . e)^2> / a^2 instead of NM); row 1 (b/a, E octaves, radial panels inside);
 rows 2 .. 2+2E-1 per side (inside first) and octave o (k_o, index of its first radial panel, 0);
 then one row per radial panel (base row of octant 0, m-panels of octant 0, m-panels of octant 1,
 each count negative if that octant's panels are triangles; a disk: base row only); then the
@@ -52,8 +53,9 @@ from numba import njit, prange
 
 from rrbody.model.checks import check_positive
 from rrbody.physics.icr import TRANSLATION_EPS, icr_wrench_body, translation_wrench
+from rrbody.physics.radial import hertz_wrench, ring_wrench
 
-__all__ = ["build_table", "table_wrench_body", "cheb", "twist_scale", "TINY", "HUGE", "NT", "NM", "NTRI", "OCTAVES",
+__all__ = ["build_table", "build_radial_table", "PROFILES", "table_wrench_body", "cheb", "twist_scale", "TINY", "HUGE", "NT", "NM", "NTRI", "OCTAVES",
            "TAIL_TOL", "BUILD_NODES"]
 
 #: coefficients per panel along t (degree NT - 1; even: the disk's sum takes them in pairs) and along m (degree NM - 1)
@@ -173,8 +175,28 @@ def _triangular(c: np.ndarray) -> bool:
     return bool(np.abs(c[:, _HIGH, :]).sum(axis=1).max() <= TAIL_TOL)
 
 
+#: radial profiles a disk table can hold (:func:`build_radial_table`): uniform pressure, the load on the rim
+#: (a ring), Hertz's sqrt(1 - rho^2 / a^2); and each one's <|s|^2 - (s . e)^2> / a^2 for a unit e (the
+#: near-translation torque's factor: 1/4, 1/2, 1/5), kept in the table's row 0
+PROFILES = {"uniform": 0, "ring": 1, "hertz": 2}
+_TRANSLATION_M2 = (0.25, 0.5, 0.2)
+
+
+@njit(cache=True)
+def _radial_values(hertz: bool, rs: np.ndarray) -> np.ndarray:
+    """The ring's (or Hertz patch's) exact wrench (radius 1, spin 1) with the ICR at (r, 0), r in ``rs``."""
+    out = np.empty((rs.shape[0], 3))
+    for i in range(rs.shape[0]):
+        # spin 1 about the ICR (r, 0): the centre moves at (0, -r)
+        fx, fy, tq = hertz_wrench(1.0, 0.0, -rs[i], 1.0, 0.0) if hertz else ring_wrench(1.0, 0.0, -rs[i], 1.0, 0.0)
+        out[i, 0] = fx
+        out[i, 1] = fy
+        out[i, 2] = tq
+    return out
+
+
 @functools.lru_cache(maxsize=16)
-def _build(ratio: float) -> np.ndarray:
+def _build(ratio: float, profile: int = 0) -> np.ndarray:
     a, b = (1.0, ratio) if ratio <= 1.0 else (1.0 / ratio, 1.0)
     disk = ratio == 1.0
     zt, Vt, Mt = cheb(NT)
@@ -194,7 +216,8 @@ def _build(ratio: float) -> np.ndarray:
                     t = 1.0 - (0.5 * (lo + hi) + 0.5 * (hi - lo) * zt)
                     rs = t if side == 0 else 1.0 / t
                     if disk:
-                        w = _values(a, b, rs, np.zeros(1), 0)[:, 0, :]
+                        w = _values(a, b, rs, np.zeros(1), 0)[:, 0, :] if profile == 0 else \
+                            _radial_values(profile == 2, rs)
                         c = (Vt @ w)[None, :, None, :]
                         panels.append([c])
                     else:
@@ -211,7 +234,7 @@ def _build(ratio: float) -> np.ndarray:
         sides.append(octs)
     nr = [sum(len(p) for p in octs) for octs in sides]
     head = np.zeros((_HEADER + 2 * OCTAVES + nr[0] + nr[1], 3))
-    head[0] = (1.0 if disk else 2.0, NT, 1 if disk else NM)
+    head[0] = (1.0 if disk else 2.0, NT, _TRANSLATION_M2[profile] if disk else NM)
     head[1] = (ratio, OCTAVES, nr[0])
     rows = []
     row = head.shape[0]
@@ -238,6 +261,15 @@ def _build(ratio: float) -> np.ndarray:
                     head[hrow, 1 + octant] = -c.shape[0] if tri else c.shape[0]
                     row += c.shape[0] * NT * NM
     return np.ascontiguousarray(np.vstack([head, *rows]))
+
+
+def build_radial_table(profile: str) -> np.ndarray:
+    """The wrench table of a disk under the radial pressure ``profile`` (one of :data:`PROFILES`:
+    "uniform", the same as ``build_table(r, r)``; "ring", the load on the rim; "hertz"), from its
+    exact wrench (:mod:`rrbody.physics.radial` for the ring and Hertz's); dimensionless (any radius)."""
+    if profile not in PROFILES:
+        raise ValueError(f"profile must be one of {', '.join(map(repr, PROFILES))}, got {profile!r}")
+    return _build(1.0, PROFILES[profile])
 
 
 def build_table(ra: float, rb: float) -> np.ndarray:
@@ -364,6 +396,9 @@ def table_wrench_body(S, ra, rb, vbx, vby, spin, coeff, v_eps):  # noqa: ANN001
     if sp2 <= v_eps * v_eps and wr <= v_eps:
         return 0.0, 0.0, 0.0
     if wr * wr <= (TRANSLATION_EPS * TRANSLATION_EPS) * sp2:
+        if S[0, 0] == 1.0:  # a disk, its profile's factor in row 0: the radial profiles' expansion
+            speed = math.sqrt(sp2)
+            return -coeff * vbx / speed, -coeff * vby / speed, -coeff * spin / speed * S[0, 2] * rmax * rmax
         return translation_wrench(ra, rb, vbx, vby, spin, math.sqrt(sp2), coeff)
     pre = coeff if spin > 0.0 else -coeff
     if S[0, 0] == 1.0:
