@@ -204,6 +204,21 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.n
 
 
 @njit(cache=True, inline="always")
+def _extrapolated(i: int, j: int, got: np.ndarray, bodies: np.ndarray, dt: float) -> tuple[float, float, float]:
+    """The velocity (m/s, world) and spin (rad/s) friction and the active drag are evaluated at for body
+    j (row i of the read): the staggered scheme's extrapolation to the half step from the last two
+    steps, or the velocity read (no history yet, or the plain scheme)."""
+    vx = got[i, 1]
+    vy = got[i, 2]
+    w = got[i, 3]
+    gap = bodies[j, GAP]
+    if gap > 0.0 and bodies[j, STAG] > 0.0:
+        g = 0.5 * dt / gap
+        return vx + g * (vx - bodies[j, PVX]), vy + g * (vy - bodies[j, PVY]), w + g * (w - bodies[j, PW])
+    return vx, vy, w
+
+
+@njit(cache=True, inline="always")
 def _static(j: int, bodies: np.ndarray) -> bool:
     """Whether static friction acts on body j: dry, and governed by the rest rule (not a driven
     body: its joint holds it)."""
@@ -263,17 +278,17 @@ def _one(i, j, got, bodies, shapes, geo, tables, t, dt, out, active, noise, held
     # the angle friction and the active load are evaluated at (pymunk moves the pose first)
     alpha = got[i, 0] + got[i, 3] * dt
     sa, ca = sincos_reduced(alpha)  # (a third faster than the library's pair, to 2 ulp)
+    ex, ey, ew = _extrapolated(i, j, got, bodies, dt)  # the velocity friction and the drag act at
     if active.shape[0] > 0:  # self-propulsion, a medium's drag and noise: a load as well
-        fa, fb, fc = act.load(j, ca, sa, got[i, 1], got[i, 2], got[i, 3], bodies[j, PVX], bodies[j, PVY],
-                              bodies[j, PW], bodies[j, GAP] * bodies[j, STAG], bodies[j, MASS], bodies[j, IPM],
-                              dt, active, noise)
+        fa, fb, fc = act.load(j, ca, sa, ex, ey, ew, bodies[j, MASS], bodies[j, IPM], dt, active, noise)
         out[i, 0] += fa
         out[i, 1] += fb
         out[i, 2] += fc
     lx = out[i, 0]
     ly = out[i, 1]
     lt = out[i, 2]
-    n = _friction(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_break, defer, alpha, ca, sa)
+    n = _friction(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_break, defer, alpha, ca, sa,
+                  ex, ey, ew)
     if n == DEFER:
         return n
     # what friction added to the load is the friction this step applies
@@ -338,29 +353,20 @@ def _evaluate(i, j, ca, sa, vx, vy, w, ex, ey, ew, dt, was, bodies, shapes, geo,
 
 @njit(cache=True, inline="always")
 def _friction(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_break,  # noqa: ANN001, ANN202
-              defer, alpha, ca, sa):
+              defer, alpha, ca, sa, ex, ey, ew):
     """Add this step's friction on plugin body ``j`` (row ``i`` of the space's read) to ``out[i]``, which
     holds the load (the user's force and torque, and a tilt's pull); 1 if the rest rule stops it.
     Inlined (a call would pass its arrays on the stack for every body); ``held`` and ``hold_or_break``
     as in :func:`_one`, which gives the angle friction is evaluated at, ``alpha`` (rad), its cosine and
-    sine. With ``defer`` (the lean sweep), a body under static friction that needs the
-    limit-set test (at rest, turning on a held foot, or about to stop) returns DEFER having changed
-    nothing, for the caller to step it again without ``defer``."""
+    sine, and the velocity (ex, ey, ew) (:func:`_extrapolated`). With ``defer`` (the lean sweep), a
+    body under static friction that needs the limit-set test (at rest, turning on a held foot, or
+    about to stop) returns DEFER having changed nothing, for the caller to step it again without
+    ``defer``."""
     static = _static(j, bodies)
     was = bodies[j, STOP]
     vx = got[i, 1]
     vy = got[i, 2]
     w = got[i, 3]
-    gap = bodies[j, GAP]
-    if gap > 0.0 and bodies[j, STAG] > 0.0:
-        g = 0.5 * dt / gap
-        ex = vx + g * (vx - bodies[j, PVX])
-        ey = vy + g * (vy - bodies[j, PVY])
-        ew = w + g * (w - bodies[j, PW])
-    else:
-        ex = vx
-        ey = vy
-        ew = w
     resting = vx == 0.0 and vy == 0.0 and w == 0.0
     # on feet: a foot at rest is held by static friction while the body turns about it (after a stop
     # the rest rule zeroes the residue first)
@@ -374,7 +380,7 @@ def _friction(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_
     if not (resting or feet):
         # (the evaluation changes no state: a body about to stop can still be deferred)
         ax, ay, aw, s, stop = _evaluate(i, j, ca, sa, vx, vy, w, ex, ey, ew, dt, was, bodies, shapes, geo,
-                                              tables, out)
+                                        tables, out)
         if stop and static and defer:
             return DEFER
     _commit(j, bodies, vx, vy, w, alpha, ew, t, dt)
@@ -411,7 +417,7 @@ def _friction(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_
             return 0
         bodies[j, PIN] = 0.0
         ax, ay, aw, s, stop = _evaluate(i, j, ca, sa, vx, vy, w, ex, ey, ew, dt, was, bodies, shapes, geo,
-                                              tables, out)
+                                        tables, out)
     if stop and (not static or held(i, j, got[i, 0], bodies, shapes, geo, out)):
         # every point slower than decel dt: friction stops the body within this step (if a load
         # acts, only where static friction then holds it; else it slides on)

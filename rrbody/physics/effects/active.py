@@ -70,12 +70,12 @@ def noise_count(diffusion: float, rot_diffusion: float) -> int:
 
 
 @njit(cache=True, inline="always")
-def load(j, ca, sa, vx, vy, w, pvx, pvy, pw, gap, mass, ipm, dt, active, noise):  # noqa: ANN001 (numba)
+def load(j, ca, sa, ex, ey, ew, mass, ipm, dt, active, noise):  # noqa: ANN001 (numba)
     """(fx, fy, torque) of body row ``j``'s active effect for the step of length dt (s): N (world
     frame) and N m about the centre of gravity. ``ca``, ``sa`` are the cosine and sine of the angle
     the step evaluates its loads at (the angle at the step's start plus w dt, where friction is
-    evaluated), (vx, vy, w) the velocity pymunk holds (m/s, rad/s), (pvx, pvy, pw) the one a step before and
-    ``gap`` (s) the time between them (0: no history, or the plain scheme: no extrapolation);
+    evaluated), (ex, ey, ew) the velocity (m/s, world) and spin (rad/s) friction is evaluated at (the
+    staggered scheme's extrapolation, :func:`rrbody.engine.kernel._extrapolated`), where the drag acts;
     ``noise`` holds this step's standard normal numbers, the body's from column NZ of its row on."""
     fbx = active[j, FBX]
     fby = active[j, FBY]
@@ -85,14 +85,6 @@ def load(j, ca, sa, vx, vy, w, pvx, pvy, pw, gap, mass, ipm, dt, active, noise):
     gt = active[j, DRAG]
     gr = active[j, RDRAG]
     if gt != 0.0 or gr != 0.0:
-        ex = vx
-        ey = vy
-        ew = w
-        if gap > 0.0:  # the velocity at the time of the force: extrapolated as friction's is
-            g = 0.5 * dt / gap
-            ex += g * (vx - pvx)
-            ey += g * (vy - pvy)
-            ew += g * (w - pw)
         fx -= mass * gt * ex
         fy -= mass * gt * ey
         tq -= mass * ipm * gr * ew
