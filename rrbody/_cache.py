@@ -36,10 +36,12 @@ import hashlib
 import os
 import sys
 from pathlib import Path
+from typing import Any
 
 from rrbody._version import __version__
 
-__all__ = ["ENV", "BUILD_FILE", "cache_dir", "kernels_dir", "shipped_kernels_dir", "tables_dir", "locks_dir", "source_hash",
+__all__ = ["ENV", "BUILD_FILE", "cache_dir", "kernels_dir", "shipped_kernels_dir", "tables_dir", "stored_arrays",
+           "locks_dir", "source_hash",
            "use_for_kernels", "kernel_sources", "KERNEL_LAYERS", "prune_kernels", "seed_kernels",
            "built_by_numba", "NO_SEED"]
 
@@ -217,6 +219,39 @@ def prune_kernels(now: float | None = None) -> list[Path]:
 def tables_dir() -> Path:
     """The folder of precomputed tables (quadrature rules): ``tables/``."""
     return cache_dir() / "tables"
+
+
+def stored_arrays(path: Path, build: Any, *, valid: Any = None) -> tuple[Any, ...]:
+    """The arrays ``build()`` returns (a tuple of numpy arrays), read from the ``.npz`` file ``path`` if
+    it holds them (and ``valid(arrays)`` says they are usable), else built and stored there for the
+    next process. Written to a temporary file and renamed: two processes may build the same arrays
+    at once, and either's file is the same; a folder that cannot be written (a read-only install)
+    only costs the build, and an unreadable or invalid file is built again."""
+    import tempfile
+    import zipfile
+
+    import numpy as np
+
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            arrays = tuple(z[f"a{i}"] for i in range(len(z.files)))
+        if arrays and (valid is None or valid(arrays)):
+            return arrays
+    except (OSError, KeyError, ValueError, zipfile.BadZipFile):
+        pass
+    arrays = tuple(build())
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
+    except OSError:
+        return arrays
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            np.savez(fh, **{f"a{i}": a for i, a in enumerate(arrays)})
+        os.replace(tmp, path)
+    except OSError:
+        Path(tmp).unlink(missing_ok=True)
+    return arrays
 
 
 def locks_dir() -> Path:

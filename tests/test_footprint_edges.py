@@ -123,7 +123,7 @@ def test_tables_are_stored_in_the_cache_folder(tmp_path, monkeypatch: pytest.Mon
         return np.arange(12.0).reshape(4, 3) / 7.0
 
     a = stored("footprint:abc", build)
-    path = _cache.kernels_dir() / "tables" / "footprint-abc.npy"
+    path = _cache.kernels_dir() / "tables" / "footprint-abc.npz"
     assert path.is_file() and len(calls) == 1
     b = stored("footprint:abc", build)
     assert len(calls) == 1 and np.array_equal(a, b)

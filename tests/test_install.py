@@ -47,7 +47,7 @@ def test_cache_folder_follows_the_environment(tmp_path: Path) -> None:
     (tmp_path / "c" / "tables").mkdir(parents=True)
     (tmp_path / "c" / "tables" / "x.npz").write_bytes(b"0" * 10)
     (Path(kern) / "tables").mkdir(parents=True)  # the plugin's wrench tables: beside these sources' kernels
-    (Path(kern) / "tables" / "disk.npy").write_bytes(b"0" * 7)
+    (Path(kern) / "tables" / "disk.npz").write_bytes(b"0" * 7)
     rep = subprocess.run([sys.executable, "-m", "rrbody.cli", "cache", "info", "--json"], env=env,
                          capture_output=True, text=True, check=True)
     assert json.loads(rep.stdout)["tables_bytes"] == 10

@@ -130,7 +130,7 @@ def build(into: Path | None = None, *, jobs: int = 2, quiet: bool = False, force
         import json
         import platform
 
-        for t in (src / "tables").glob("footprint-*.npy"):  # the workload's own shapes' tables: no user's
+        for t in (src / "tables").glob("footprint-*.npz"):  # the workload's own shapes' tables: no user's
             t.unlink()
         (src / BUILD_FILE).write_text(json.dumps({"numba": numba.__version__, "python": platform.python_version(),
                                                   "machine": platform.machine()}))

@@ -14,7 +14,6 @@ is built once per machine (and per version of the sources) and copied into each 
 from __future__ import annotations
 
 import hashlib
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -32,38 +31,19 @@ BUILT: dict[str, np.ndarray] = {}
 
 
 def stored(name: str, build: Any) -> np.ndarray:
-    """The wrench table ``name`` from the cache folder, or ``build()`` and stored there.
+    """The wrench table ``name`` from the cache folder, or ``build()`` and stored there
+    (:func:`rrbody._cache.stored_arrays`: atomic, an unreadable file built again).
 
     Tables live beside the compiled kernels (``rrbody._cache.kernels_dir()/tables``): a table is a
     pure function of the footprint and of the kernel sources that build and read it, which that
     folder's name hashes, so an edit to them never loads a stale table, and old tables go with old
-    kernels. Written to a temporary file and renamed (two processes may build the same table at
-    once: either's is the same); a folder that cannot be written (a read-only install) only costs
-    the build, and an unreadable file is built again."""
-    import os
-    import tempfile
+    kernels. A file that holds no table (rows of 3 floats) is built again."""
+    from rrbody._cache import kernels_dir, stored_arrays
 
-    from rrbody._cache import kernels_dir
-
-    path = kernels_dir() / "tables" / (name.replace(":", "-") + ".npy")
-    try:
-        table = np.load(path, allow_pickle=False)
-        if table.ndim == 2 and table.shape[1] == 3 and table.dtype == np.float64:
-            return table
-    except (OSError, ValueError):
-        pass
-    table = np.ascontiguousarray(build(), dtype=np.float64)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".npy.tmp")
-    except OSError:
-        return table
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            np.save(fh, table, allow_pickle=False)
-        os.replace(tmp, path)
-    except OSError:
-        Path(tmp).unlink(missing_ok=True)
+    path = kernels_dir() / "tables" / (name.replace(":", "-") + ".npz")
+    (table,) = stored_arrays(path, lambda: (np.ascontiguousarray(build(), dtype=np.float64),),
+                             valid=lambda arrays: len(arrays) == 1 and arrays[0].ndim == 2
+                             and arrays[0].shape[1] == 3 and arrays[0].dtype == np.float64)
     return table
 
 

@@ -60,29 +60,9 @@ def quadrature_tables(node_counts: tuple[int, ...], x_end: float) -> tuple[np.nd
     building the rules up to 512 nodes costs ~0.1 s, loading them ~1 ms (the kernels need them as
     compile-time constants at import)."""
     import hashlib
-    import os
-    import tempfile
-    from pathlib import Path
 
-    from rrbody._cache import tables_dir
+    from rrbody._cache import stored_arrays, tables_dir
 
     key = hashlib.sha1(repr((tuple(node_counts), x_end, "gauss-legendre-newton-1")).encode()).hexdigest()[:16]
-    path = tables_dir() / f"icr_tables-{key}.npz"
-    try:
-        with np.load(path) as z:
-            return tuple(z[f"a{i}"] for i in range(8))
-    except (OSError, KeyError, ValueError):
-        pass
-    tabs = _tables(node_counts, x_end)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".npz")
-    except OSError:
-        return tabs  # a read-only install computes the tables at every import
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            np.savez(fh, **{f"a{i}": a for i, a in enumerate(tabs)})
-        os.replace(tmp, path)
-    except OSError:
-        Path(tmp).unlink(missing_ok=True)
-    return tabs
+    return stored_arrays(tables_dir() / f"icr_tables-{key}.npz", lambda: _tables(node_counts, x_end),
+                         valid=lambda arrays: len(arrays) == 8)
