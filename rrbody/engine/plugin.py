@@ -46,7 +46,8 @@ __all__ = ["PlaneFriction", "PRESSURES", "Active"]
 
 #: normal-pressure profiles PlaneFriction.add accepts (rrbody.pressure; or their text form, "ring:0.05")
 PRESSURES: tuple[str, ...] = PRESSURE_KINDS
-#: ``add``'s friction_method: each step's exact wrench (a disk: its table), or the footprint's wrench table
+#: ``add``'s friction_method: each step's exact wrench (a disk, a ring, a Hertz patch: its table), or the
+#: footprint's wrench table
 FRICTION_METHODS: tuple[str, ...] = ("auto", "table")
 
 
@@ -140,10 +141,10 @@ class PlaneFriction:
         on a tilted plane) lies inside its contact's limit surface for mu_static, and breaks away in
         the step it leaves it, sliding as the maximum-dissipation rule says (docs: Contacts).
         ``friction_method``: "auto" (the exact wrench of the footprint each step; a body that is one
-        disk takes the disk's wrench table, as exact) or "table" (the footprint's own wrench table,
-        :mod:`rrbody.physics.footprint_table`: within 1e-10 of the exact wrench, several times cheaper
-        per step for polygons, built once per distinct footprint in about a second: for many bodies
-        of few shapes). Its mass is ``body.mass`` (from the
+        disk, uniformly loaded, a ring or a Hertz patch, takes that profile's disk table, as exact) or
+        "table" (the footprint's own wrench table, :mod:`rrbody.physics.footprint_table`: within 1e-10
+        of the exact wrench, several times cheaper per step for polygons, built once per distinct
+        footprint in about a second: for many bodies of few shapes). Its mass is ``body.mass`` (from the
         shapes' density or mass, or set by you), its shapes' geometry is read now: call ``add``
         again after changing either. The body's current velocity is its velocity at the next step's
         start time (the first step gives it the half kick of the staggered scheme).
