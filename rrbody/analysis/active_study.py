@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from rrbody.analysis.episodes import reverse_episodes
+from rrbody.model.active import MAX_SEED
 from rrbody.model.checks import check_int, check_range
 
 __all__ = ["Box", "build", "run_box", "species_stats", "ensemble", "seed_table", "summary", "SPECIES", "WINDOW",
@@ -46,7 +47,7 @@ WINDOW = 0.5  # s: an episode began at a collision if a contact with another bod
 #: Box's parameters: (lo, hi, lo open, unit), checked in this order; the command line's help shows them
 BOX_RANGES: dict[str, tuple[float, float, bool, str]] = {
     "n": (2, 100_000, False, "bodies"), "packing": (0.01, 0.6, False, ""), "activity": (0.0, 100.0, True, ""),
-    "mix": (0.0, 1.0, False, ""), "seed": (0, 2**63 - 1, False, ""), "t_end": (0.0, 1e5, True, "s"),
+    "mix": (0.0, 1.0, False, ""), "seed": (0, MAX_SEED, False, ""), "t_end": (0.0, 1e5, True, "s"),
     "every": (1, 1000, False, "steps"), "dt": (1e-6, 0.1, False, "s")}
 BOX_INTEGERS = ("n", "seed", "every")
 #: the statistics of one species (species_stats), in the order tables list them
@@ -79,6 +80,7 @@ class Box:
             v = getattr(self, name)
             object.__setattr__(self, name, check_int(name, v, int(lo), int(hi), unit=unit) if name in BOX_INTEGERS
                                else check_range(name, v, lo, hi, lo_open=lo_open, unit=unit))
+
 
 def build(box: Box) -> tuple[Any, Any, list[Any], list[str], np.ndarray, float]:
     """(space, pf, bodies, species, senses, side): the bodies on a jittered grid in a walled square box

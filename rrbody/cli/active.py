@@ -20,8 +20,9 @@ from dataclasses import fields
 from pathlib import Path
 from typing import Any
 
-from rrbody.cli.args import CliError, check_options, emit, given, integer, number, option_help, ranged
-from rrbody.cli.active_options import SEED_MAX, rename
+from rrbody.cli.args import CliError, check_options, emit, given, integer, number, option_help, option_message, ranged
+from rrbody.cli.active_options import rename
+from rrbody.model.active import MAX_SEED
 
 __all__ = ["add_parser", "cmd_active", "cmd_active_ensemble", "BOX_OPTIONS"]
 
@@ -48,7 +49,7 @@ def _box_valid(name: str) -> str:
 
     lo, hi, lo_open, unit = BOX_RANGES[name]
     if name in BOX_INTEGERS:
-        return f"an integer in [{int(lo)}, {'2^63 - 1' if hi == SEED_MAX else int(hi)}]{' ' + unit if unit else ''}"
+        return f"an integer in [{int(lo)}, {'2^63 - 1' if hi == MAX_SEED else int(hi)}]{' ' + unit if unit else ''}"
     return range_text(lo, hi, lo_open, unit=unit)
 
 
@@ -273,7 +274,7 @@ def cmd_active_ensemble(args: argparse.Namespace) -> int:
         try:
             check_scheduler_address(args.scheduler)
         except ValueError as e:
-            raise CliError("--" + str(e)) from None
+            raise CliError(option_message(str(e))) from None
         require("distributed", purpose="a Dask scheduler (--scheduler)")
         _quiet_dask()
     with claimed([*paths.items(), ("--out: checkpoint", ck)]):
@@ -297,8 +298,7 @@ def _run_ensemble(args: argparse.Namespace, points: list[Any], ck: Path) -> int:
                         progress=not args.json and sys.stderr.isatty())
     except ValueError as e:  # no scheduler answers at the address (before anything is written), or a
         # checkpoint of other runs (kept)
-        msg = str(e)
-        raise CliError("--" + msg if msg.startswith("scheduler") else msg) from None
+        raise CliError(option_message(str(e))) from None
     except KeyboardInterrupt:
         print(f"rrbody active-ensemble: interrupted: {count_rows(ck)} of {len(points)} runs are saved in "
               f"{str(ck)!r}; run the same command with --resume to compute the rest", file=sys.stderr)

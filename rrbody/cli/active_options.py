@@ -15,16 +15,15 @@ import re
 from typing import Any
 
 from rrbody.cli.args import CliError, angle, float_list, given, integer, number, ranged
-from rrbody.model.active import MAX_DIFFUSION, MAX_FORCE
+from rrbody.model.active import MAX_DIFFUSION, MAX_FORCE, MAX_SEED
 from rrbody.model.checks import MAX_FRICTION, MAX_LENGTH, check_int, range_text
 
-__all__ = ["add_active_options", "with_active", "ACTIVE_OPTIONS", "SEED_MAX", "rename"]
+__all__ = ["add_active_options", "with_active", "ACTIVE_OPTIONS", "rename"]
 
 #: option -> Active's parameter
 ACTIVE_OPTIONS = {"--active-force": "force", "--active-angle": "angle", "--active-point": "point",
                   "--drag": "drag", "--rot-drag": "rot_drag", "--diffusion": "diffusion",
                   "--rot-diffusion": "rot_diffusion"}
-SEED_MAX = 2**63 - 1  # the plugin's and the box study's seeds: numpy's PCG64 takes any of them
 
 
 def add_active_options(p: argparse.ArgumentParser) -> None:
@@ -77,8 +76,8 @@ def _active_message(msg: str) -> str:
 
 
 def with_active(scene: Any, a: argparse.Namespace) -> Any:
-    """``scene`` with the typed active options as its ``active`` (and ``--seed`` as its ``seed``, when the
-    Scene has one); the scene unchanged when none is typed. Raises CliError naming the option."""
+    """``scene`` with the typed active options as its ``active`` (and ``--seed`` as its ``seed``); the
+    scene unchanged when none is typed. Raises CliError naming the option."""
     typed = [o for o in ACTIVE_OPTIONS if given(a, o)]
     if not typed:
         if given(a, "--seed"):
@@ -105,7 +104,7 @@ def with_active(scene: Any, a: argparse.Namespace) -> Any:
     if given(a, "--seed"):
         seed = a.seed
         try:
-            seed = check_int("--seed", seed, 0, SEED_MAX)
+            seed = check_int("--seed", seed, 0, MAX_SEED)
         except ValueError as e:
             raise CliError(str(e)) from None
         if not act.noisy:

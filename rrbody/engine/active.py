@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.model.active import Active
+from rrbody.model.active import MAX_SEED, Active
 from rrbody.model.checks import check_int
 from rrbody.physics.effects import active as A
 
@@ -41,7 +41,7 @@ class ActiveSet:
 
     def seed(self, seed: int) -> None:
         """Restart the noise from ``seed`` (an integer in [0, 2^63 - 1])."""
-        s = check_int("seed", seed, 0, 2**63 - 1)
+        s = check_int("seed", seed, 0, MAX_SEED)
         self.rng = np.random.Generator(np.random.PCG64(s))
 
     def set(self, body: Any, active: Active | None) -> None:

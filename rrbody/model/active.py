@@ -26,10 +26,13 @@ from dataclasses import dataclass
 
 from rrbody.model.checks import MAX_FRICTION, MAX_LENGTH, check_nonnegative, check_range, check_real
 
-__all__ = ["Active", "MAX_FORCE", "MAX_DIFFUSION"]
+__all__ = ["Active", "MAX_FORCE", "MAX_DIFFUSION", "MAX_SEED"]
 
 MAX_FORCE = 1e9       # N: a propulsion beyond this overflows nothing but is no physical body
 MAX_DIFFUSION = 1e6   # m^2/s and rad^2/s
+#: the largest seed of the noise (numpy's PCG64 takes any integer in [0, 2^63 - 1]): the plugin's
+#: (PlaneFriction.seed), a Scene's, the box study's
+MAX_SEED: int = 2**63 - 1
 
 
 @dataclass(frozen=True)

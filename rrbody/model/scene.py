@@ -13,7 +13,7 @@ import math
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from rrbody.model.active import Active
+from rrbody.model.active import MAX_SEED, Active
 from rrbody.model.checks import LIMITS, MAX_TIME, MissingParameters, check, check_choice, check_int, check_range
 from rrbody.model.bodies import BODY_KINDS, Body, Polygon, RodMass
 from rrbody.model.drive import CircularDrive
@@ -28,7 +28,6 @@ FRICTION_METHODS: tuple[str, ...] = ("auto", "sampled", "icr", "table", "contact
 #: takes: the fixed-step scheme's stationary variance is then off by < 5 % (docs/active.md), and it is
 #: unstable beyond 2
 NOISE_STEP_MAX: float = 0.5
-MAX_SEED: int = 2**63 - 1  # the seed of numpy's PCG64, as the plugin's (PlaneFriction.seed)
 
 
 @dataclass(frozen=True)
