@@ -20,7 +20,7 @@ from typing import Any
 from rrbody._version import __version__
 from rrbody.cli.args import CliError, Parser, angle, check_options, commands, emit, number, option_help, option_message, \
     parse
-from rrbody.cli.active_options import add_active_options
+from rrbody.cli.active_options import add_active_options, with_active
 from rrbody.cli.cache import add_parser as add_cache_parser
 from rrbody.cli.options import (SIMULATE_OUTPUTS, add_accuracy_options, add_integrator_options,
                                 add_scene_options, check_contradictions, scene_from_args, stepper_option)
@@ -57,8 +57,6 @@ def _check_outputs(args: argparse.Namespace) -> dict[str, str]:
 
 def cmd_simulate(args: argparse.Namespace) -> int:
     check_options(args, ("--dt-out", "--fps", "--movie-speed"))
-    from rrbody.cli.active_options import with_active
-
     scene = with_active(scene_from_args(args, required=("--t-max",)), args)
     stepper = stepper_option(args)
     paths = _check_outputs(args)
