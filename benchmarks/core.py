@@ -154,7 +154,7 @@ def _stiff_study(repeats: int, quick: bool) -> tuple[list[dict[str, Any]], Targe
             ratios.append((x["rtol"], x["err"], x["wall_s"], cheapest[0], cheapest[2], x["wall_s"] / cheapest[2]))
     worst = min((x[5] for x in ratios), default=math.nan)
     tgt = Target("stiff case (w 0.01, H 0.25, k 7.5) vs scipy LSODA with analytic Jacobian, same horizon",
-                 ">= 10x at matched t_f error", f"{worst:.0f}x (lowest over {len(ratios)} LSODA tolerances)",
+                 ">= 10x at matched t_f error", f"{worst:.1f}x (lowest over {len(ratios)} LSODA tolerances)",
                  bool(worst >= 10.0) if math.isfinite(worst) else None, _load_note())
     radau_tf = results[RADAU, 1e-12][0]
     extra = {"ref_tf": ref.t_f, "radau_tf": radau_tf, "radau_rel": abs(radau_tf - ref.t_f) / ref.t_f,

@@ -253,3 +253,51 @@ def test_rrbody_scenes_on_the_engine_path_take_the_tilt() -> None:
     attach(space, sc, settings=EngineSettings(dt=1e-3))
     with pytest.raises(ValueError, match=r"scene tilt must match the space's plane"):
         attach(space, sc.with_(tilt=0.1), settings=EngineSettings(dt=1e-3))
+
+
+def test_a_load_static_friction_cannot_hold_is_refused_without_the_limit_set_test() -> None:
+    """The kernel skips the limit-set test (and its deferral to the second loop) for a load whose force
+    is above mu_s g per unit mass (``_may_hold`` False); the skip is sound only if the test itself then
+    says "not held" (:func:`rrbody.engine.kernel._held`). Loads within 1e-13 .. 1e-6 (relative) of
+    the bound on either side, in every direction and at every angle, with torques up to the static
+    torque limit: wherever ``_may_hold`` refuses, ``_held`` refuses too, and it refuses loads above
+    1 + 1e-9 (the margin, 1e-12 on the square, covers the rotation's rounding, a few ulps)."""
+    from rrbody.engine import kernel as K
+
+    space, pf, b = _plane(tilt=0.0, mu=0.3, mu_static=0.5)
+    j = 0
+    B = pf._bodies
+    m, mus = B[j, K.MASS], B[j, K.MUS]
+    rng = np.random.default_rng(5)
+    out = np.zeros((1, 3))
+    refused = 0
+    for _ in range(4000):
+        rel = rng.choice([-1.0, 1.0]) * 10.0 ** rng.uniform(-13, -6)
+        phi, alpha = rng.uniform(0, 2 * math.pi, 2)
+        f = m * mus * (1.0 + rel)
+        out[0] = f * math.cos(phi), f * math.sin(phi), m * mus * 0.2 * rng.uniform(-1, 1)
+        B[j, K.HELD] = -1.0  # no remembered answer: the test runs
+        may = K._may_hold(j, B, out[0, 0], out[0, 1])
+        if not may:
+            refused += 1
+            assert not K._held(0, j, alpha, B, pf._k_shapes, pf._k_geo, out)
+        if rel > 1e-9:
+            assert not may
+    assert refused > 1000  # (about half the loads are above the bound: the check is not vacuous)
+
+
+def test_an_active_body_pushing_a_wall_beyond_static_friction_is_never_tested() -> None:
+    """An active box whose propulsion (1.5 mu_s m g) pushes it into a wall: it comes to rest against
+    the wall, the rest rule wants to stop it every step, and static friction could never hold its
+    load; the limit-set test never runs (its remembered load stays unset), and the box stays pressed
+    to the wall. (It starts moving: a body at rest is tested, to see whether it breaks away.)"""
+    from rrbody.engine import kernel as K
+    from rrbody.plugin import Active
+
+    space, pf, b = _plane(tilt=0.0, mu=0.3, mu_static=0.4, v=(0.05, 0.0))
+    space.add(pymunk.Segment(space.static_body, (0.3, -1.0), (0.3, 1.0), 0.01))
+    pf.activate(b, Active(force=1.5 * 0.4 * G * b.mass))
+    for _ in range(600):
+        pf.step(1e-3)
+    assert pf._bodies[0, K.HELD] == -1.0
+    assert abs(b.position.x - (0.3 - 0.01 - 0.1)) < 1e-2 and b.velocity.length < 1e-2

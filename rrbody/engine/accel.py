@@ -17,7 +17,7 @@ from rrbody.physics.effects.drive_circular import sincos_reduced
 from rrbody.physics.footprint_table import footprint_table_wrench
 from rrbody.physics.icr_table import table_wrench_body
 
-__all__ = ["body_accel", "limited"]
+__all__ = ["body_accel", "accel_at", "limited", "limited_at"]
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -27,14 +27,14 @@ def body_accel(j: int, alpha: float, vx: float, vy: float, w: float, bodies: np.
     (vx, vy) (m/s, world) and spin ``w`` (rad/s): force per unit mass (m/s^2, world) and the angular
     acceleration (rad/s^2)."""
     sa, ca = sincos_reduced(alpha)  # as the step evaluates it
-    return _accel(j, ca, sa, vx, vy, w, bodies, shapes, geo, tables)
+    return accel_at(j, ca, sa, vx, vy, w, bodies, shapes, geo, tables)
 
 
 @njit(cache=True, inline="always")
-def _accel(j: int, ca: float, sa: float, vx: float, vy: float, w: float, bodies: np.ndarray, shapes: np.ndarray,
+def accel_at(j: int, ca: float, sa: float, vx: float, vy: float, w: float, bodies: np.ndarray, shapes: np.ndarray,
            geo: np.ndarray, tables: np.ndarray) -> tuple[float, float, float]:
     """:func:`body_accel` at the angle whose cosine and sine are ``ca``, ``sa`` (the kernel's step has
-    them already, for the active load)."""
+    them already, for the active load). Inlined where it is called."""
     c = bodies[j, COEFF]
     if c == 0.0:
         return 0.0, 0.0, 0.0
@@ -88,7 +88,16 @@ def limited(j: int, ca: float, sa: float, vx: float, vy: float, w: float, ex: fl
     load's impulse, (vx, vy, w) + dt (lx, ly, lw) (the other forces per unit mass, m/s^2, and their
     angular acceleration, rad/s^2), past its minimum along the friction impulse: no chatter, and
     friction never gains energy."""
-    ax, ay, aw = _accel(j, ca, sa, ex, ey, ew, bodies, shapes, geo, tables)
+    ax, ay, aw = accel_at(j, ca, sa, ex, ey, ew, bodies, shapes, geo, tables)
+    return limited_at(ax, ay, aw, j, ca, sa, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo, tables, lx, ly, lw)
+
+
+@njit(cache=True, inline="always")
+def limited_at(ax: float, ay: float, aw: float, j: int, ca: float, sa: float, vx: float, vy: float, w: float,
+               ex: float, ey: float, ew: float, dt: float, bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray,
+               tables: np.ndarray, lx: float, ly: float, lw: float) -> tuple[float, float, float, float]:
+    """:func:`limited` given its first evaluation, the friction (ax, ay, alpha_dot) at (ex, ey, ew)
+    (:func:`accel_at`'s, which the kernel's step evaluates for all bodies before it limits any)."""
     ipm = bodies[j, IPM]
     ux = vx + dt * lx
     uy = vy + dt * ly
