@@ -256,7 +256,7 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
           md_table(["method", "rtol", "t_f", "t_f rel err", "wall (s)", "steps"],
                    [(r["method"], r["rtol"], r["t_f"], r["err"], r["wall_s"], r["steps"]) for r in stiff_rows]), "",
           md_table(["LSODA rtol", "LSODA t_f err", "LSODA wall (s)", "rrbody rtol", "rrbody wall (s)", "ratio"],
-                   [(a, b, c, d, e, f"{g:.0f}x") for a, b, c, d, e, g in extra["ratios"]]), "",
+                   [(a, b, c, d, e, f"{g:.1f}x") for a, b, c, d, e, g in extra["ratios"]]), "",
           "![stiff case work precision](core_stiff.png)", "",
           "Data: `core_step.csv`, `core_rhs.csv`, `core_stiff.csv`; diagram `core_stiff.png`."]
     res = StudyResult(NAME, TITLE, [step_t, stiff_t, rhs_t], "\n".join(md), files)
