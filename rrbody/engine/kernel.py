@@ -256,7 +256,8 @@ def _sweep(got: np.ndarray, rowmap: np.ndarray, bodies: np.ndarray, shapes: np.n
     torque, and every plugin body gets its step (:func:`_one`'s, in passes) unless it needs the
     limit-set test (marked DEFR). Returns the bodies the rest rule stopped and the bodies deferred.
 
-    Three passes over the bodies, each body's numbers kept in ``work``: the loads (:func:`_load`),
+    Three passes over the bodies, each body's numbers kept in ``work``: the loads (:func:`_load`; a
+    body at rest or turning on a held foot under static friction is left to the limit-set loop at once),
     then the friction where it is evaluated, disks first and then the other bodies (one kind of wrench
     per tight loop: the evaluations of consecutive bodies, independent, overlap in the CPU), then the
     rest (:func:`_settle`: limiter, rest rule, state). Measured against one pass doing all three per
@@ -271,9 +272,17 @@ def _sweep(got: np.ndarray, rowmap: np.ndarray, bodies: np.ndarray, shapes: np.n
         out[i, 1] = got[i, 5]
         out[i, 2] = got[i, 6]
         j = rowmap[i]
-        if j >= 0:
-            (work[i, _W_ALPHA], work[i, _W_CA], work[i, _W_SA], work[i, _W_EX], work[i, _W_EY],
-             work[i, _W_EW]) = _load(i, j, got, bodies, dt, out, active, noise)
+        if j < 0:
+            continue
+        static, _, resting, feet = _modes(i, j, got, bodies)
+        if static and (resting or feet):
+            # at rest or on a held foot under static friction: the limit-set loop steps it from the start
+            # (what _friction defers first of all, before it uses anything of these passes)
+            bodies[j, DEFR] = 1.0
+            n_defer += 1
+            continue
+        (work[i, _W_ALPHA], work[i, _W_CA], work[i, _W_SA], work[i, _W_EX], work[i, _W_EY],
+         work[i, _W_EW]) = _load(i, j, got, bodies, dt, out, active, noise)
     for disks in (True, False):
         for i in range(n):
             j = rowmap[i]
@@ -284,7 +293,7 @@ def _sweep(got: np.ndarray, rowmap: np.ndarray, bodies: np.ndarray, shapes: np.n
                 geo, tables)
     for i in range(n):
         j = rowmap[i]
-        if j < 0:
+        if j < 0 or bodies[j, DEFR] > 0.0:
             continue
         r = _settle(i, j, got, bodies, shapes, geo, tables, t, dt, out, _no_held, _no_break, True, work[i, _W_ALPHA],
                     work[i, _W_CA], work[i, _W_SA], work[i, _W_EX], work[i, _W_EY], work[i, _W_EW], True,
