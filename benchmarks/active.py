@@ -204,6 +204,36 @@ def _breakdown(pf: object, reps: int = 15, block: int = 20) -> dict[str, float]:
     return res
 
 
+class _Inside:
+    """Blocks of steps timed together with pymunk's own step inside them: ``space.step`` is wrapped for
+    a block so that the time of every pymunk step the block makes is summed (the same states);
+    ``bare`` is pymunk's unwrapped step."""
+
+    def __init__(self, space: object) -> None:
+        self.space = space
+        self.bare = space.step  # type: ignore[attr-defined]
+        self._s = 0.0
+
+    def _timed(self, dt: float) -> None:
+        w = time.perf_counter()
+        self.bare(dt)
+        self._s += time.perf_counter() - w
+
+    def block(self, step: object, block: int, wrapped: bool = True) -> tuple[float, float]:
+        """(s per step of ``block`` calls of ``step(DT)``, s per step of pymunk's step inside them; 0
+        unless ``wrapped``)."""
+        self._s = 0.0
+        self.space.step = self._timed if wrapped else self.bare  # type: ignore[attr-defined]
+        try:
+            w0 = time.perf_counter()
+            for _ in range(block):
+                step(DT)  # type: ignore[operator]
+            took = (time.perf_counter() - w0) / block
+        finally:
+            self.space.step = self.bare  # type: ignore[attr-defined]
+        return took, self._s / block
+
+
 def _measure(space: object, pf: object, pf0: object, pfx: object, reps: int, block: int) -> dict[str, float]:
     """From the space's state now: ``own``, the best of ``reps`` blocks of ``block`` steps of ``pf.step``
     alone (s per step), and pymunk's own step inside it (``own_inside``: the same states); then the
@@ -213,44 +243,25 @@ def _measure(space: object, pf: object, pf0: object, pfx: object, reps: int, blo
     ``inside_x``); ``contacts``, the most touching pairs seen after a round."""
     best = {"pymunk": math.inf, "active": math.inf, "alone": math.inf, "exact": math.inf,
             "inside": math.inf, "inside_x": math.inf, "contacts": 0, "own": math.inf, "own_inside": math.inf}
-    bare = space.step  # type: ignore[attr-defined]
-    inner = [0.0]
-
-    def timed(dt: float) -> None:  # pymunk's own step inside pf.step: the same states
-        w = time.perf_counter()
-        bare(dt)
-        inner[0] += time.perf_counter() - w
-
-    try:
-        # pf.step's blocks on their own first: no other plugin or bare step between them, as in use (each
-        # block's ratio is over its own pymunk steps, the same states, so nothing else need interleave)
-        space.step = timed  # type: ignore[attr-defined]
-        for _ in range(reps):
-            inner[0] = 0.0
-            w0 = time.perf_counter()
-            for _ in range(block):
-                pf.step(DT)  # type: ignore[attr-defined]
-            took = (time.perf_counter() - w0) / block
-            if took < best["own"]:
-                best["own"], best["own_inside"] = took, inner[0] / block
-        for _ in range(reps):
-            for kind, step in (("pymunk", bare), ("active", pf.step), ("alone", pf0.step),  # type: ignore[attr-defined]
-                               ("exact", pfx.step)):  # type: ignore[attr-defined]
-                inner[0] = 0.0
-                space.step = timed if kind in ("active", "exact") else bare  # type: ignore[attr-defined]
-                w0 = time.perf_counter()
-                for _ in range(block):
-                    step(DT)
-                took = (time.perf_counter() - w0) / block
-                if took < best[kind]:
-                    best[kind] = took
-                    if kind == "active":
-                        best["inside"] = inner[0] / block
-                    elif kind == "exact":
-                        best["inside_x"] = inner[0] / block
-            best["contacts"] = max(best["contacts"], _contacts(space))
-    finally:
-        space.step = bare  # type: ignore[attr-defined]
+    clock = _Inside(space)
+    # pf.step's blocks on their own first: no other plugin or bare step between them, as in use (each
+    # block's ratio is over its own pymunk steps, the same states, so nothing else need interleave)
+    for _ in range(reps):
+        took, inside = clock.block(pf.step, block)  # type: ignore[attr-defined]
+        if took < best["own"]:
+            best["own"], best["own_inside"] = took, inside
+    variants = (("pymunk", clock.bare), ("active", pf.step), ("alone", pf0.step),  # type: ignore[attr-defined]
+                ("exact", pfx.step))  # type: ignore[attr-defined]
+    for _ in range(reps):
+        for kind, step in variants:
+            took, inside = clock.block(step, block, wrapped=kind in ("active", "exact"))
+            if took < best[kind]:
+                best[kind] = took
+                if kind == "active":
+                    best["inside"] = inside
+                elif kind == "exact":
+                    best["inside_x"] = inside
+        best["contacts"] = max(best["contacts"], _contacts(space))
     return best
 
 
@@ -262,25 +273,12 @@ def _drift(n: int, t_end: float, block: int = BLOCK) -> list[dict[str, float]]:
     space, pf, _, _, _ = build(n)
     for _ in range(5):  # compiled step, first allocations, the half kicks: not counted (as in run)
         pf.step(DT)
-    bare = space.step
-    inner = [0.0]
-
-    def timed(dt: float) -> None:
-        w = time.perf_counter()
-        bare(dt)
-        inner[0] += time.perf_counter() - w
-
-    space.step = timed
+    clock = _Inside(space)
     rows = []
     for k in range(round(t_end / DT) // block):
-        inner[0] = 0.0
-        w0 = time.perf_counter()
-        for _ in range(block):
-            pf.step(DT)
-        took = (time.perf_counter() - w0) / block
-        rows.append({"t_s": pf.t, "pf_step_ms": took * 1e3, "inside_ms": inner[0] / block * 1e3,
-                     "added": took / (inner[0] / block) - 1.0, "contacts": _contacts(space) if k % 5 == 0 else -1})
-    space.step = bare
+        took, inside = clock.block(pf.step, block)
+        rows.append({"t_s": pf.t, "pf_step_ms": took * 1e3, "inside_ms": inside * 1e3,
+                     "added": took / inside - 1.0, "contacts": _contacts(space) if k % 5 == 0 else -1})
     return rows
 
 

@@ -200,8 +200,7 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.n
                 out[i, 0] = got[i, 4]
                 out[i, 1] = got[i, 5]
                 out[i, 2] = got[i, 6]
-                n_stop += _one(i, j, got, bodies, shapes, geo, tables, t, dt, out, active, noise, _held,
-                               _hold_or_break, False)
+                n_stop += _one(i, j, got, bodies, shapes, geo, tables, t, dt, out, active, noise)
     return n_stop
 
 
@@ -253,7 +252,7 @@ def _sweep(got: np.ndarray, rowmap: np.ndarray, bodies: np.ndarray, shapes: np.n
            tables: np.ndarray, t: float, dt: float, out: np.ndarray, active: np.ndarray, noise: np.ndarray,
            work: np.ndarray) -> tuple[int, int]:
     """:func:`plane_step`'s loop over the space's bodies: ``out`` starts from each body's own force and
-    torque, and every plugin body gets its step (:func:`_one`'s, in passes) unless it needs the
+    torque, and every plugin body gets its step (what :func:`_one` does, in passes) unless it needs the
     limit-set test (marked DEFR). Returns the bodies the rest rule stopped and the bodies deferred.
 
     Three passes over the bodies, each body's numbers kept in ``work``: the loads (:func:`_load`; a
@@ -369,7 +368,7 @@ def _settle(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_br
             alpha, ca, sa, ex, ey, ew, have, ax, ay, aw):
     """Body j's friction on top of the loads in ``out[i]`` (:func:`_friction`; with ``have``, its
     evaluation at (ex, ey, ew) is (ax, ay, aw) already); the friction added is kept (FFX, FFY, FFT).
-    Returns as :func:`_one`."""
+    Returns 1 if the rest rule stops it, DEFER if it was deferred (nothing kept), else 0."""
     lx = out[i, 0]
     ly = out[i, 1]
     lt = out[i, 2]
@@ -385,15 +384,14 @@ def _settle(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_br
 
 
 @njit(cache=True, inline="always")
-def _one(i, j, got, bodies, shapes, geo, tables, t, dt, out, active, noise, held, hold_or_break,  # noqa: ANN001, ANN202
-         defer):
-    """One plugin body's step (row ``i`` of the read, row ``j`` of ``bodies``), ``out[i]`` holding its
-    own force and torque: the tilt's pull and the active load are added, then friction; the friction
-    added is kept (FFX, FFY, FFT). ``held`` and ``hold_or_break`` are :func:`_held` and
-    :func:`_hold_or_break`, or :func:`_sweep`'s stand-ins with ``defer``. Returns 1 if the rest rule
-    stops it, DEFER if it was deferred (nothing kept)."""
+def _one(i, j, got, bodies, shapes, geo, tables, t, dt, out, active, noise):  # noqa: ANN001, ANN202
+    """One plugin body's whole step in the limit-set loop (row ``i`` of the read, row ``j`` of
+    ``bodies``), ``out[i]`` holding its own force and torque: the tilt's pull and the active load are
+    added, then friction, static friction's limit-set test included (:func:`_held`,
+    :func:`_hold_or_break`); the friction added is kept (FFX, FFY, FFT). Returns 1 if the rest rule
+    stops it."""
     alpha, ca, sa, ex, ey, ew = _load(i, j, got, bodies, dt, out, active, noise)
-    return _settle(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_break, defer, alpha, ca, sa,
+    return _settle(i, j, got, bodies, shapes, geo, tables, t, dt, out, _held, _hold_or_break, False, alpha, ca, sa,
                    ex, ey, ew, False, 0.0, 0.0, 0.0)
 
 
@@ -462,19 +460,18 @@ def _friction(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_
     """Add this step's friction on plugin body ``j`` (row ``i`` of the space's read) to ``out[i]``, which
     holds the load (the user's force and torque, and a tilt's pull); 1 if the rest rule stops it.
     Inlined (a call would pass its arrays on the stack for every body); ``held`` and ``hold_or_break``
-    as in :func:`_one`, which gives the angle friction is evaluated at, ``alpha`` (rad), its cosine and
-    sine, and the velocity (ex, ey, ew) (:func:`_extrapolated`); with ``have``, the friction there is
-    (ax0, ay0, aw0) already. With ``defer`` (the lean sweep), a
-    body under static friction that needs the limit-set test (at rest, turning on a held foot, or
-    about to stop) returns DEFER having changed nothing, for the caller to step it again without
-    ``defer``."""
+    are :func:`_held` and :func:`_hold_or_break` (the limit-set loop, :func:`_one`) or, with ``defer``,
+    :func:`_sweep`'s stand-ins; ``alpha`` (rad) is the angle friction is evaluated at, ``ca``, ``sa`` its
+    cosine and sine, (ex, ey, ew) the velocity (:func:`_extrapolated`); with ``have``, the friction there
+    is (ax0, ay0, aw0) already. With ``defer`` (the lean sweep, which hands the bodies at rest or
+    turning on a held foot under static friction to the limit-set loop itself, before their loads), a
+    body about to stop under a load static friction may hold returns DEFER having changed nothing, for
+    the caller to step it again without ``defer``."""
     # on feet: a foot at rest is held by static friction while the body turns about it
     static, was, resting, feet = _modes(i, j, got, bodies)
     vx = got[i, 1]
     vy = got[i, 2]
     w = got[i, 3]
-    if defer and static and (resting or feet):
-        return DEFER
     m0 = bodies[j, MASS]
     ax = ay = aw = 0.0
     s = 1.0
