@@ -32,7 +32,8 @@ T = TypeVar("T")
 class Target:
     """One speed/accuracy target and its measured outcome.
 
-    ``met`` is True/False, or None when the measurement could not be made (the note says why).
+    ``met`` is True/False, or None when the measurement could not be made (the note says why) or
+    when there is no bound to judge (a ``target`` in parentheses, "(no bound)": then "reported").
     """
 
     name: str
@@ -43,6 +44,8 @@ class Target:
 
     @property
     def verdict(self) -> str:
+        if self.met is None and self.target.startswith("("):
+            return "reported"
         return {True: "met", False: "not met", None: "not measured"}[self.met]
 
 
