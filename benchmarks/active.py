@@ -34,8 +34,8 @@ settling, at its end and during the rounds). The workload drifts at launch (pymu
 bodies meet: the launch columns against the settled ones), and a best block picks the lightest states,
 so the launch figure is the ratio on the lightest states of a transient. The bound is judged on the
 runs from launch (below), once the clusters have formed and over the whole run; the launch figure is
-reported beside them. A breakdown on one frozen state (after the settling): the plugin's compiled call with and without the
-``active`` arrays, and the noise draw. N = 100, 300, 1,000, 3,000, 10,000; the fitted exponents are
+reported beside them. A breakdown on one frozen state (after the settling): the plugin's compiled call
+with and without the ``active`` arrays, and the noise draw. N = 100, 300, 1,000, 3,000, 10,000; the fitted exponents are
 least-squares slopes of log(cost per step) against log N. Last, RUNS = 5 runs from one launch on a
 fresh box of 1,000 bodies (the same seed: the same states, checked bit for bit) time every block of
 ``pf.step`` against pymunk's step inside it for 25 s; per block the fastest run counts
@@ -520,9 +520,9 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
           f"pymunk's step inside it {e_launch_in:.3f}.", ""]
     return StudyResult(NAME, TITLE, targets=targets, markdown="\n".join(md),
                        files=["active.csv", "active_drift.csv", "active_drift.png"],
-                       extra={"highlights": [f"active + plane friction add {settled_added:.0%} to pymunk's step of "
-                                             f"the same states at N = 1,000 in clusters, {run_added:.0%} over a run from "
-                                             f"launch ({first_added:.0%} in its first {LAUNCH_WINDOW:.0f} s; "
+                       extra={"highlights": [f"active + plane friction add {settled_added:.0%} to pymunk's step "
+                                             f"of the same states at N = 1,000 in clusters, {run_added:.0%} over a run "
+                                             f"from launch ({first_added:.0%} in its first {LAUNCH_WINDOW:.0f} s; "
                                              f"exponents {e_ac:.2f} vs {e_pm:.2f})"] if r1k else []})
 
 
