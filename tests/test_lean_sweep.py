@@ -31,8 +31,8 @@ MEMO = [K.HX, K.HY, K.HT, K.HA, K.HELD]
 
 
 @njit(cache=True)
-def _every_body_by_the_limit_set_step(got, ids, lookup, cache, bodies, shapes, geo, tables, t, dt, out,  # noqa: ANN001, ANN202
-                                      active, noise):
+def _every_body_by_the_limit_set_step(got, ids, lookup, cache, bodies, shapes, geo, tables,  # noqa: ANN001, ANN202
+                                      t, dt, out, active, noise):
     """plane_step's reference: its check, then every plugin body through ``_one``."""
     if not K.plane_check(got, ids, lookup, cache, bodies.shape[0]):
         return -1
