@@ -506,6 +506,8 @@ def _friction(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_
         if runs_out or foot == -1:
             ax, ay, aw, s, stop = _evaluate(i, j, ca, sa, vx, vy, w, fex, fey, few, dt, was, bodies, shapes, geo,
                                             tables, out, False, 0.0, 0.0, 0.0)
+            # (the same test as in the branch above; one test after both branches compiled the L-shapes'
+            # table look-up differently: results one ulp apart, measured)
             if stop and static and defer and _may_hold(j, bodies, out[i, 0], out[i, 1]):
                 return DEFER
     _commit(j, bodies, vx, vy, w, alpha, ew, t, dt)

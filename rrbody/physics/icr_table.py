@@ -55,8 +55,8 @@ from rrbody.model.checks import check_positive
 from rrbody.physics.icr import TRANSLATION_EPS, icr_wrench_body, translation_wrench
 from rrbody.physics.radial import hertz_wrench, ring_wrench
 
-__all__ = ["build_table", "build_radial_table", "PROFILES", "table_wrench_body", "cheb", "twist_scale", "TINY", "HUGE", "NT", "NM", "NTRI", "OCTAVES",
-           "TAIL_TOL", "BUILD_NODES"]
+__all__ = ["build_table", "build_radial_table", "PROFILES", "table_wrench_body", "cheb", "twist_scale", "TINY", "HUGE",
+           "NT", "NM", "NTRI", "OCTAVES", "TAIL_TOL", "BUILD_NODES"]
 
 #: coefficients per panel along t (degree NT - 1; even: the disk's sum takes them in pairs) and along m (degree NM - 1)
 NT: int = 10
