@@ -35,8 +35,9 @@ bodies meet: the launch columns against the settled ones), and a best block pick
 so the launch figure is the ratio on the lightest states of a transient. The bound is judged on the
 runs from launch (below), once the clusters have formed and over the whole run; the launch figure is
 reported beside them. A breakdown on one frozen state (after the settling): the plugin's compiled call
-with and without the ``active`` arrays, and the noise draw. N = 100, 300, 1,000, 3,000, 10,000; the fitted exponents are
-least-squares slopes of log(cost per step) against log N. Last, RUNS = 5 runs from one launch on a
+with and without the ``active`` arrays (friction off in both), and the noise draw. N = 100, 300, 1,000,
+3,000, 10,000; the fitted exponents are least-squares slopes of log(cost per step) against log N.
+Last, RUNS = 5 runs from one launch on a
 fresh box of 1,000 bodies (the same seed: the same states, checked bit for bit) time every block of
 ``pf.step`` against pymunk's step inside it for 25 s; per block the fastest run counts
 (``active_drift.csv``, ``active_drift.png``). Judged: the blocks' total time over the total time of
@@ -124,28 +125,50 @@ def _contacts(space: object) -> int:
     return len(seen) // 2
 
 
+def _frozen_call(pf: object) -> tuple[tuple, object, object, object]:
+    """The plugin's compiled call on the space's state now, for timing it again and again: (its
+    arguments up to ``active``, the ``active`` rows, the noise array, the compiled entry point)."""
+    io = pf._sio if pf._sio is not None else pf._io  # type: ignore[attr-defined]
+    got, ids, out = io.read()
+    rows, noise = pf._act.arrays(pf)  # type: ignore[attr-defined]
+    base = (got, ids, pf._k_lookup, pf._cache, pf._bodies, pf._k_shapes, pf._k_geo,  # type: ignore[attr-defined]
+            pf._k_tables, pf.t, DT, out)  # type: ignore[attr-defined]
+    return base, rows, noise, pf._kernel  # type: ignore[attr-defined]
+
+
 def _effect_share(pf: object, reps: int = 7, block: int = 20) -> tuple[float, float]:
     """(s per step) the active effect adds to the plugin's compiled call, measured on one frozen state
     (the call with the ``active`` arrays against the same call without them, interleaved, best block),
-    and the noise draw (one vectorised PCG64 call for all bodies)."""
+    and the noise draw (one vectorised PCG64 call for all bodies). Both calls run with friction off
+    (every body's mu g zeroed): with friction, a body without its propulsion is stopped by the rest rule
+    where it slid on, a different step; without it, the two calls differ by the active load alone
+    (checked: the same count of stopped bodies, none)."""
+    from rrbody.engine import kernel as K
     from rrbody.engine.active import NO_ACTIVE
 
-    got, ids, out = pf._io.read()  # type: ignore[attr-defined]
+    base, rows, noise, kernel = _frozen_call(pf)
     act = pf._act  # type: ignore[attr-defined]
-    rows, noise = act.arrays(pf)
-    base = (got, ids, pf._k_lookup, pf._cache, pf._bodies, pf._k_shapes, pf._k_geo,  # type: ignore[attr-defined]
-            pf._k_tables, pf.t, DT, out)  # type: ignore[attr-defined]
-    kernel = pf._kernel  # type: ignore[attr-defined]
-    saved = pf._bodies.copy()  # type: ignore[attr-defined]
+    B = pf._bodies  # type: ignore[attr-defined]
+    saved = B.copy()
+    frozen = B.copy()
+    frozen[:, K.COEFF] = 0.0
+    calls = (lambda: kernel(*base, rows, noise), lambda: kernel(*base, *NO_ACTIVE))
+    stops = []
+    for call in calls:
+        B[:] = frozen
+        stops.append(call())
+    if stops != [0, 0]:
+        raise RuntimeError(f"the frictionless calls stopped bodies ({stops}): they would not differ by the active "
+                           "load alone")
     best = [math.inf, math.inf, math.inf]
     for _ in range(reps):
-        for k, call in enumerate((lambda: kernel(*base, rows, noise), lambda: kernel(*base, *NO_ACTIVE),
-                                  lambda: act.rng.standard_normal(out=noise))):
+        for k, call in enumerate((*calls, lambda: act.rng.standard_normal(out=noise))):
             w0 = time.perf_counter()
             for _ in range(block):
-                pf._bodies[:] = saved  # type: ignore[attr-defined]  # the same state every call (the history columns)
+                B[:] = frozen  # the same state every call (the history columns)
                 call()
             best[k] = min(best[k], (time.perf_counter() - w0) / block)
+    B[:] = saved
     return best[0] - best[1], best[2]
 
 
@@ -162,13 +185,9 @@ def _breakdown(pf: object, reps: int = 15, block: int = 20) -> dict[str, float]:
     from rrbody.physics.footprint_table import table_covers
     from rrbody.physics.effects.drive_circular import sincos_reduced
 
-    io = pf._sio if pf._sio is not None else pf._io  # type: ignore[attr-defined]
-    got, ids, out = io.read()
-    rows, noise = pf._act.arrays(pf)  # type: ignore[attr-defined]
+    base, rows, noise, kernel = _frozen_call(pf)
+    got = base[0]
     B = pf._bodies  # type: ignore[attr-defined]
-    base = (got, ids, pf._k_lookup, pf._cache, B, pf._k_shapes, pf._k_geo,  # type: ignore[attr-defined]
-            pf._k_tables, pf.t, DT, out)  # type: ignore[attr-defined]
-    kernel = pf._kernel  # type: ignore[attr-defined]
     disk = B[:, K.TKIND] == K.TABLE_CIRCLE
     coeff = B[:, K.COEFF]
     states = {"no friction": B.copy(), "disks": B.copy(), "L-shapes (table)": B.copy(), "L-shapes (exact)": B.copy()}
