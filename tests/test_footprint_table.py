@@ -215,6 +215,55 @@ def test_table_size_and_determinism(tables: dict) -> None:
     assert np.array_equal(T, build_footprint_table(shapes, geo, 0, shapes.shape[0]), equal_nan=True)  # exact cells: NaN blocks
 
 
+def test_stored_coefficients_and_their_rounding(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A block stores the terms of degree >= F32_FROM as float32 (docs/footprint-table.md): the kernel
+    reads back, through the table's float32 view, exactly the coefficients the fit returned and was
+    validated with (rounded), and a fit whose rounding changes it by more than ROUND_TOL fails (with
+    ROUND_TOL = 0 every fit of these cells of the L fails, with the real one most pass: the test is live)."""
+    from rrbody.physics import footprint_fit as FF
+
+    shapes, geo = _l_shape()
+    R = table_reach(shapes, geo, 0, shapes.shape[0])
+    e = np.linspace(-1.5 * R, 1.5 * R, 25)  # the table's first cells (CELLS = 24), those beyond x = 1.1 R
+    rects = np.array([(e[i], e[i + 1], e[j], e[j + 1]) for i in range(21, 24) for j in range(24)])
+    mono, ok = FF.fit_cells(shapes, geo, 0, shapes.shape[0], R, -1, rects, 1.5 * R)
+    assert ok.sum() >= 20  # (26 of 72 here: the others, nearer the L, split in the table)
+    deg = np.array([i + j for i in range(FF.N) for j in range(FF.N - i)])
+    low = deg < FF.F32_FROM
+    assert np.array_equal(mono[:, ~low], mono[:, ~low].astype(np.float32))  # already rounded
+    for m in mono[ok]:
+        blk = FF.pack(m)
+        assert blk.shape == (FF.BLOCK, 3) and blk.dtype == np.float64
+        assert np.array_equal(blk[:FF.N64], m[low])
+        F = blk.view(np.float32)  # rows of 6: triple k at row N64 + k // 2, columns 3 (k % 2) ..
+        back = np.array([F[FF.N64 + k // 2, 3 * (k % 2):3 * (k % 2) + 3] for k in range(int((~low).sum()))])
+        assert np.array_equal(back.astype(np.float64), m[~low])
+    monkeypatch.setattr(FF, "ROUND_TOL", 0.0)
+    assert not FF.fit_cells(shapes, geo, 0, shapes.shape[0], R, -1, rects, 1.5 * R)[1].any()
+
+
+def test_prefetch_is_harmless(tables: dict) -> None:
+    """footprint_table_prefetch (the plugin's friction pass calls it a few bodies ahead) reads the
+    block's location only and faults on nothing: every kind of twist, including those the exact
+    formula answers, and a look-up after it gives what it gives without."""
+    from rrbody.physics.footprint_table import footprint_table_prefetch
+
+    shapes, geo, T = tables["L"]
+
+    @njit
+    def ahead(T, shapes, geo, V):  # noqa: ANN001, ANN202 (numba)
+        out = np.empty((V.shape[0], 3))
+        for k in range(V.shape[0]):
+            footprint_table_prefetch(T, 0, V[k, 0], V[k, 1], V[k, 2], V_EPS)
+            out[k] = footprint_table_wrench(T, 0, shapes, geo, 0, shapes.shape[0], V[k, 0], V[k, 1], V[k, 2], V_EPS)
+        return out
+
+    R = table_reach(shapes, geo, 0, shapes.shape[0])
+    V = np.concatenate([_twists(shapes, geo, R, seed=5),
+                        [(math.nan, 0.1, 1.0), (0.1, math.inf, 1.0), (0.0, 0.0, 0.0), (1e-300, 0.0, 1e-300)]])
+    assert np.array_equal(ahead(T, shapes, geo, V), _both(T, 0, shapes, geo, V, V_EPS)[:, :3], equal_nan=True)
+
+
 def test_bad_input() -> None:
     shapes, geo = _l_shape()
     with pytest.raises(ValueError, match="s0, s1"):

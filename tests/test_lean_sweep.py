@@ -65,7 +65,8 @@ def _scene(seed: int = 3) -> tuple[object, PlaneFriction, list]:
             b.velocity = (rng.uniform(-1, 1), rng.uniform(-1, 1))
             b.angular_velocity = rng.uniform(-5, 5)
         space.add(b, s)
-        pf.add(b, mu=0.35 if i % 4 else 0.2, mu_static=0.5, pressure=FEET if i % 2 and i < 34 else "uniform")
+        pf.add(b, mu=0.35 if i % 4 else 0.2, mu_static=0.5, pressure=FEET if i % 2 and i < 34 else "uniform",
+               friction_method="table" if i >= 34 else "auto")
         if i >= 34:
             pf.activate(b, Active(force=0.6 * 9.81 * b.mass, point=(0.0, 0.02), rot_drag=2.0, rot_diffusion=0.5))
         bodies.append(b)
@@ -104,3 +105,5 @@ def test_the_lean_sweep_gives_the_bits_of_the_limit_set_step_for_every_body() ->
     # what the run went through (else the comparison proves less than it says): stops by the rest
     # rule, bodies turning on a held foot, bodies held exactly at rest
     assert seen["steps"] == 400 and seen["stops"] > 0 and seen["pinned"] > 0 and seen["held at rest"] > 0, seen
+    # the boxes read their footprint table, whose blocks the sweep fetches ahead (kernel._fetch)
+    assert (pf._bodies[:, K.TKIND] == K.TABLE_FOOTPRINT).sum() == len(bodies) - 34

@@ -22,6 +22,7 @@ from rrbody.engine.feet import feet_step
 from rrbody.engine.lean import NO_REFCOUNT
 from rrbody.physics.effects import active as act
 from rrbody.physics.effects.drive_circular import sincos_reduced
+from rrbody.physics.footprint_table import footprint_table_prefetch
 from rrbody.physics.limit import at_rest
 
 
@@ -244,6 +245,31 @@ def _no_break(i: int, j: int, alpha: float, bodies: np.ndarray, shapes: np.ndarr
 #: (rad), its cosine and sine, the velocity (m/s, world) and spin (rad/s) it is evaluated at, and the
 #: friction there (per unit mass, world: :func:`rrbody.engine.accel.accel_at`)
 _W_ALPHA, _W_CA, _W_SA, _W_EX, _W_EY, _W_EW, _W_AX, _W_AY, _W_AW = range(9)
+#: footprint-table bodies whose coefficients the friction pass asks for ahead of their evaluation
+AHEAD = 4
+
+
+@njit(cache=True, inline="always")
+def _next_tabled(k: int, n: int, rowmap: np.ndarray, got: np.ndarray, bodies: np.ndarray) -> int:
+    """The first body k' >= k whose friction the second pass evaluates from a footprint table, or n."""
+    while k < n:
+        j = rowmap[k]
+        if j >= 0 and bodies[j, TKIND] == TABLE_FOOTPRINT and _evaluated(k, j, got, bodies):
+            return k
+        k += 1
+    return n
+
+
+@njit(cache=True, inline="always")
+def _fetch(k: int, rowmap: np.ndarray, bodies: np.ndarray, tables: np.ndarray, work: np.ndarray) -> None:
+    """Start bringing in the table block body k's evaluation will read (its twist as accel_at forms it)."""
+    j = rowmap[k]
+    ca = work[k, _W_CA]
+    sa = work[k, _W_SA]
+    ex = work[k, _W_EX]
+    ey = work[k, _W_EY]
+    footprint_table_prefetch(tables, int(bodies[j, TAB]), ca * ex + sa * ey, -sa * ex + ca * ey, work[k, _W_EW],
+                             bodies[j, VEPS])
 _N_WORK = 9
 
 
@@ -283,10 +309,20 @@ def _sweep(got: np.ndarray, rowmap: np.ndarray, bodies: np.ndarray, shapes: np.n
         (work[i, _W_ALPHA], work[i, _W_CA], work[i, _W_SA], work[i, _W_EX], work[i, _W_EY],
          work[i, _W_EW]) = _load(i, j, got, bodies, dt, out, active, noise)
     for disks in (True, False):
+        p = n
+        if not disks:  # the footprint tables' blocks, AHEAD bodies ahead
+            p = _next_tabled(0, n, rowmap, got, bodies)
+            for _ in range(AHEAD):
+                if p < n:
+                    _fetch(p, rowmap, bodies, tables, work)
+                    p = _next_tabled(p + 1, n, rowmap, got, bodies)
         for i in range(n):
             j = rowmap[i]
             if j < 0 or (bodies[j, TKIND] == TABLE_CIRCLE) != disks or not _evaluated(i, j, got, bodies):
                 continue
+            if p < n and bodies[j, TKIND] == TABLE_FOOTPRINT:
+                _fetch(p, rowmap, bodies, tables, work)
+                p = _next_tabled(p + 1, n, rowmap, got, bodies)
             work[i, _W_AX], work[i, _W_AY], work[i, _W_AW] = accel_at(
                 j, work[i, _W_CA], work[i, _W_SA], work[i, _W_EX], work[i, _W_EY], work[i, _W_EW], bodies, shapes,
                 geo, tables)

@@ -1,31 +1,19 @@
 """numba options and entry points for the plugin's calls. Its per-body kernels are called once per
-body and step from :func:`rrbody.engine.kernel.plane_step`, with the plugin's arrays as arguments.
-
-numba's runtime counts references to every array passed into a compiled function (an atomic
-increment and decrement per array and call). These kernels allocate nothing and keep no array, so
-the counting buys nothing; compiled without the runtime (numba's ``_nrt=False``) the plugin's step
-for 1,000 bodies ran 9-10 % faster (measured, interleaved A/B, best of 7 runs of 100 steps:
-445 -> 405 us). ``_nrt`` is an option numba does not document: if a numba release drops it the
-kernels are compiled as usual (same results, the count back).
+body and step from :func:`rrbody.engine.kernel.plane_step`, with the plugin's arrays as arguments,
+and compiled without numba's reference counting (:func:`rrbody._cache.no_refcount` says why).
 """
 
 from __future__ import annotations
 
 from typing import Any
 
+from rrbody._cache import no_refcount
+
 __all__ = ["NO_REFCOUNT", "fast_entry"]
 
 
-def _options() -> dict[str, Any]:
-    try:
-        from numba.core.cpu import CPUTargetOptions
-    except ImportError:  # pragma: no cover - depends on the numba version
-        return {}
-    return {"_nrt": False} if hasattr(CPUTargetOptions, "_nrt") else {}
-
-
 #: keyword arguments for ``njit`` of a kernel that allocates no array
-NO_REFCOUNT: dict[str, Any] = _options()
+NO_REFCOUNT: dict[str, Any] = no_refcount()
 
 
 def fast_entry(dispatcher: Any, *args: Any) -> tuple[Any, Any]:

@@ -16,8 +16,8 @@ from rrbody.physics import contact as C
 from rrbody.physics.contact import footprint_wrench
 from rrbody.physics.icr_table import cheb
 
-__all__ = ["fit_cells", "table_reach", "deadband_factor", "edge_lines", "cell_line", "singular_part", "N", "BLOCK",
-           "OFF", "TAIL_TOL", "VALID_TOL", "VALID_PTS"]
+__all__ = ["fit_cells", "table_reach", "deadband_factor", "edge_lines", "cell_line", "singular_part", "pack", "N",
+           "BLOCK", "N64", "ROWS", "F32_FROM", "TAIL_TOL", "VALID_TOL", "ROUND_TOL", "VALID_PTS"]
 
 #: Chebyshev points per direction of every cell; its polynomial keeps total degree <= N - 1 (the
 #: table's kernel, rrbody.physics.footprint_table._block, is written out for N = 8)
@@ -29,6 +29,16 @@ TAIL_TOL: float = 5e-11
 VALID_TOL: float = 5e-11
 #: validation points per direction of a cell (equally spaced, edges and corners included)
 VALID_PTS: int = N + 3
+#: total degree from which a coefficient is stored as float32 (those below as float64): a block then
+#: takes 504 bytes instead of 864, so a look-up reads 8-9 cache lines instead of 14 (the table's
+#: cost in the active benchmark is its cache traffic, docs/active.md); the degree-3 coefficients are
+#: small enough there (below 2e-5 outside the square, a few 1e-4 inside) for the rounding to stay
+#: near 1e-12 (the L and the box: at most 3.9e-12 and 5.7e-12), while degree 2 reaches 1.1e-10
+F32_FROM: int = 3
+#: bound on what storing the coefficients of degree >= F32_FROM as float32 changes anywhere in a cell
+#: (the sum of the roundings, |zx^i zy^j| <= 1), force and torque / R; a fifth of VALID_TOL (the
+#: validation points see the stored coefficients too)
+ROUND_TOL: float = 1e-11
 
 
 @njit(cache=True)
@@ -49,9 +59,33 @@ _XV = _ZV[:, None] ** np.arange(N)[None, :]  # (VALID_PTS, N) monomials at the v
 #: the kept terms (total degree <= N - 1, row-major: the packed block's order) and the last kept ones
 _KEEP = np.add.outer(np.arange(N), np.arange(N)) <= N - 1
 _LAST = np.add.outer(np.arange(N), np.arange(N)) == N - 1
-#: rows of a packed block, and the first row of each power of zx in it
-BLOCK: int = N * (N + 1) // 2
-OFF = tuple(i * N - i * (i - 1) // 2 for i in range(N))
+#: the stored (float32) terms among all N x N, and, in the packed order (row-major: zx^i zy^j for i =
+#: 0 .. N - 1, j = 0 .. N - 1 - i), the kept terms that are float64 and float32
+_DEG = np.add.outer(np.arange(N), np.arange(N))
+_F32 = _KEEP & (_DEG >= F32_FROM)
+_LOW = _DEG[_KEEP] < F32_FROM
+#: float64 coefficient triples of a block (one row each), then float32 ones (two to a row)
+N64: int = int(_LOW.sum())
+_N32: int = int((~_LOW).sum())
+#: rows of 3 float64 of a packed block: its float64 triples, then its float32 triples two to a row
+BLOCK: int = N64 + (_N32 + 1) // 2
+#: per power i of zx: (first float64 triple, how many, first float32 triple, how many) of its
+#: coefficients of zy^j (j = 0 .. N - 1 - i: the float64 ones are the lowest powers of zy)
+ROWS = tuple((sum(max(0, F32_FROM - a) for a in range(i)), max(0, F32_FROM - i),
+              sum(N - a - max(0, F32_FROM - a) for a in range(i)), N - i - max(0, F32_FROM - i)) for i in range(N))
+
+
+def pack(mono: np.ndarray) -> np.ndarray:
+    """A table block (BLOCK rows of 3 float64) from a cell's kept coefficients (N (N + 1) / 2 x 3, the
+    packed order, :func:`fit_cells`): the float64 triples, then the float32 ones as float32 pairs of bits
+    in each float64 slot (read back through the table's float32 view, ``T.view(np.float32)``: rows
+    of 6, a triple k at row N64 + k // 2, columns 3 (k % 2) .. + 2)."""
+    out = np.zeros((BLOCK, 3))
+    out[:N64] = mono[_LOW]
+    hi = np.zeros(2 * (BLOCK - N64) * 3, dtype=np.float32)
+    hi[:3 * _N32] = mono[~_LOW].astype(np.float32).ravel()
+    out[N64:] = hi.view(np.float64).reshape(-1, 3)
+    return out
 
 
 def _grid(rects: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -174,13 +208,15 @@ def singular_part(line: np.ndarray, cx: np.ndarray, cy: np.ndarray, R: float) ->
 def fit_cells(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int, R: float, side: int, rects: np.ndarray,
               p0: float, lines: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Fits of the footprint ``shapes[s0:s1]`` (reach R, m) on the rectangles ``rects`` of the inner
-    ICR plane (side -1) or of an outer side (:func:`twists`): the packed triangular monomial coefficients
-    (n, BLOCK, 3) from the exact values at their N x N Chebyshev points (torque divided by R), and
-    whether each passes: the Chebyshev terms it drops (total degree > N - 1) sum to at most TAIL_TOL
-    (|T_i T_j| <= 1: a bound on what dropping them changes), its last kept ones (total degree N - 1)
-    are below TAIL_TOL (the series has converged), and it is within VALID_TOL of the exact values at
-    the validation points. ``lines`` (inner rectangles only; a row (nx, ny, d, kappa) per rectangle,
-    kappa = 0 for none, :func:`cell_line`): the polynomial fits the wrench less the line's
+    ICR plane (side -1) or of an outer side (:func:`twists`): the packed triangular monomial
+    coefficients (n, N (N + 1) / 2, 3; :func:`pack` makes a table block of each) from the exact values
+    at their N x N Chebyshev points (torque divided by R), and whether each passes: the Chebyshev terms
+    it drops (total degree > N - 1) sum to at most TAIL_TOL (|T_i T_j| <= 1: a bound on what dropping
+    them changes), its last kept ones (total degree N - 1) are below TAIL_TOL (the series has
+    converged), storing its terms of degree >= F32_FROM as float32 changes it by at most ROUND_TOL (the
+    coefficients returned are so rounded), and it is within VALID_TOL of the exact values at the
+    validation points. ``lines`` (inner rectangles only; a row (nx, ny, d, kappa) per rectangle, kappa
+    = 0 for none, :func:`cell_line`): the polynomial fits the wrench less the line's
     :func:`singular_part` (smooth across the edge), and is validated with it added back."""
     n = rects.shape[0]
     scale = np.array([1.0, 1.0, 1.0 / R])
@@ -191,8 +227,11 @@ def fit_cells(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int, R: float, s
     c = np.einsum("ia,jb,nabk->nijk", _V, _V, F)
     dropped = np.abs(c[:, ~_KEEP, :]).sum(axis=1).max(axis=1)
     last = np.abs(c[:, _LAST, :]).max(axis=(1, 2))
-    mono = np.einsum("pi,nijk,qj->npqk", _M, np.where(_KEEP[None, :, :, None], c, 0.0), _M)
-    ok = (dropped <= TAIL_TOL) & (last <= TAIL_TOL)
+    exact = np.einsum("pi,nijk,qj->npqk", _M, np.where(_KEEP[None, :, :, None], c, 0.0), _M)
+    # the coefficients as the table stores them (pack): the validation below sees them
+    mono = np.where(_F32[None, :, :, None], exact.astype(np.float32).astype(np.float64), exact)
+    rounding = np.abs(mono - exact).sum(axis=(1, 2)).max(axis=1)
+    ok = (dropped <= TAIL_TOL) & (last <= TAIL_TOL) & (rounding <= ROUND_TOL)
     idx = np.flatnonzero(ok)  # only these are validated (the build's largest cost is exact evaluations)
     if idx.size:
         tw = twists(side, rects[idx], _ZV, p0)

@@ -40,8 +40,12 @@ row of its cell's block, q) with q = 1 / (the cell's side in finest cells), so t
 coordinates follow from the finest-cell position without a branch; then the blocks: one NaN block
 (every exact inner cell's), 4 x S_PANELS x NU outer blocks (side +x, -x, +y, -y, then s-panel, then
 u-panel; an exact panel's is NaN), then the inner cells' blocks; then the line records, two rows
-each: (nx, ny, d) and kappa (-ny, nx, 1 / R). A block is BLOCK rows: the coefficients of zx^i zy^j
-(three components each) for i = 0 .. N - 1 and j = 0 .. N - 1 - i in that order.
+each: (nx, ny, d) and kappa (-ny, nx, 1 / R). A block is BLOCK rows
+(:func:`rrbody.physics.footprint_fit.pack`): the coefficients of zx^i zy^j (three components each) for
+i = 0 .. N - 1 and j = 0 .. N - 1 - i, those of total degree below F32_FROM as float64 (N64 rows, in
+that order), then the others as float32 (in that order, two triples to a row; read through the
+table's float32 view). The rounding is part of each fit's test
+(:data:`rrbody.physics.footprint_fit.ROUND_TOL`): the table's stated accuracy, 1e-10, holds as stored.
 """
 
 from __future__ import annotations
@@ -49,15 +53,20 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from llvmlite import ir
 from numba import njit
+from numba.core import cgutils, types
+from numba.extending import intrinsic
 
+from rrbody._cache import no_refcount
 from rrbody.physics import contact as C
 from rrbody.physics.contact import footprint_wrench
-from rrbody.physics.footprint_fit import BLOCK, N, OFF, cell_line, deadband_factor, edge_lines, fit_cells, table_reach
+from rrbody.physics.footprint_fit import (BLOCK, N, N64, ROWS, cell_line, deadband_factor, edge_lines, fit_cells, pack,
+                                          table_reach)
 from rrbody.physics.icr_table import HUGE, TINY, twist_scale
 
-__all__ = ["build_footprint_table", "footprint_table_wrench", "table_covers", "table_reach", "RHO", "CELLS", "SPLIT",
-           "LEVELS", "S_PANELS", "MAX_U_PANELS", "HEAD"]
+__all__ = ["build_footprint_table", "footprint_table_wrench", "footprint_table_prefetch", "table_covers", "table_reach",
+           "RHO", "CELLS", "SPLIT", "LEVELS", "S_PANELS", "MAX_U_PANELS", "HEAD"]
 
 #: half-width of the inner square in units of the reach R
 RHO: float = 1.5
@@ -158,7 +167,7 @@ def _assemble(top: list, outer: list, nu: int, R: float, p0: float, K: float) ->
     fine = SPLIT**LEVELS
     index = np.zeros((_NF, _NF, 3))  # per finest cell: (0, block, q); block 0 is the NaN block
     blocks: list[np.ndarray] = [np.full((BLOCK, 3), np.nan)]
-    blocks += [np.full((BLOCK, 3), np.nan) if m is None else m for m in outer]
+    blocks += [np.full((BLOCK, 3), np.nan) if m is None else pack(m) for m in outer]
 
     lines: list[np.ndarray] = []  # the line records, each two rows
 
@@ -170,7 +179,7 @@ def _assemble(top: list, outer: list, nu: int, R: float, p0: float, K: float) ->
                 at = float(len(lines) + 1)  # (0: none)
                 lines.append(np.array([(nx, ny, d), (-kap * ny, kap * nx, kap / R)]))
             index[i0:i0 + size, j0:j0 + size] = (at, len(blocks), 1.0 / size)
-            blocks.append(node[1])
+            blocks.append(pack(node[1]))
         elif node[0] == "split":
             h = size // SPLIT
             for k, kid in enumerate(node[1]):
@@ -195,42 +204,56 @@ def _assemble(top: list, outer: list, nu: int, R: float, p0: float, K: float) ->
 
 
 @njit(cache=True, inline="always", fastmath={"contract"})
-def _row(T, r, L, zy):  # noqa: ANN001 (numba)
-    """Horner sums in zy of the L coefficient rows T[r:r + L] (three components). ``r`` is unsigned:
-    numba then drops its negative-index test from every load (measured 27 -> 23 ns a block)."""
-    g0 = T[r + np.uint64(L - 1), 0]
-    g1 = T[r + np.uint64(L - 1), 1]
-    g2 = T[r + np.uint64(L - 1), 2]
-    for j in range(L - 2, -1, -1):
-        g0 = g0 * zy + T[r + np.uint64(j), 0]
-        g1 = g1 * zy + T[r + np.uint64(j), 1]
-        g2 = g2 * zy + T[r + np.uint64(j), 2]
+def _row(T, F, b, k64, n64, k32, n32, zy):  # noqa: ANN001 (numba)
+    """Horner sum in zy of one power of zx's coefficients (three components) in the block at row ``b``:
+    its n32 float32 triples from triple k32 (the higher powers of zy; ``F`` the table's float32 view,
+    :func:`rrbody.physics.footprint_fit.pack`), then its n64 float64 triples from row b + k64. ``b``
+    is unsigned: numba then drops its negative-index test from every load (measured 27 -> 23 ns a
+    block); the counts are constants, so the loops unroll."""
+    k = k32 + n32 - 1
+    r = b + np.uint64(N64 + k // 2)
+    c = 3 * (k % 2)
+    g0 = np.float64(F[r, c])
+    g1 = np.float64(F[r, c + 1])
+    g2 = np.float64(F[r, c + 2])
+    for m in range(n32 - 2, -1, -1):
+        k = k32 + m
+        r = b + np.uint64(N64 + k // 2)
+        c = 3 * (k % 2)
+        g0 = g0 * zy + F[r, c]
+        g1 = g1 * zy + F[r, c + 1]
+        g2 = g2 * zy + F[r, c + 2]
+    for m in range(n64 - 1, -1, -1):
+        r = b + np.uint64(k64 + m)
+        g0 = g0 * zy + T[r, 0]
+        g1 = g1 * zy + T[r, 1]
+        g2 = g2 * zy + T[r, 2]
     return g0, g1, g2
 
 
 @njit(cache=True, inline="always", fastmath={"contract"})
-def _block(T, base, zx, zy):  # noqa: ANN001 (numba)
-    """The three components of the packed triangular block at row ``base`` at (zx, zy): the rows
-    zx^i (i = 7 .. 0, N - i terms each) two at a time, then Horner in zx. Written out for N = 8 (the
-    loops over rows, with their varying lengths, are then unrolled: measured 31 -> 23 ns)."""
+def _block(T, F, base, zx, zy):  # noqa: ANN001 (numba)
+    """The three components of the packed triangular block at row ``base`` at (zx, zy): the sums in
+    zy of zx^i (i = 7 .. 0) two at a time, then Horner in zx. Written out for N = 8 (the loops over
+    the powers, with their varying lengths, are then unrolled: measured 31 -> 23 ns)."""
     b = np.uint64(base)
-    a0, a1, a2 = _row(T, b + np.uint64(OFF[7]), 1, zy)
-    c0, c1, c2 = _row(T, b + np.uint64(OFF[6]), 2, zy)
+    a0, a1, a2 = _row(T, F, b, ROWS[7][0], ROWS[7][1], ROWS[7][2], ROWS[7][3], zy)
+    c0, c1, c2 = _row(T, F, b, ROWS[6][0], ROWS[6][1], ROWS[6][2], ROWS[6][3], zy)
     f0 = a0 * zx + c0
     f1 = a1 * zx + c1
     f2 = a2 * zx + c2
-    a0, a1, a2 = _row(T, b + np.uint64(OFF[5]), 3, zy)
-    c0, c1, c2 = _row(T, b + np.uint64(OFF[4]), 4, zy)
+    a0, a1, a2 = _row(T, F, b, ROWS[5][0], ROWS[5][1], ROWS[5][2], ROWS[5][3], zy)
+    c0, c1, c2 = _row(T, F, b, ROWS[4][0], ROWS[4][1], ROWS[4][2], ROWS[4][3], zy)
     f0 = (f0 * zx + a0) * zx + c0
     f1 = (f1 * zx + a1) * zx + c1
     f2 = (f2 * zx + a2) * zx + c2
-    a0, a1, a2 = _row(T, b + np.uint64(OFF[3]), 5, zy)
-    c0, c1, c2 = _row(T, b + np.uint64(OFF[2]), 6, zy)
+    a0, a1, a2 = _row(T, F, b, ROWS[3][0], ROWS[3][1], ROWS[3][2], ROWS[3][3], zy)
+    c0, c1, c2 = _row(T, F, b, ROWS[2][0], ROWS[2][1], ROWS[2][2], ROWS[2][3], zy)
     f0 = (f0 * zx + a0) * zx + c0
     f1 = (f1 * zx + a1) * zx + c1
     f2 = (f2 * zx + a2) * zx + c2
-    a0, a1, a2 = _row(T, b + np.uint64(OFF[1]), 7, zy)
-    c0, c1, c2 = _row(T, b + np.uint64(OFF[0]), 8, zy)
+    a0, a1, a2 = _row(T, F, b, ROWS[1][0], ROWS[1][1], ROWS[1][2], ROWS[1][3], zy)
+    c0, c1, c2 = _row(T, F, b, ROWS[0][0], ROWS[0][1], ROWS[0][2], ROWS[0][3], zy)
     f0 = (f0 * zx + a0) * zx + c0
     f1 = (f1 * zx + a1) * zx + c1
     f2 = (f2 * zx + a2) * zx + c2
@@ -308,7 +331,7 @@ def table_covers(T, t0, vbx, vby, w, v_eps):  # noqa: ANN001 (numba)
 
 
 
-@njit(cache=True, fastmath={"contract"})
+@njit(cache=True, fastmath={"contract"}, **no_refcount())
 def footprint_table_wrench(T, t0, shapes, geo, s0, s1, vbx, vby, w, v_eps):  # noqa: ANN001 (numba)
     """(fx, fy, tq): the dry wrench of the footprint ``shapes[s0:s1]`` per unit load and mu g, as
     :func:`footprint_wrench` gives it (force in the body frame, dimensionless; torque about the centre
@@ -319,7 +342,8 @@ def footprint_table_wrench(T, t0, shapes, geo, s0, s1, vbx, vby, w, v_eps):  # n
     base, zx, zy, sg, line, cx, cy = _locate(T, t0, vbx, vby, w, v_eps)
     if base < 0:
         return footprint_wrench(shapes, geo, s0, s1, vbx, vby, w, v_eps)
-    f0, f1, f2 = _block(T, base, zx, zy)
+    # (the float32 view costs nothing here: no reference is counted, no_refcount)
+    f0, f1, f2 = _block(T, T.view(np.float32), base, zx, zy)
     if f0 != f0:  # an exact cell (its block is NaN): no test before the sum, which then starts sooner
         return footprint_wrench(shapes, geo, s0, s1, vbx, vby, w, v_eps)
     if line > 0:  # a cell on an edge: its polynomial is the wrench less the edge's h^2 log|h| terms
@@ -332,3 +356,37 @@ def footprint_table_wrench(T, t0, shapes, geo, s0, s1, vbx, vby, w, v_eps):  # n
             f1 += L * T[r + 1, 1]
             f2 += L * T[r + 1, 2] * (d - 2.0 * h / 3.0)
     return sg * f0, sg * f1, sg * T[t0 + 1, 0] * f2
+
+
+@intrinsic
+def _prefetch(typingctx, arr, row):  # noqa: ANN001, ANN202 (numba)
+    """Ask the CPU to bring the cache line holding ``arr[row, 0]`` (a C-contiguous 2-D array) towards
+    it, without waiting (LLVM's prefetch: read, high locality, data); no fault for any address."""
+    sig = types.void(arr, row)
+
+    def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
+        aryty = signature.args[0]
+        ary = context.make_array(aryty)(context, builder, args[0])
+        idx = context.cast(builder, args[1], signature.args[1], types.intp)
+        zero = context.get_constant(types.intp, 0)
+        ptr = cgutils.get_item_pointer2(context, builder, ary.data, cgutils.unpack_tuple(builder, ary.shape),
+                                        cgutils.unpack_tuple(builder, ary.strides), aryty.layout, [idx, zero],
+                                        wraparound=False, boundscheck=False)
+        i8p = ir.PointerType(ir.IntType(8))
+        i32 = ir.IntType(32)
+        fn = cgutils.get_or_insert_function(builder.module, ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32]),
+                                            "llvm.prefetch.p0")
+        builder.call(fn, [builder.bitcast(ptr, i8p), i32(0), i32(3), i32(1)])
+        return context.get_dummy_value()
+    return sig, codegen
+
+
+@njit(cache=True, inline="always")
+def footprint_table_prefetch(T, t0, vbx, vby, w, v_eps):  # noqa: ANN001 (numba)
+    """Start bringing in the block :func:`footprint_table_wrench` will read for this twist (nothing
+    for the exact formula): called a few bodies ahead, so that the look-up finds its coefficients
+    in the cache instead of waiting for memory."""
+    base = _locate(T, t0, vbx, vby, w, v_eps)[0]
+    if base >= 0:
+        for r in range(0, BLOCK, 2):  # 48 bytes apart: every 64-byte line of the block
+            _prefetch(T, base + r)
