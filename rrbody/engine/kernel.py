@@ -251,10 +251,11 @@ AHEAD = 4
 
 @njit(cache=True, inline="always")
 def _next_tabled(k: int, n: int, rowmap: np.ndarray, got: np.ndarray, bodies: np.ndarray) -> int:
-    """The first body k' >= k whose friction the second pass evaluates from a footprint table, or n."""
+    """The first body k' >= k whose friction the second pass evaluates from a footprint table, or n
+    (not one with mu = 0: accel_at returns before any look-up)."""
     while k < n:
         j = rowmap[k]
-        if j >= 0 and bodies[j, TKIND] == TABLE_FOOTPRINT and _evaluated(k, j, got, bodies):
+        if j >= 0 and bodies[j, TKIND] == TABLE_FOOTPRINT and bodies[j, COEFF] != 0.0 and _evaluated(k, j, got, bodies):
             return k
         k += 1
     return n
@@ -320,7 +321,7 @@ def _sweep(got: np.ndarray, rowmap: np.ndarray, bodies: np.ndarray, shapes: np.n
             j = rowmap[i]
             if j < 0 or (bodies[j, TKIND] == TABLE_CIRCLE) != disks or not _evaluated(i, j, got, bodies):
                 continue
-            if p < n and bodies[j, TKIND] == TABLE_FOOTPRINT:
+            if p < n and bodies[j, TKIND] == TABLE_FOOTPRINT and bodies[j, COEFF] != 0.0:
                 _fetch(p, rowmap, bodies, tables, work)
                 p = _next_tabled(p + 1, n, rowmap, got, bodies)
             work[i, _W_AX], work[i, _W_AY], work[i, _W_AW] = accel_at(
