@@ -14,10 +14,10 @@ from rrbody.engine.lean import NO_REFCOUNT
 from rrbody.physics import contact as C
 from rrbody.physics.contact import footprint_wrench
 from rrbody.physics.effects.drive_circular import sincos_reduced
-from rrbody.physics.footprint_table import footprint_table_wrench
+from rrbody.physics.footprint_table import footprint_table_prefetch, footprint_table_wrench
 from rrbody.physics.icr_table import table_wrench_body
 
-__all__ = ["body_accel", "accel_at", "limited", "limited_at"]
+__all__ = ["body_accel", "accel_at", "reads_footprint_table", "prefetch_at", "limited", "limited_at"]
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -58,6 +58,20 @@ def accel_at(j: int, ca: float, sa: float, vx: float, vy: float, w: float, bodie
         fx, fy, tq = footprint_wrench(shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), vbx, vby, w,
                                       bodies[j, VEPS])
     return c * (ca * fx - sa * fy), c * (sa * fx + ca * fy), c * tq / bodies[j, IPM]
+
+
+@njit(cache=True, inline="always")
+def reads_footprint_table(j: int, bodies: np.ndarray) -> bool:
+    """Whether :func:`accel_at` reads body j's friction from its footprint's own table (dry, mu > 0)."""
+    return bodies[j, COEFF] != 0.0 and bodies[j, LAW] != LAW_VISCOUS and bodies[j, TKIND] == TABLE_FOOTPRINT
+
+
+@njit(cache=True, inline="always")
+def prefetch_at(j: int, ca: float, sa: float, vx: float, vy: float, w: float, bodies: np.ndarray,
+                tables: np.ndarray) -> None:
+    """Start bringing in the table block :func:`accel_at` with these arguments will read, for a body
+    that :func:`reads_footprint_table` (the same body-frame twist, so the same block)."""
+    footprint_table_prefetch(tables, int(bodies[j, TAB]), ca * vx + sa * vy, -sa * vx + ca * vy, w, bodies[j, VEPS])
 
 
 @njit(cache=True, inline="always")

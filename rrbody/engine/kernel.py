@@ -16,13 +16,13 @@ import numpy as np
 from numba import njit
 
 # (kernel.body_accel and kernel.limited: the plugin's readers)
-from rrbody.engine.accel import accel_at, body_accel, limited, limited_at  # noqa: F401
+from rrbody.engine.accel import (accel_at, body_accel, limited, limited_at, prefetch_at,  # noqa: F401
+                                 reads_footprint_table)
 from rrbody.engine.columns import *  # noqa: F403 (the columns, here and as kernel.MASS etc. for every reader)
 from rrbody.engine.feet import feet_step
 from rrbody.engine.lean import NO_REFCOUNT
 from rrbody.physics.effects import active as act
 from rrbody.physics.effects.drive_circular import sincos_reduced
-from rrbody.physics.footprint_table import footprint_table_prefetch
 from rrbody.physics.limit import at_rest
 
 
@@ -251,11 +251,10 @@ AHEAD = 4
 
 @njit(cache=True, inline="always")
 def _next_tabled(k: int, n: int, rowmap: np.ndarray, got: np.ndarray, bodies: np.ndarray) -> int:
-    """The first body k' >= k whose friction the second pass evaluates from a footprint table, or n
-    (not one with mu = 0: accel_at returns before any look-up)."""
+    """The first body k' >= k whose friction the second pass evaluates from a footprint table, or n."""
     while k < n:
         j = rowmap[k]
-        if j >= 0 and bodies[j, TKIND] == TABLE_FOOTPRINT and bodies[j, COEFF] != 0.0 and _evaluated(k, j, got, bodies):
+        if j >= 0 and reads_footprint_table(j, bodies) and _evaluated(k, j, got, bodies):
             return k
         k += 1
     return n
@@ -263,14 +262,9 @@ def _next_tabled(k: int, n: int, rowmap: np.ndarray, got: np.ndarray, bodies: np
 
 @njit(cache=True, inline="always")
 def _fetch(k: int, rowmap: np.ndarray, bodies: np.ndarray, tables: np.ndarray, work: np.ndarray) -> None:
-    """Start bringing in the table block body k's evaluation will read (its twist as accel_at forms it)."""
-    j = rowmap[k]
-    ca = work[k, _W_CA]
-    sa = work[k, _W_SA]
-    ex = work[k, _W_EX]
-    ey = work[k, _W_EY]
-    footprint_table_prefetch(tables, int(bodies[j, TAB]), ca * ex + sa * ey, -sa * ex + ca * ey, work[k, _W_EW],
-                             bodies[j, VEPS])
+    """Start bringing in the table block body k's evaluation (accel_at, from ``work``) will read."""
+    prefetch_at(rowmap[k], work[k, _W_CA], work[k, _W_SA], work[k, _W_EX], work[k, _W_EY], work[k, _W_EW], bodies,
+                tables)
 _N_WORK = 9
 
 
@@ -310,20 +304,23 @@ def _sweep(got: np.ndarray, rowmap: np.ndarray, bodies: np.ndarray, shapes: np.n
         (work[i, _W_ALPHA], work[i, _W_CA], work[i, _W_SA], work[i, _W_EX], work[i, _W_EY],
          work[i, _W_EW]) = _load(i, j, got, bodies, dt, out, active, noise)
     for disks in (True, False):
-        p = n
-        if not disks:  # the footprint tables' blocks, AHEAD bodies ahead
-            p = _next_tabled(0, n, rowmap, got, bodies)
-            for _ in range(AHEAD):
-                if p < n:
-                    _fetch(p, rowmap, bodies, tables, work)
-                    p = _next_tabled(p + 1, n, rowmap, got, bodies)
+        p = 0  # where the search for the next footprint-table body to fetch for resumes
+        fetched = 0  # footprint-table bodies fetched and not yet evaluated
         for i in range(n):
             j = rowmap[i]
             if j < 0 or (bodies[j, TKIND] == TABLE_CIRCLE) != disks or not _evaluated(i, j, got, bodies):
                 continue
-            if p < n and bodies[j, TKIND] == TABLE_FOOTPRINT and bodies[j, COEFF] != 0.0:
-                _fetch(p, rowmap, bodies, tables, work)
-                p = _next_tabled(p + 1, n, rowmap, got, bodies)
+            if reads_footprint_table(j, bodies):
+                # this body's block and those of the AHEAD such bodies after it on their way (one call
+                # site each: every inlined copy of the look-up is compiled again)
+                while fetched <= AHEAD:
+                    p = _next_tabled(p, n, rowmap, got, bodies)
+                    if p == n:
+                        break
+                    _fetch(p, rowmap, bodies, tables, work)
+                    p += 1
+                    fetched += 1
+                fetched -= 1
             work[i, _W_AX], work[i, _W_AY], work[i, _W_AW] = accel_at(
                 j, work[i, _W_CA], work[i, _W_SA], work[i, _W_EX], work[i, _W_EY], work[i, _W_EW], bodies, shapes,
                 geo, tables)
