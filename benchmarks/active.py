@@ -1,4 +1,4 @@
-"""Active bodies at scale: what the active effect and plane friction add to pymunk's own step (issue 26).
+"""Active bodies at scale: what the active effect and plane friction add to pymunk's own step.
 
 A colliding space: N bodies, half disks (r = 0.1 m), half L-shapes (two boxes 0.16 x 0.08 and 0.08 x
 0.16 m on one body), density 20 kg/m^2, placed on a jittered grid in a walled square box at packing

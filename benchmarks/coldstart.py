@@ -8,7 +8,7 @@ interleaved (cold, warm, next scenario, ...) and the whole round repeated; best 
 Beside them, once per scenario (each costs 15-30 s), the *compile* column: the same command cold
 from a copy of the package's sources without its install-time kernels (an install with
 ``RRBODY_BUILD_KERNELS=0``, or a checkout just edited), where numba compiles every kernel the
-command uses. Scenarios (the targets of issue 23, "The first answer in seconds"):
+command uses. Scenarios (the cold-start targets, "the first answer in seconds"):
 
 1. ``rrbody flip-time`` of the rod-mass body under dry friction (phixtpm's H 0.2, k 0.05, omega 0.6);
 2. the first ``PlaneFriction.step`` of a program with one box (timed inside the program, around
@@ -121,7 +121,7 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
         cache = "the cache of the dry run" if n == names[-1] else "empty cache"
         targets.append(Target(f"cold {n} ({cache})", f"<= {fmt(bounds[n])} s",
                               f"{fmt(judged)} s ({what}; process cold {fmt(cold)} s, warm {fmt(warm)} s)",
-                              judged <= bounds[n], "issue 23; best of the repeats, interleaved with warm runs"))
+                              judged <= bounds[n], "best of the repeats, interleaved with warm runs"))
     files = [str(write_csv(out / "coldstart.csv", rows))]
     md = [f"## {TITLE}", "", machine_text(), "", __doc__.split("\n\n", 1)[1].strip(), "",
           md_table(["scenario", "cold (s)", "warm (s)", "cold / warm", "judged (s)", "target (s)",

@@ -1,4 +1,4 @@
-"""Contacts (issue 24): what pressure profiles, static friction and a tilted plane cost in the plugin.
+"""Contacts: what pressure profiles, static friction and a tilted plane cost in the plugin.
 
 Every figure is the cost of ``PlaneFriction.step`` (the friction kernel, pymunk's bulk read and
 write, then ``space.step``), wall clock. Ratios come from one run: the variants are interleaved
@@ -55,7 +55,7 @@ import numpy as np
 from .common import StudyResult, Target, fmt, machine_text, md_table, module_available, write_csv
 
 NAME = "contacts"
-TITLE = "Contacts: pressure profiles, static friction, tilt (issue 24)"
+TITLE = "Contacts: pressure profiles, static friction, tilt"
 
 DT = 1e-3
 G = 9.81
@@ -492,7 +492,7 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
                 f"<= {PROFILE_RATIO_MAX:g}x (ring, hertz, points)",
                 ", ".join(f"{k} {prof[k]['ratio']:.2f}x" for k in JUDGED)
                 + f" (annulus {prof['annulus']['ratio']:.2f}x, reported only: two uniform disks); uniform "
-                  f"{fmt(prof['uniform']['s'] * us / n)} us per body (since issue 26 the uniform disk, the ring "
+                  f"{fmt(prof['uniform']['s'] * us / n)} us per body (since the active-matter work the uniform disk, the ring "
                   f"and the Hertz patch read their disk tables: ring {fmt(prof['ring']['s'] * us / n)} us per "
                   f"body; the feet stay exact, in the same loop; before, stepped after the others: 3.29x)",
                 all(prof[k]["ratio"] <= PROFILE_RATIO_MAX for k in JUDGED) and all_sliding,

@@ -40,7 +40,7 @@ A = 0.08  # m: the L's leg width (benchmarks/active.py)
 V_EPS = 1e-6  # m/s
 REPEATS = 9
 BODIES = 500  # the L-shapes of the active benchmark's 1,000 bodies
-COST_TARGET_NS = 40.0  # issue 26: plane friction + active force <= 30 % of pymunk's step, ~40 ns a body for friction
+COST_TARGET_NS = 40.0  # the active bound: plane friction + active force <= 30 % of pymunk's step, ~40 ns a body for friction
 
 
 def _footprints() -> dict[str, tuple[np.ndarray, np.ndarray]]:

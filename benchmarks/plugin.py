@@ -13,7 +13,7 @@ interleaved (each repeat times every variant in turn on a freshly built space), 
 2. **phixtpm engine step**: rrbody's driven rod-mass (H = 0.2, k = 0.05, w = 0.6) stepped by
    ``h.plane.step`` against the same driven body in plain pymunk (a kinematic driver with a constant
    velocity and a ``PivotJoint``; no friction, no per-step Python).
-3. **Adding and removing bodies one by one** (issue 29): the bodies of study 1 already in a space,
+3. **Adding and removing bodies one by one**: the bodies of study 1 already in a space,
    then N ``pf.add`` calls timed, the first ``pf.step`` after them (half kicks, the id table) timed
    apart, then N ``pf.remove`` calls in a random order; N = 1,000 and 10,000, interleaved, best of
    the repeats. Target: 10,000 adds cost at most 15x 1,000 (linear growth is 10x; rebuilding the
@@ -162,7 +162,7 @@ def growth_slope(rows: list[dict[str, Any]]) -> float:
     return float(np.polyfit(x, y, 1)[0])
 
 
-#: issue 29: N adds may cost at most this many times the adds of N / 10 bodies (10x is linear)
+#: the add/remove target: N adds may cost at most this many times the adds of N / 10 bodies (10x is linear)
 ADDS_RATIO_MAX = 15.0
 
 

@@ -1,4 +1,4 @@
-"""Chaos map: the maximal Lyapunov exponent and the fraction of time in reverse rotation over (tilt, omega) (issue 25).
+"""Chaos map: the maximal Lyapunov exponent and the fraction of time in reverse rotation over (tilt, omega).
 
 The rod-mass body of ``rrbody scene chaos`` (H = 0.5, frictionless, on a plane tilted downhill
 along +x) on a 100 x 100 grid: tilt in [0, 1] rad, omega in [0.5, 4] rad/s. Per point the sweep

@@ -1,4 +1,4 @@
-"""A tilted plane and static friction: the mu = tan(alpha) invariant, stick and break-away (no paper figure; issue 24).
+"""A tilted plane and static friction: the mu = tan(alpha) invariant, stick and break-away (no paper figure; real contacts).
 
 Plane tilted at alpha = atan(0.4), downhill along +x (plane coordinates, m). (a) A point mass
 (ODE path) launched at 1 m/s at theta0 from downhill with mu = tan(alpha): exact, v (1 + cos theta)

@@ -1,4 +1,4 @@
-"""Movie of a chaotic orbit, its reverse-rotation stretches marked from the run's own spin (issue 25).
+"""Movie of a chaotic orbit, its reverse-rotation stretches marked from the run's own spin.
 
 The chaotic orbit of ``rrbody scene chaos`` (H = 0.5, omega = 2 rad/s, a plane tilted by 0.5 rad,
 no friction; maximal Lyapunov exponent 0.385 1/s): its first T_END s at SPEED x real time (about

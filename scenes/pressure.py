@@ -1,4 +1,4 @@
-"""Pressure distributions: spin-down per profile and the stop ratio of washers (no paper figure; issue 24).
+"""Pressure distributions: spin-down per profile and the stop ratio of washers (no paper figure; real contacts).
 
 (a) A disk (pymunk Circle, R = 0.1 m, density 2 kg/m^2, I/m = R^2/2) spins in place at 20 rad/s in
 the plugin (mu = 0.3, dt = 1e-3 s) under uniform, ring(R), annulus(R/2, R) and hertz(R) pressure;

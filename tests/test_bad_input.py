@@ -189,7 +189,7 @@ def test_cli_critical_h_rejects_out_of_range_options(data) -> None:  # noqa: ANN
     assert code == 2 and option in stderr and "Traceback" not in stderr and stdout == ""
 
 
-# ---- every numeric value is finite at every step of parsing (issue 29) ------------------------
+# ---- every numeric value is finite at every step of parsing ------------------------
 @settings(max_examples=200, deadline=None)
 @given(m=st.integers(1, 9), e=st.integers(-420, 420), form=st.sampled_from(["{x}", "{x}pi", "{x}*pi/3", "2pi/{x}",
                                                                            "{x}deg", "-{x}pi/7"]))

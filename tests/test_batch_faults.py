@@ -1,4 +1,4 @@
-"""Batch mode under hostile input (issue 29): a line obeys exactly the rules of the command line,
+"""Batch mode under hostile input: a line obeys exactly the rules of the command line,
 bytes that are not UTF-8 spoil only their line (from a file as from stdin), an endless line is read
 with bounded memory, and an output that is the batch input itself is refused before anything runs.
 Real CLI in subprocesses; the lines that compute use the draft preset (each a few ms warm)."""

@@ -1,8 +1,8 @@
-"""Lyapunov exponents of the driven rod-mass (issue 25): the tangent method's spectrum against the
+"""Lyapunov exponents of the driven rod-mass: the tangent method's spectrum against the
 flow's exact divergence, the integrable frictionless case, and the tangent and two-trajectory
 estimates against each other.
 
-Tolerances: the divergence bound is issue 25's (1e-3); the sum of the tangent exponents is log |det|
+Tolerances: the divergence bound is the chaos study's (1e-3); the sum of the tangent exponents is log |det|
 of the tangent matrix, exact up to the integrator's error (rtol 1e-10 over 2000 s gives ~1e-12,
 asserted at 1e-9). The two estimates differ by the two-trajectory method's integration error
 relative to its separation d0 (its two runs take their own steps, so their errors do not cancel):
@@ -87,7 +87,7 @@ def test_the_chaos_pages_python_example_runs() -> None:
 def test_frictionless_section_points_keep_the_rotating_frame_energy() -> None:
     """Frictionless: psi = phi - omega t is a pendulum, E = psi'^2/2 + (w^2 l d m/I_P) cos psi is
     conserved; every point of the section theta = 0 (this orbit turns back against the drive, so
-    theta' < 0) and of the stroboscopic section keeps it to 1e-9 (issue 25's bound; measured 1.7e-10
+    theta' < 0) and of the stroboscopic section keeps it to 1e-9 (the chaos study's bound; measured 1.7e-10
     at rtol 1e-13)."""
     from rrbody.analysis.chaos import poincare, rotating_energy
 
@@ -120,7 +120,7 @@ def test_a_section_point_converges_with_the_integrators_tolerance() -> None:
 def test_the_tilted_forced_double_pendulum_has_a_converged_positive_exponent() -> None:
     """The chaos scene's chaotic orbit (H 0.5, omega 2 rad/s, tilt 0.5 rad, no friction): the maximal
     exponent is positive and converged, its running estimate within 5 % over the last half of a
-    20,000 s run (issue 25's criterion; measured 1.7 %), far above log(t)/t (5e-4 1/s); the sum is 0
+    20,000 s run (the chaos study's criterion; measured 1.7 %), far above log(t)/t (5e-4 1/s); the sum is 0
     (no friction, no divergence). The regular orbit's estimate stays below log(t)/t."""
     sc = scene_from_params(H=0.5, k=None, omega=2.0, friction="none", tilt=0.5)
     r = lyapunov(sc, t_max=20000.0)

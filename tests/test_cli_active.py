@@ -1,4 +1,4 @@
-"""The active-matter features on the command line (issue 26): ``simulate``'s active options give the Python
+"""The active-matter features on the command line: ``simulate``'s active options give the Python
 API's run (ODE and engine paths); ``rrbody active`` and ``rrbody active-ensemble`` give the box study's
 numbers bit for bit, write their files (summary, movie, recording, table, figure), resume from a checkpoint,
 and refuse every bad value of every new option in one line (exit 2, nothing written). In-process

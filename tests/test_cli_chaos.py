@@ -1,4 +1,4 @@
-"""``rrbody lyapunov`` (issue 25): the command line gives the Python API's exponents, writes the running
+"""``rrbody lyapunov``: the command line gives the Python API's exponents, writes the running
 estimates as CSV and a figure, and refuses bad input in one line (exit 2, nothing written). In-process
 (:func:`tests.clirun.run_here`), the first bad input also through the real command, which must answer the same."""
 

@@ -1,4 +1,4 @@
-"""Validate everything before anything is written or computed (issue 29): options that contradict
+"""Validate everything before anything is written or computed: options that contradict
 each other are named both; an empty or over-long output path is bad input (exit 2, one line), not
 "no output" nor a raw OS message after the run; outputs that are one file (any spelling, hard or
 symbolic link) are refused; every numeric value is finite at every step of parsing; one writer per

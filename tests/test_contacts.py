@@ -1,4 +1,4 @@
-"""Real contacts (issue 24): pressure distributions on both paths, against exact results.
+"""Real contacts: pressure distributions on both paths, against exact results.
 
 Exact references: the spin torque of a disk under uniform pressure (2/3 mu N R), a ring (mu N R) and
 Hertz's pressure (3 pi mu N a / 16); the stop ratio v / (R Omega) of a sliding and spinning hoop

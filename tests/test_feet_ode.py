@@ -1,4 +1,4 @@
-"""Bodies on point feet (pressure ``points``) on the ODE path (issue 24): driven and free, against the
+"""Bodies on point feet (pressure ``points``) on the ODE path: driven and free, against the
 engine path, the plugin and exact results.
 
 A driven body has one degree of freedom, so a foot's velocity v_P + phi' z x (r_foot - P) (two

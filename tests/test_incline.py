@@ -1,4 +1,4 @@
-"""A tilted plane and static friction (issue 24): exact results on both paths.
+"""A tilted plane and static friction: exact results on both paths.
 
 On a plane tilted at alpha with mu = tan(alpha), a sliding point mass keeps v (1 + cos theta)
 constant (theta from the downhill direction) and tends to v0 (1 + cos theta0) / 2; slid downhill a

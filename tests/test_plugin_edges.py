@@ -1,4 +1,4 @@
-"""PlaneFriction at scale and at its edges (issue 29, point 7).
+"""PlaneFriction at scale and at its edges.
 
 Scale is asserted through structure, not wall time (the timing lives in benchmarks/plugin.py): the
 per-body arrays move only when their capacity doubles, removals move one row, and the bodies that stay

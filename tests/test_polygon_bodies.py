@@ -1,4 +1,4 @@
-"""Polygon bodies in rrbody's scenes (issue 24): a box or any convex polygon, driven or free, on the
+"""Polygon bodies in rrbody's scenes: a box or any convex polygon, driven or free, on the
 ODE path with the same exact polygon wrench the plugin uses, so t_f and H_c can be asked of squares
 and triangles."""
 

@@ -1,4 +1,4 @@
-"""The polygon scene (issue 24): its convention, and a tiny version of its H_c construction (fast: no scene run)."""
+"""The polygon scene: its convention, and a tiny version of its H_c construction (fast: no scene run)."""
 
 from __future__ import annotations
 
@@ -27,7 +27,7 @@ def test_polygon_scene_follows_the_convention() -> None:
     assert "polygon" in [n for n, _ in list_scenes()]
     tree = ast.parse(PATH.read_text())
     first = (ast.get_docstring(tree) or "").splitlines()[0]
-    assert first.startswith("Polygons: t_f(omega) and H_c(k)") and "issue 24" in first
+    assert first.startswith("Polygons: t_f(omega) and H_c(k)") and "no paper figure" in first
     mains = [n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name == "main"]
     assert len(mains) == 1
     args = mains[0].args

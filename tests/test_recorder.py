@@ -1,7 +1,7 @@
 """The recorder (rrbody.plugin.Recorder): pictures drawn where the bodies are, captures that hold the
 plugin's own numbers, rerun recordings with one entity per body, and the usual answer to bad input.
 
-Tolerances: a picture is checked to 1 px for positions and 2 degrees for angles (issue 30's bound:
+Tolerances: a picture is checked to 1 px for positions and 2 degrees for angles (the recorder's stated bound:
 rasterising at 200 px/m puts a pixel at 5 mm; a disk's radius line and antialiased edges move its
 pixel centroid by well under a pixel); captured numbers are compared exactly with what the plugin
 reports, since the capture reads the same values.

@@ -1,4 +1,4 @@
-"""The contact scenes (issue 24: pressure, incline, polygon) follow the scene convention, and their report
+"""The contact scenes (pressure, incline, polygon) follow the scene convention, and their report
 sections put the exact value beside rrbody's (fast: minimal summaries, no runs)."""
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ def test_contact_scene_convention(name: str) -> None:
     assert name in [n for n, _ in list_scenes()] and name in MY_SCENES
     tree = ast.parse((scenes_dir() / f"{name}.py").read_text())
     first = (ast.get_docstring(tree) or "").splitlines()[0]
-    assert "no paper figure; issue 24" in first and len(first) < 130
+    assert "no paper figure; real contacts" in first and len(first) < 130
     mains = [n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name == "main"]
     assert len(mains) == 1
     args = mains[0].args

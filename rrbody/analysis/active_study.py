@@ -1,4 +1,4 @@
-"""Chiral active bodies in a walled box: reverse-rotation episodes, collisions, a binary mixture (issue 26).
+"""Chiral active bodies in a walled box: reverse-rotation episodes, collisions, a binary mixture.
 
 One run (:class:`Box`): ``n`` active bodies in a square box with walls, at area fraction ``packing``,
 a binary mixture of two species, both chiral (their propulsion acts off the centre of gravity, so

@@ -1,4 +1,4 @@
-"""The results report's section on active chiral bodies (``scenes/active.py``, issue 26)."""
+"""The results report's section on active chiral bodies (``scenes/active.py``)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Report sections of the contact scenes (issue 24): pressure distributions, the tilted plane with
+"""Report sections of the contact scenes: pressure distributions, the tilted plane with
 static friction, and polygon bodies.
 
 Each ``section_*(L, res)`` appends Markdown lines to ``L`` from ``res/<scene>/summary.json``: a

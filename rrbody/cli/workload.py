@@ -42,7 +42,7 @@ COMMANDS: tuple[list[str], ...] = (
      "--friction-method", "sampled", "--samples", "64", "--t-max", "0.5", "--json"],
     ["simulate", "--body", "ellipse", "--R0", "0.3", "--delta", "0.3", "--omega", "0.6", "--k", "0.05",
      "--friction", "viscous", "--t-max", "0.5", "--method", "engine", "--json"],
-    # real contacts: a pressure profile (the contact method), a tilt and static friction (issue 24)
+    # real contacts: a pressure profile (the contact method), a tilt and static friction
     ["simulate", "--body", "disk", "--R0", "0.3", "--no-drive", "--v0", "1,0", "--spin0", "3", "--mu", "0.3",
      "--pressure", "ring:0.3", "--tilt", "0.3", "--mu-static", "0.5", "--t-max", "0.5", "--json"],
     ["simulate", *_ROD, "--k", "0.05", "--tilt", "0.2", "--t-max", "0.5", "--json"],
