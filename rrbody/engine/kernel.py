@@ -146,8 +146,10 @@ def _hold_or_break(i: int, j: int, alpha: float, bodies: np.ndarray, shapes: np.
                    out: np.ndarray) -> None:
     """Dry body j at rest under the load in ``out[i]``: static friction cancels it while it is held
     (the body stays exactly at rest), else ``out[i]`` becomes the break-away wrench of the
-    maximum-dissipation rule (:func:`rrbody.physics.limit.at_rest`, kinetic friction)."""
-    if _held(i, j, alpha, bodies, shapes, geo, out):
+    maximum-dissipation rule (:func:`rrbody.physics.limit.at_rest`, kinetic friction). A load whose
+    force alone is beyond static friction (:func:`_may_hold`) breaks away without the limit-set test,
+    whose answer is known (as in :func:`_friction`)."""
+    if _may_hold(j, bodies, out[i, 0], out[i, 1]) and _held(i, j, alpha, bodies, shapes, geo, out):
         out[i, 0] = 0.0
         out[i, 1] = 0.0
         out[i, 2] = 0.0
