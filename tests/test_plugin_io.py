@@ -1,8 +1,11 @@
-"""The plugin's two routes to its bodies (their structs, or pymunk.batch's bulk read) and its disk table.
+"""The plugin's routes to its bodies (their structs, pymunk.batch's C iterator or public functions, each
+body's public properties) and its disk table.
 
 References: the bulk read through pymunk's own functions (the route every earlier release took):
-the struct route must step every scene bit for bit as it does; the exact footprint wrench
-(rrbody.physics.contact.footprint_wrench), which the disk's table must match to its stated 1e-10.
+every other route must step every scene bit for bit as it does (the same kernel, the same numbers in,
+the same forces out), on every pymunk the suite runs on (6.6 and later, 7.x: docs/versions.md); the
+exact footprint wrench (rrbody.physics.contact.footprint_wrench), which the disk's table must match to
+its stated 1e-10.
 """
 
 from __future__ import annotations
@@ -15,7 +18,7 @@ import pytest
 
 from rrbody.engine import PlaneFriction
 from rrbody.engine import kernel as K
-from rrbody.engine.batchio import BatchIO
+from rrbody.engine.batchio import ROUTES, BatchIO, batch_reads, body_uid
 from rrbody.engine.bodymem import FX, FY, TORQUE, layout
 from rrbody.engine.structio import StructIO
 from rrbody.physics.contact import footprint_wrench
@@ -23,14 +26,16 @@ from rrbody.physics.contact import footprint_wrench
 G = 9.81
 
 
-def _scene(direct: bool) -> tuple[pymunk.Space, PlaneFriction, list[pymunk.Body]]:
+def _scene(route: str) -> tuple[pymunk.Space, PlaneFriction, list[pymunk.Body]]:
     """A walled box of disks, boxes and L-shapes that collide, one body outside the plugin, one with
-    static friction under a push it cannot hold; ``direct`` False forces the bulk read."""
+    static friction under a push it cannot hold. ``route``: "struct" (the plugin's own choice, which is
+    the struct route where the layout is proven) or one of BatchIO's ROUTES, forced."""
     space = pymunk.Space()
     space.iterations = 10
     pf = PlaneFriction(space, g=G)
-    if not direct:
+    if route != "struct":
         pf._sio = None
+        pf._io = BatchIO(space, route=route)
     corners = [(0.0, 0.0), (2.0, 0.0), (2.0, 2.0), (0.0, 2.0)]
     space.add(*[pymunk.Segment(space.static_body, a, b, 0.02) for a, b in zip(corners, corners[1:] + corners[:1])])
     rng = np.random.default_rng(3)
@@ -61,14 +66,21 @@ def _state(bodies: list[pymunk.Body]) -> list[tuple]:
     return [(tuple(b.position), b.angle, tuple(b.velocity), b.angular_velocity) for b in bodies]
 
 
-def test_struct_and_bulk_routes_step_bit_for_bit() -> None:
+def _routes() -> list[str]:
+    """The routes this pymunk can take: the struct route where the probe proved the layout, pymunk.batch's
+    lean and public routes where its batch reads and writes forces (pymunk >= 6.11), per body always."""
+    return (["struct"] if layout() is not None else []) + (["lean", "bulk"] if batch_reads() else []) + ["per-body"]
+
+
+def test_every_route_steps_bit_for_bit() -> None:
     """Collisions, user forces and torques, a body outside the plugin, one removed and added back
-    mid-run, static friction: the struct route gives exactly the bulk route's run (same kernel, same
-    numbers in, same forces out)."""
-    assert layout() is not None  # the pymunk this suite runs on: else the struct route is never taken
+    mid-run, static friction: every route to the bodies gives exactly the same run."""
+    routes = _routes()
+    # the struct route is proven on every pymunk the suite runs on (6.6, 6.11, 7.x): else it is never taken
+    assert layout() is not None
     runs = []
-    for direct in (True, False):
-        space, pf, bodies = _scene(direct)
+    for route in routes:
+        space, pf, bodies = _scene(route)
         for n in range(400):
             bodies[1].force = (0.3, -0.2)  # the user's own loads on plugin bodies, every step
             bodies[7].torque = 0.05 if n < 200 else 0.0
@@ -78,18 +90,41 @@ def test_struct_and_bulk_routes_step_bit_for_bit() -> None:
                 pf.add(bodies[3], mu=0.2)
             pf.step(1.0 / 240.0)
             if n == 10:
-                route = pf._route()[0]
-                assert route is (pf._sio if direct else pf._io)
-                assert isinstance(route, StructIO if direct else BatchIO)
+                taken = pf._route()[0]
+                assert taken is (pf._sio if route == "struct" else pf._io)
+                assert isinstance(taken, StructIO) if route == "struct" else taken.route == route
         runs.append((_state(bodies), [pf.friction(b) for b in pf.bodies], pf.n_stopped))
-    assert runs[0] == runs[1]
+    assert all(run == runs[0] for run in runs[1:]), routes
     assert runs[0][2] > 0 or any(v != (0.0, 0.0) for _, _, v, _ in runs[0][0])  # something moved or stopped
+
+
+def test_the_default_route_is_the_fastest_this_pymunk_offers() -> None:
+    """BatchIO takes the lean route where pymunk.batch reads and writes forces (pymunk >= 6.11), else
+    the per-body one; a pose reader (the recorder's) takes the lean route from pymunk 6.6 on. A route
+    that does not exist, or that this pymunk cannot take, is refused, naming it."""
+    space, _, bodies = _scene("struct")
+    assert BatchIO(space).route == ("lean" if batch_reads() else "per-body")
+    assert BatchIO(space, lean=False).route == ("bulk" if batch_reads() else "per-body")
+    assert batch_reads(poses=True) and BatchIO(space, poses=True).route == "lean"
+    with pytest.raises(ValueError, match="route must be one of 'lean', 'bulk', 'per-body' or None, got 'fast'"):
+        BatchIO(space, route="fast")
+    if not batch_reads():
+        with pytest.raises(ValueError, match=r"route 'bulk' needs a pymunk.batch that reads and writes forces "
+                                             r"\(pymunk >= 6.11\); this is pymunk 6\."):
+            BatchIO(space, route="bulk")
+    # every pose route reads the same numbers, those of the bodies' public properties (the per-body route
+    # leaves out the space's static body, which cpSpaceEachBody visits: no reader uses it)
+    want = {body_uid(b): (*b.position, b.angle, *b.velocity, b.angular_velocity) for b in bodies}
+    for r in ROUTES:
+        got, ids, _ = BatchIO(space, poses=True, route=r).read()
+        rows = {int(i): tuple(row) for i, row in zip(ids, got.tolist())}
+        assert {i: rows[i] for i in want} == want and len(rows) == 16 + (r != "per-body"), r
 
 
 def test_sleeping_space_and_a_removed_body_take_the_bulk_route() -> None:
     """With sleeping enabled a raw store would not wake a body (pymunk's setter does): the bulk route.
     A body that left the space: the bulk read finds it and the step is refused as before."""
-    space, pf, bodies = _scene(True)
+    space, pf, bodies = _scene("struct")
     pf.step(1e-3)
     assert pf._route()[0] is pf._sio
     space.sleep_time_threshold = 0.5
@@ -108,7 +143,7 @@ def test_layout_reads_and_writes_force_and_torque() -> None:
 
     offs = layout()
     assert offs is not None and len({int(offs[k]) for k in (FX, FY, TORQUE)}) == 3
-    space, pf, bodies = _scene(True)
+    space, pf, bodies = _scene("struct")
     sio = StructIO(pf)
     got, ids, out = sio.read()
     out[:] = np.arange(3 * out.shape[0], dtype=float).reshape(-1, 3)

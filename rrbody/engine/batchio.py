@@ -1,11 +1,23 @@
-"""Bulk reads and writes of a pymunk space's bodies through ``pymunk.batch`` (pymunk >= 7).
+"""Bulk reads and writes of a pymunk space's bodies: through ``pymunk.batch``, or body by body.
 
 One read per step fetches (angle, velocity, spin, force, torque) and the id of every body of the
-space; one write sets every body's force and torque. ``pymunk.batch`` is marked experimental by
-pymunk; its public functions allocate a C struct and resolve flags on every call (about 1.5 us
-each, measured), so this class keeps that struct and the C iterator between calls and calls the
-same C functions directly. If a future pymunk drops those names, it falls back to the public
-functions (same data, slower); ``tests/test_plugin.py`` checks both routes agree.
+space; one write sets every body's force and torque. Three routes (:data:`ROUTES`), the same numbers
+on each (``tests/test_plugin_io.py`` steps a scene on every route and compares the bits):
+
+- ``"lean"``: ``pymunk.batch``'s C iterator, called directly. ``pymunk.batch`` is marked
+  experimental by pymunk; its public functions allocate a C struct and resolve flags on every call
+  (about 1.5 us each, measured), so this route keeps that struct and the C iterator between calls.
+  It uses names pymunk does not document (docs/versions.md lists them);
+- ``"bulk"``: ``pymunk.batch``'s public functions (same data, slower), where those names are missing;
+- ``"per-body"``: each body's public properties (``angle``, ``velocity``, ``angular_velocity``,
+  ``force``, ``torque``; one Python call each). pymunk 6.6-6.10's ``pymunk.batch`` reads no force
+  or torque and writes nothing: there a force reader takes this route. (Where the struct layout is
+  proven, :mod:`rrbody.engine.structio` serves the plugin's bodies on every pymunk, so this route
+  only carries a space with sleeping enabled, or a pymunk whose layout the probe could not prove.)
+
+A pose reader (``poses=True``, the recorder's) needs only positions, angles and velocities, which
+``pymunk.batch`` reads from 6.6 on; its lean route calls the iterator by the name it has on that
+pymunk (it was renamed in 6.11).
 """
 
 from __future__ import annotations
@@ -14,12 +26,16 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["BatchIO", "READ_COLUMNS", "POSE_COLUMNS", "body_uid"]
+__all__ = ["BatchIO", "READ_COLUMNS", "POSE_COLUMNS", "ROUTES", "body_uid", "batch_reads"]
 
 #: columns of the array :meth:`BatchIO.read` returns (pymunk.batch writes fields in this order)
 READ_COLUMNS = ("angle", "vx", "vy", "spin", "fx", "fy", "torque")
 #: the columns of a reader made with ``poses=True`` (the recorder's): position, angle, velocity, spin
 POSE_COLUMNS = ("x", "y", "angle", "vx", "vy", "spin")
+#: the routes to the bodies, fastest first (``BatchIO(route=...)``; :attr:`BatchIO.route` is the one taken)
+ROUTES = ("lean", "bulk", "per-body")
+#: the name of pymunk.batch's C body iterator: pymunk >= 6.11, then pymunk 6.6-6.10 (a reader only)
+_GET_ITERATORS = ("pmSpaceBodyGetIteratorFuncBatched", "pmSpaceBodyIteratorFuncBatched")
 
 
 def body_uid(body: Any) -> int:
@@ -29,53 +45,102 @@ def body_uid(body: Any) -> int:
     return uid - (1 << 64) if uid >= 1 << 63 else uid
 
 
+def batch_reads(poses: bool = False) -> bool:
+    """Whether this pymunk's ``pymunk.batch`` serves a reader: with ``poses``, of positions, angles and
+    velocities (pymunk >= 6.6); else also of forces and torques, which it must write back too
+    (pymunk >= 6.11)."""
+    try:
+        import pymunk.batch as pb
+    except ImportError:  # a pymunk before 6.6
+        return False
+    if poses:
+        return hasattr(pb, "get_space_bodies")
+    return hasattr(pb.BodyFields, "FORCE") and hasattr(pb.BodyFields, "TORQUE") \
+        and hasattr(pb, "set_space_bodies") and hasattr(pb.Buffer, "set_float_buf")
+
+
 class BatchIO:
     """Reader and force writer for all bodies of ``space`` (order: pymunk's iteration order); with
-    ``poses`` a reader of :data:`POSE_COLUMNS` instead (its forces are not to be written)."""
+    ``poses`` a reader of :data:`POSE_COLUMNS` instead (its forces are not to be written).
 
-    def __init__(self, space: Any, *, lean: bool = True, poses: bool = False) -> None:
+    ``route``: one of :data:`ROUTES`, or None for the fastest this pymunk offers (``lean=False``:
+    not the lean one). The route taken is :attr:`route`; a route this pymunk cannot take raises
+    ValueError, naming it."""
+
+    def __init__(self, space: Any, *, lean: bool = True, poses: bool = False, route: str | None = None) -> None:
+        if route is not None and route not in ROUTES:
+            raise ValueError(f"route must be one of {', '.join(map(repr, ROUTES))} or None, got {route!r}")
+        self._space = space
+        self._poses = poses
+        self._width = len(POSE_COLUMNS) if poses else len(READ_COLUMNS)
+        self._n = -1
+        self._bodies: list[Any] = []  # the per-body route's bodies of the last read, in its row order
+        self.lean = False
+        batched = batch_reads(poses)
+        if route is None:
+            route = ("lean" if lean else "bulk") if batched else "per-body"
+        elif route != "per-body" and not batched:
+            raise ValueError(f"route {route!r} needs a pymunk.batch that reads {'poses' if poses else 'and writes forces'}"
+                             f" (pymunk >= {'6.6' if poses else '6.11'}); this is pymunk {_pymunk_version()}: use "
+                             f"route='per-body'")
+        self.route = route
+        if route == "per-body":
+            return
         import pymunk.batch as pb
 
         F = pb.BodyFields
         self._pb = pb
-        self._space = space
         if poses:
             self._read_fields = F.BODY_ID | F.POSITION | F.ANGLE | F.VELOCITY | F.ANGULAR_VELOCITY
-            self._width = len(POSE_COLUMNS)
+            self._write_fields = None  # a pose reader writes nothing
         else:
             self._read_fields = F.BODY_ID | F.ANGLE | F.VELOCITY | F.ANGULAR_VELOCITY | F.FORCE | F.TORQUE
-            self._width = len(READ_COLUMNS)
-        self._write_fields = F.FORCE | F.TORQUE
+            self._write_fields = F.FORCE | F.TORQUE
         self._gbuf = pb.Buffer()
         self._sbuf = pb.Buffer()
-        self._n = -1
         if pb.ffi.sizeof("uintptr_t") != 8:  # pragma: no cover - 32-bit platforms
             raise ValueError("rrbody's PlaneFriction needs a 64-bit pymunk (uintptr_t of 8 bytes)")
         self._fptr: Any = None
         self._iptr: Any = None
-        self.lean = False
-        if lean:
-            try:
-                ffi, lib = pb.ffi, pb.lib
-                self._ffi, self._lib, self._sp = ffi, lib, space._space
-                self._each = lib.cpSpaceEachBody
-                self._fn_get = ffi.addressof(lib, "pmSpaceBodyGetIteratorFuncBatched")
+        if route == "lean":
+            self.lean = self._lean_setup(pb)
+            if not self.lean:
+                self.route = "bulk"  # the public functions: same data
+
+    def _lean_setup(self, pb: Any) -> bool:
+        """Keep pymunk.batch's C struct and iterators for direct calls; False if this pymunk lacks a
+        name they need (its public functions then serve: :attr:`route` "bulk")."""
+        try:
+            ffi, lib = pb.ffi, pb.lib
+            self._ffi, self._lib, self._sp = ffi, lib, self._space._space
+            self._each = lib.cpSpaceEachBody
+            for name in _GET_ITERATORS:
+                try:
+                    self._fn_get = ffi.addressof(lib, name)
+                    break
+                except AttributeError:
+                    continue
+            else:
+                return False
+            self._gdata = ffi.new("pmBatchedData *")
+            self._gdata.fields = self._read_fields.value
+            self._gdata.floatArray = self._gbuf._float_arr
+            self._gdata.intArray = self._gbuf._int_arr
+            if self._write_fields is not None:
                 self._fn_set = ffi.addressof(lib, "pmSpaceBodySetIteratorFuncBatched")
-                self._gdata = ffi.new("pmBatchedData *")
-                self._gdata.fields = self._read_fields.value
-                self._gdata.floatArray = self._gbuf._float_arr
-                self._gdata.intArray = self._gbuf._int_arr
                 self._sdata = ffi.new("pmBatchedData *")
                 self._sdata.fields = self._write_fields.value
                 self._sdata.intArray = self._sbuf._int_arr
-                self.lean = True
-            except (AttributeError, TypeError):  # pragma: no cover - depends on the pymunk version
-                self.lean = False
+        except (AttributeError, TypeError, pb.ffi.error):  # a struct or field this pymunk lacks
+            return False
+        return True
 
     def read(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(got, ids, out): ``got`` (n x 7, READ_COLUMNS; n x 6, POSE_COLUMNS, for a pose reader) and ``ids``
         (n, int64 view of the uintptr ids) of every body in the space, and the (n x 3) array of (fx, fy,
         torque) that :meth:`write_forces` will set."""
+        if self.route == "per-body":
+            return self._read_each()
         fa = self._gbuf._float_arr
         ia = self._gbuf._int_arr
         if self.lean:
@@ -92,8 +157,7 @@ class BatchIO:
 
     def _rebuild(self, n: int) -> None:
         """New numpy views on pymunk's arrays (after their memory moved or the body count changed)."""
-        from pymunk.batch import ffi
-
+        ffi = self._pb.ffi
         fa = self._gbuf._float_arr
         ia = self._gbuf._int_arr
         self._n, self._fptr, self._iptr = n, fa.arr, ia.arr
@@ -106,17 +170,53 @@ class BatchIO:
             # ids are pointers (uintptr_t); read as int64, the type the kernel's lookup table uses
             self._ids = np.frombuffer(ffi.buffer(ia.arr, 8 * n), dtype=np.int64)
         self._out = np.zeros((n, 3))
-        if n:
+        if n and self._write_fields is not None:
             self._sbuf.set_float_buf(self._out)
             if self.lean:
                 self._sdata.floatArray = self._sbuf._float_arr
+
+    def _read_each(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`read` on the per-body route: every body of the space through its public properties."""
+        bodies = list(self._space.bodies)
+        n = len(bodies)
+        if n != self._n:
+            self._n = n
+            self._got = np.zeros((n, self._width))
+            self._ids = np.zeros(n, dtype=np.int64)
+            self._out = np.zeros((n, 3))
+        got, ids = self._got, self._ids
+        for k, b in enumerate(bodies):
+            ids[k] = body_uid(b)
+            v = b.velocity
+            if self._poses:
+                p = b.position
+                got[k] = (p.x, p.y, b.angle, v.x, v.y, b.angular_velocity)
+            else:
+                f = b.force
+                got[k] = (b.angle, v.x, v.y, b.angular_velocity, f.x, f.y, b.torque)
+        self._bodies = bodies
+        return got, ids, self._out
 
     def write_forces(self) -> None:
         """Set every body's force (N, at its centre of gravity) and torque (N m) from ``out``."""
         if self._n <= 0:
             return
-        if self.lean:
+        if self.route == "per-body":
+            # the bodies of the last read, in its rows (the plugin writes after reading, in the same step);
+            # pymunk's setters, as pymunk.batch's writer calls them (they also wake a sleeping body)
+            for b, (fx, fy, tq) in zip(self._bodies, self._out.tolist()):
+                b.force = (fx, fy)
+                b.torque = tq
+        elif self.lean:
             self._sbuf._float_arr.num = 0
             self._each(self._sp, self._fn_set, self._sdata)
         else:
             self._pb.set_space_bodies(self._space, self._write_fields, self._sbuf)
+
+
+def _pymunk_version() -> str:
+    """The installed pymunk's version as its package metadata gives it (pymunk 6.6.0 reports 6.6.2
+    as ``pymunk.version``)."""
+    from importlib.metadata import version
+
+    return version("pymunk")
