@@ -84,6 +84,7 @@ def main(out_dir: Path, *, force: bool = True) -> None:
 
     from rrbody.analysis.flip import flip_time
     from rrbody.analysis.report import write_summary
+    from rrbody.engine.compat import on_begin
     from rrbody.render.figures import save_figure
     from rrbody.render.recorder import shape_outlines
 
@@ -101,7 +102,7 @@ def main(out_dir: Path, *, force: bool = True) -> None:
             if b in index:
                 hits[index[b]].append(pf.t)
 
-    space.on_collision(begin=begin)
+    on_begin(space, None, None, begin)  # any two shapes (pymunk 6 and 7 alike)
     from rrbody.plugin import Recorder
 
     n = round(T_END / DT)

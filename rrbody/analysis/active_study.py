@@ -146,6 +146,7 @@ def run_box(box: Box, *, watch: Callable[[Any, Any, list[Any]], Any] | None = No
     object with a ``capture()`` method (a :class:`rrbody.plugin.Recorder`), called after every step
     and once before the first; it is returned under ``"watcher"``."""
     from rrbody.engine.batchio import BatchIO, body_uid
+    from rrbody.engine.compat import on_begin
 
     space, pf, bodies, kinds, senses, side = build(box)
     index = {b: j for j, b in enumerate(bodies)}
@@ -162,8 +163,8 @@ def run_box(box: Box, *, watch: Callable[[Any, Any, list[Any]], Any] | None = No
             if b in index:
                 walls[index[b]].append(pf.t)
 
-    space.on_collision(1, 1, begin=begin)
-    space.on_collision(1, 2, begin=wall)
+    on_begin(space, 1, 1, begin)  # pymunk 6 and 7 alike
+    on_begin(space, 1, 2, wall)
     io = BatchIO(space, poses=True)  # x, y, angle, vx, vy, spin of every body of the space
     got, ids, _ = io.read()
     want = np.array([body_uid(b) for b in bodies], dtype=np.int64)
