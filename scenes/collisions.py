@@ -84,8 +84,8 @@ def main(out_dir: Path, *, force: bool = True) -> None:
 
     from rrbody.analysis.flip import flip_time
     from rrbody.analysis.report import write_summary
-    from rrbody.render.figures import save_figure
     from rrbody.engine.compat import on_begin
+    from rrbody.render.figures import save_figure
     from rrbody.render.recorder import shape_outlines
 
     out_dir = Path(out_dir)
@@ -102,7 +102,7 @@ def main(out_dir: Path, *, force: bool = True) -> None:
             if b in index:
                 hits[index[b]].append(pf.t)
 
-    on_begin(space, None, None, begin)  # pymunk 6 and 7 alike
+    on_begin(space, None, None, begin)  # any two shapes (pymunk 6 and 7 alike)
     from rrbody.plugin import Recorder
 
     n = round(T_END / DT)

@@ -1,9 +1,11 @@
-"""The plugin's routes to its bodies (their structs, pymunk.batch's bulk read, or each body's properties)
-and its disk table.
+"""The plugin's routes to its bodies (their structs, pymunk.batch's C iterator or public functions, each
+body's public properties) and its disk table.
 
 References: the bulk read through pymunk's own functions (the route every earlier release took):
-the struct route must step every scene bit for bit as it does; the exact footprint wrench
-(rrbody.physics.contact.footprint_wrench), which the disk's table must match to its stated 1e-10.
+every other route must step every scene bit for bit as it does (the same kernel, the same numbers in,
+the same forces out), on every pymunk the suite runs on (6.6 and later, 7.x: docs/versions.md); the
+exact footprint wrench (rrbody.physics.contact.footprint_wrench), which the disk's table must match to
+its stated 1e-10.
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ import pytest
 
 from rrbody.engine import PlaneFriction
 from rrbody.engine import kernel as K
-from rrbody.engine.batchio import BatchIO, batch_writes
+from rrbody.engine.batchio import ROUTES, BatchIO, batch_reads, body_uid
 from rrbody.engine.bodymem import FX, FY, TORQUE, layout
 from rrbody.engine.structio import StructIO
 from rrbody.physics.contact import footprint_wrench
@@ -26,8 +28,8 @@ G = 9.81
 
 def _scene(route: str) -> tuple[pymunk.Space, PlaneFriction, list[pymunk.Body]]:
     """A walled box of disks, boxes and L-shapes that collide, one body outside the plugin, one with
-    static friction under a push it cannot hold; ``route`` "struct" (the plugin's choice where the
-    layout is known) or one of BatchIO's routes, forced."""
+    static friction under a push it cannot hold. ``route``: "struct" (the plugin's own choice, which is
+    the struct route where the layout is proven) or one of BatchIO's ROUTES, forced."""
     space = pymunk.Space()
     space.iterations = 10
     pf = PlaneFriction(space, g=G)
@@ -66,21 +68,16 @@ def _state(bodies: list[pymunk.Body]) -> list[tuple]:
 
 def _routes() -> list[str]:
     """The routes this pymunk can take: the struct route where the probe proved the layout, pymunk.batch's
-    lean and bulk routes where its batch writes forces (pymunk >= 6.11), the per-body route always."""
-    routes = ["struct"] if layout() is not None else []
-    if batch_writes():
-        routes += ["lean", "bulk"]
-    return routes + ["per-body"]
+    lean and public routes where its batch reads and writes forces (pymunk >= 6.11), per body always."""
+    return (["struct"] if layout() is not None else []) + (["lean", "bulk"] if batch_reads() else []) + ["per-body"]
 
 
 def test_every_route_steps_bit_for_bit() -> None:
     """Collisions, user forces and torques, a body outside the plugin, one removed and added back
-    mid-run, static friction: every route to the bodies (their structs, pymunk.batch's C iterator, its
-    public functions, each body's properties) gives exactly the same run (same kernel, same numbers
-    in, same forces out)."""
+    mid-run, static friction: every route to the bodies gives exactly the same run."""
     routes = _routes()
-    # pymunk 6.11 and 7 (the suite's newest and gym-pusht's): all four routes exist and are compared
-    assert len(routes) == 4 or not batch_writes()
+    # the struct route is proven on every pymunk the suite runs on (6.6, 6.11, 7.x): else it is never taken
+    assert layout() is not None
     runs = []
     for route in routes:
         space, pf, bodies = _scene(route)
@@ -97,19 +94,31 @@ def test_every_route_steps_bit_for_bit() -> None:
                 assert taken is (pf._sio if route == "struct" else pf._io)
                 assert isinstance(taken, StructIO) if route == "struct" else taken.route == route
         runs.append((_state(bodies), [pf.friction(b) for b in pf.bodies], pf.n_stopped))
-    assert all(run == runs[0] for run in runs[1:])
+    assert all(run == runs[0] for run in runs[1:]), routes
     assert runs[0][2] > 0 or any(v != (0.0, 0.0) for _, _, v, _ in runs[0][0])  # something moved or stopped
 
 
-def test_a_route_this_pymunk_cannot_take_is_refused() -> None:
-    """BatchIO names the route and the pymunk when asked for one it cannot take."""
-    space = pymunk.Space()
-    with pytest.raises(ValueError, match="route must be one of lean, bulk, per-body or None, got 'fast'"):
+def test_the_default_route_is_the_fastest_this_pymunk_offers() -> None:
+    """BatchIO takes the lean route where pymunk.batch reads and writes forces (pymunk >= 6.11), else
+    the per-body one; a pose reader (the recorder's) takes the lean route from pymunk 6.6 on. A route
+    that does not exist, or that this pymunk cannot take, is refused, naming it."""
+    space, _, bodies = _scene("struct")
+    assert BatchIO(space).route == ("lean" if batch_reads() else "per-body")
+    assert BatchIO(space, lean=False).route == ("bulk" if batch_reads() else "per-body")
+    assert batch_reads(poses=True) and BatchIO(space, poses=True).route == "lean"
+    with pytest.raises(ValueError, match="route must be one of 'lean', 'bulk', 'per-body' or None, got 'fast'"):
         BatchIO(space, route="fast")
-    if not batch_writes():
-        with pytest.raises(ValueError, match="needs a pymunk.batch that writes forces"):
+    if not batch_reads():
+        with pytest.raises(ValueError, match=r"route 'bulk' needs a pymunk.batch that reads and writes forces "
+                                             r"\(pymunk >= 6.11\); this is pymunk 6\."):
             BatchIO(space, route="bulk")
-    assert BatchIO(space).route == ("lean" if batch_writes() else "per-body")
+    # every pose route reads the same numbers, those of the bodies' public properties (the per-body route
+    # leaves out the space's static body, which cpSpaceEachBody visits: no reader uses it)
+    want = {body_uid(b): (*b.position, b.angle, *b.velocity, b.angular_velocity) for b in bodies}
+    for r in ROUTES:
+        got, ids, _ = BatchIO(space, poses=True, route=r).read()
+        rows = {int(i): tuple(row) for i, row in zip(ids, got.tolist())}
+        assert {i: rows[i] for i in want} == want and len(rows) == 16 + (r != "per-body"), r
 
 
 def test_sleeping_space_and_a_removed_body_take_the_bulk_route() -> None:

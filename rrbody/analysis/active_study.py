@@ -163,7 +163,7 @@ def run_box(box: Box, *, watch: Callable[[Any, Any, list[Any]], Any] | None = No
             if b in index:
                 walls[index[b]].append(pf.t)
 
-    on_begin(space, 1, 1, begin)
+    on_begin(space, 1, 1, begin)  # pymunk 6 and 7 alike
     on_begin(space, 1, 2, wall)
     io = BatchIO(space, poses=True)  # x, y, angle, vx, vy, spin of every body of the space
     got, ids, _ = io.read()

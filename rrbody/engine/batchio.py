@@ -1,17 +1,23 @@
-"""Bulk reads and writes of a pymunk space's bodies through ``pymunk.batch`` (pymunk >= 6.11), or body
-by body through pymunk's public properties where ``pymunk.batch`` cannot (pymunk 6.6-6.10).
+"""Bulk reads and writes of a pymunk space's bodies: through ``pymunk.batch``, or body by body.
 
 One read per step fetches (angle, velocity, spin, force, torque) and the id of every body of the
-space; one write sets every body's force and torque. ``pymunk.batch`` is marked experimental by
-pymunk; its public functions allocate a C struct and resolve flags on every call (about 1.5 us
-each, measured), so this class keeps that struct and the C iterator between calls and calls the
-same C functions directly (the *lean* route). If a pymunk lacks those names, it falls back to the
-public functions (the *bulk* route: same data, slower). pymunk 6.6-6.10's ``pymunk.batch`` reads
-no force or torque and writes nothing: there the *per-body* route reads and writes each body
-through ``Body.angle``, ``.velocity``, ``.angular_velocity``, ``.force`` and ``.torque`` (the same
-numbers, one Python call each: for a space of many bodies the struct route of
-:mod:`rrbody.engine.structio` is what keeps such a pymunk fast). ``tests/test_plugin_io.py`` checks
-that every route steps a scene bit for bit as the others do (docs/versions.md).
+space; one write sets every body's force and torque. Three routes (:data:`ROUTES`), the same numbers
+on each (``tests/test_plugin_io.py`` steps a scene on every route and compares the bits):
+
+- ``"lean"``: ``pymunk.batch``'s C iterator, called directly. ``pymunk.batch`` is marked
+  experimental by pymunk; its public functions allocate a C struct and resolve flags on every call
+  (about 1.5 us each, measured), so this route keeps that struct and the C iterator between calls.
+  It uses names pymunk does not document (docs/versions.md lists them);
+- ``"bulk"``: ``pymunk.batch``'s public functions (same data, slower), where those names are missing;
+- ``"per-body"``: each body's public properties (``angle``, ``velocity``, ``angular_velocity``,
+  ``force``, ``torque``; one Python call each). pymunk 6.6-6.10's ``pymunk.batch`` reads no force
+  or torque and writes nothing: there a force reader takes this route. (Where the struct layout is
+  proven, :mod:`rrbody.engine.structio` serves the plugin's bodies on every pymunk, so this route
+  only carries a space with sleeping enabled, or a pymunk whose layout the probe could not prove.)
+
+A pose reader (``poses=True``, the recorder's) needs only positions, angles and velocities, which
+``pymunk.batch`` reads from 6.6 on; its lean route calls the iterator by the name it has on that
+pymunk (it was renamed in 6.11).
 """
 
 from __future__ import annotations
@@ -20,16 +26,16 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["BatchIO", "READ_COLUMNS", "POSE_COLUMNS", "ROUTES", "body_uid", "batch_writes"]
-
-#: the routes a BatchIO takes to the bodies (``BatchIO.route``): pymunk.batch's C iterator kept between
-#: calls, pymunk.batch's public functions, or each body's public properties
-ROUTES = ("lean", "bulk", "per-body")
+__all__ = ["BatchIO", "READ_COLUMNS", "POSE_COLUMNS", "ROUTES", "body_uid", "batch_reads"]
 
 #: columns of the array :meth:`BatchIO.read` returns (pymunk.batch writes fields in this order)
 READ_COLUMNS = ("angle", "vx", "vy", "spin", "fx", "fy", "torque")
 #: the columns of a reader made with ``poses=True`` (the recorder's): position, angle, velocity, spin
 POSE_COLUMNS = ("x", "y", "angle", "vx", "vy", "spin")
+#: the routes to the bodies, fastest first (``BatchIO(route=...)``; :attr:`BatchIO.route` is the one taken)
+ROUTES = ("lean", "bulk", "per-body")
+#: the name of pymunk.batch's C body iterator: pymunk >= 6.11, then pymunk 6.6-6.10 (a reader only)
+_GET_ITERATORS = ("pmSpaceBodyGetIteratorFuncBatched", "pmSpaceBodyIteratorFuncBatched")
 
 
 def body_uid(body: Any) -> int:
@@ -39,76 +45,95 @@ def body_uid(body: Any) -> int:
     return uid - (1 << 64) if uid >= 1 << 63 else uid
 
 
-def batch_writes() -> bool:
-    """Whether this pymunk's ``pymunk.batch`` reads a body's force and torque and writes them (pymunk
-    >= 6.11; 6.6-6.10 only read positions and velocities)."""
-    import pymunk.batch as pb
-
-    return hasattr(pb.BodyFields, "FORCE") and hasattr(pb, "set_space_bodies") and hasattr(pb.Buffer, "set_float_buf")
+def batch_reads(poses: bool = False) -> bool:
+    """Whether this pymunk's ``pymunk.batch`` serves a reader: with ``poses``, of positions, angles and
+    velocities (pymunk >= 6.6); else also of forces and torques, which it must write back too
+    (pymunk >= 6.11)."""
+    try:
+        import pymunk.batch as pb
+    except ImportError:  # a pymunk before 6.6
+        return False
+    if poses:
+        return hasattr(pb, "get_space_bodies")
+    return hasattr(pb.BodyFields, "FORCE") and hasattr(pb.BodyFields, "TORQUE") \
+        and hasattr(pb, "set_space_bodies") and hasattr(pb.Buffer, "set_float_buf")
 
 
 class BatchIO:
     """Reader and force writer for all bodies of ``space`` (order: pymunk's iteration order); with
     ``poses`` a reader of :data:`POSE_COLUMNS` instead (its forces are not to be written).
 
-    ``route`` asks for a route (:data:`ROUTES`; None: the fastest this pymunk offers); the route taken
-    is :attr:`route`. A route this pymunk cannot take raises ValueError."""
+    ``route``: one of :data:`ROUTES`, or None for the fastest this pymunk offers (``lean=False``:
+    not the lean one). The route taken is :attr:`route`; a route this pymunk cannot take raises
+    ValueError, naming it."""
 
     def __init__(self, space: Any, *, lean: bool = True, poses: bool = False, route: str | None = None) -> None:
+        if route is not None and route not in ROUTES:
+            raise ValueError(f"route must be one of {', '.join(map(repr, ROUTES))} or None, got {route!r}")
+        self._space = space
+        self._poses = poses
+        self._width = len(POSE_COLUMNS) if poses else len(READ_COLUMNS)
+        self._n = -1
+        self._bodies: list[Any] = []  # the per-body route's bodies of the last read, in its row order
+        self.lean = False
+        batched = batch_reads(poses)
+        if route is None:
+            route = ("lean" if lean else "bulk") if batched else "per-body"
+        elif route != "per-body" and not batched:
+            raise ValueError(f"route {route!r} needs a pymunk.batch that reads {'poses' if poses else 'and writes forces'}"
+                             f" (pymunk >= {'6.6' if poses else '6.11'}); this is pymunk {_pymunk_version()}: use "
+                             f"route='per-body'")
+        self.route = route
+        if route == "per-body":
+            return
         import pymunk.batch as pb
 
-        if route is not None and route not in ROUTES:
-            raise ValueError(f"route must be one of {', '.join(ROUTES)} or None, got {route!r}")
-        self._pb = pb
-        self._space = space
-        self._n = -1
-        self.lean = False
-        self._bodies: list[Any] = []
-        if route == "per-body" or (route is None and not poses and not batch_writes()):
-            # pymunk 6.6-6.10: pymunk.batch reads no force or torque and writes nothing
-            self.route = "per-body"
-            self._width = len(POSE_COLUMNS) if poses else len(READ_COLUMNS)
-            self._poses = poses
-            return
-        if not poses and not batch_writes():
-            raise ValueError(f"route {route!r} needs a pymunk.batch that writes forces (pymunk >= 6.11), "
-                             f"this is pymunk {_version()}: use route='per-body'")
         F = pb.BodyFields
+        self._pb = pb
         if poses:
             self._read_fields = F.BODY_ID | F.POSITION | F.ANGLE | F.VELOCITY | F.ANGULAR_VELOCITY
-            self._width = len(POSE_COLUMNS)
+            self._write_fields = None  # a pose reader writes nothing
         else:
             self._read_fields = F.BODY_ID | F.ANGLE | F.VELOCITY | F.ANGULAR_VELOCITY | F.FORCE | F.TORQUE
-            self._width = len(READ_COLUMNS)
-        # a pose reader writes nothing (and pymunk 6.6-6.10's batch has no FORCE field to name)
-        self._write_fields = None if poses else F.FORCE | F.TORQUE
+            self._write_fields = F.FORCE | F.TORQUE
         self._gbuf = pb.Buffer()
         self._sbuf = pb.Buffer()
         if pb.ffi.sizeof("uintptr_t") != 8:  # pragma: no cover - 32-bit platforms
             raise ValueError("rrbody's PlaneFriction needs a 64-bit pymunk (uintptr_t of 8 bytes)")
         self._fptr: Any = None
         self._iptr: Any = None
-        if lean and route != "bulk":
-            try:
-                ffi, lib = pb.ffi, pb.lib
-                self._ffi, self._lib, self._sp = ffi, lib, space._space
-                self._each = lib.cpSpaceEachBody
-                self._fn_get = ffi.addressof(lib, "pmSpaceBodyGetIteratorFuncBatched")
-                self._gdata = ffi.new("pmBatchedData *")
-                self._gdata.fields = self._read_fields.value
-                self._gdata.floatArray = self._gbuf._float_arr
-                self._gdata.intArray = self._gbuf._int_arr
-                if not poses:
-                    self._fn_set = ffi.addressof(lib, "pmSpaceBodySetIteratorFuncBatched")
-                    self._sdata = ffi.new("pmBatchedData *")
-                    self._sdata.fields = self._write_fields.value
-                    self._sdata.intArray = self._sbuf._int_arr
-                self.lean = True
-            except (AttributeError, TypeError):  # depends on the pymunk version; route="bulk" takes this path
-                self.lean = False
-        if route == "lean" and not self.lean:
-            raise ValueError(f"route 'lean' is not available on pymunk {_version()}: use route='bulk'")
-        self.route = "lean" if self.lean else "bulk"
+        if route == "lean":
+            self.lean = self._lean_setup(pb)
+            if not self.lean:
+                self.route = "bulk"  # the public functions: same data
+
+    def _lean_setup(self, pb: Any) -> bool:
+        """Keep pymunk.batch's C struct and iterators for direct calls; False if this pymunk lacks a
+        name they need (its public functions then serve: :attr:`route` "bulk")."""
+        try:
+            ffi, lib = pb.ffi, pb.lib
+            self._ffi, self._lib, self._sp = ffi, lib, self._space._space
+            self._each = lib.cpSpaceEachBody
+            for name in _GET_ITERATORS:
+                try:
+                    self._fn_get = ffi.addressof(lib, name)
+                    break
+                except AttributeError:
+                    continue
+            else:
+                return False
+            self._gdata = ffi.new("pmBatchedData *")
+            self._gdata.fields = self._read_fields.value
+            self._gdata.floatArray = self._gbuf._float_arr
+            self._gdata.intArray = self._gbuf._int_arr
+            if self._write_fields is not None:
+                self._fn_set = ffi.addressof(lib, "pmSpaceBodySetIteratorFuncBatched")
+                self._sdata = ffi.new("pmBatchedData *")
+                self._sdata.fields = self._write_fields.value
+                self._sdata.intArray = self._sbuf._int_arr
+        except (AttributeError, TypeError, pb.ffi.error):  # a struct or field this pymunk lacks
+            return False
+        return True
 
     def read(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(got, ids, out): ``got`` (n x 7, READ_COLUMNS; n x 6, POSE_COLUMNS, for a pose reader) and ``ids``
@@ -132,8 +157,7 @@ class BatchIO:
 
     def _rebuild(self, n: int) -> None:
         """New numpy views on pymunk's arrays (after their memory moved or the body count changed)."""
-        from pymunk.batch import ffi
-
+        ffi = self._pb.ffi
         fa = self._gbuf._float_arr
         ia = self._gbuf._int_arr
         self._n, self._fptr, self._iptr = n, fa.arr, ia.arr
@@ -152,7 +176,7 @@ class BatchIO:
                 self._sdata.floatArray = self._sbuf._float_arr
 
     def _read_each(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """:meth:`read` body by body, through pymunk's public properties (the per-body route)."""
+        """:meth:`read` on the per-body route: every body of the space through its public properties."""
         bodies = list(self._space.bodies)
         n = len(bodies)
         if n != self._n:
@@ -162,8 +186,8 @@ class BatchIO:
             self._out = np.zeros((n, 3))
         got, ids = self._got, self._ids
         for k, b in enumerate(bodies):
-            v = b.velocity
             ids[k] = body_uid(b)
+            v = b.velocity
             if self._poses:
                 p = b.position
                 got[k] = (p.x, p.y, b.angle, v.x, v.y, b.angular_velocity)
@@ -178,19 +202,21 @@ class BatchIO:
         if self._n <= 0:
             return
         if self.route == "per-body":
-            # the bodies of the last read, in its order (a write always follows its read in the same step)
+            # the bodies of the last read, in its rows (the plugin writes after reading, in the same step);
+            # pymunk's setters, as pymunk.batch's writer calls them (they also wake a sleeping body)
             for b, (fx, fy, tq) in zip(self._bodies, self._out.tolist()):
                 b.force = (fx, fy)
                 b.torque = tq
-            return
-        if self.lean:
+        elif self.lean:
             self._sbuf._float_arr.num = 0
             self._each(self._sp, self._fn_set, self._sdata)
         else:
             self._pb.set_space_bodies(self._space, self._write_fields, self._sbuf)
 
 
-def _version() -> str:
-    import pymunk
+def _pymunk_version() -> str:
+    """The installed pymunk's version as its package metadata gives it (pymunk 6.6.0 reports 6.6.2
+    as ``pymunk.version``)."""
+    from importlib.metadata import version
 
-    return str(pymunk.version)
+    return version("pymunk")

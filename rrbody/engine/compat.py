@@ -1,10 +1,12 @@
-"""What differs between the pymunk versions rrbody supports (6.6 and later, 7.x), in one place.
+"""What differs between the pymunk versions rrbody supports (6.6 and later, 7.x) in the calls its own
+programs make, in one place.
 
-pymunk 7 replaced ``Space.add_collision_handler(a, b)`` and ``Space.add_default_collision_handler()``
-(pymunk 6: a handler object whose ``begin`` callback returns whether the contact is processed) by
-``Space.on_collision(a, b, begin=...)`` (a callback that returns nothing; the contact is processed
-unless the arbiter says otherwise). :func:`on_begin` registers a callback that only observes contacts
-on either.
+pymunk 7 replaced ``Space.add_collision_handler(a, b)``, ``add_wildcard_collision_handler(a)`` and
+``add_default_collision_handler()`` (pymunk 6: a handler object whose ``begin`` callback returns
+whether the contact is processed) by ``Space.on_collision(a, b, begin=...)`` (a callback that
+returns nothing; the contact is processed unless the arbiter says otherwise). :func:`on_begin`
+registers a callback that only observes contacts, on either. (The plugin and the recorder need
+nothing of the kind: their routes to the bodies are in :mod:`rrbody.engine.batchio`.)
 """
 
 from __future__ import annotations
@@ -15,14 +17,24 @@ from typing import Any
 __all__ = ["on_begin"]
 
 
-def on_begin(space: Any, a: int | None, b: int | None, fn: Callable[[Any, Any, Any], None]) -> None:
+def on_begin(space: Any, a: int | None, b: int | None, fn: Callable[[Any, Any, Any], Any]) -> None:
     """Call ``fn(arbiter, space, data)`` when two shapes of collision types ``a`` and ``b`` start touching
-    (both None: any two shapes), leaving the contact to be processed as usual."""
+    (``b`` None: ``a`` and any type; both None: any two shapes), and let the contact be processed as
+    usual whatever ``fn`` returns."""
+    if a is None and b is not None:
+        raise ValueError(f"b must be None when a is None (any two shapes), got a=None, b={b!r}")
     if hasattr(space, "on_collision"):  # pymunk >= 7
-        space.on_collision(a, b, begin=fn)
+        def observe(arbiter: Any, sp: Any, data: Any) -> None:
+            fn(arbiter, sp, data)  # pymunk 7 processes the contact unless the arbiter is told otherwise
+
+        space.on_collision(a, b, begin=observe)
         return
-    handler = space.add_default_collision_handler() if a is None and b is None \
-        else space.add_collision_handler(a, b)
+    if a is None:
+        handler = space.add_default_collision_handler()
+    elif b is None:
+        handler = space.add_wildcard_collision_handler(a)
+    else:
+        handler = space.add_collision_handler(a, b)
 
     def begin(arbiter: Any, sp: Any, data: Any) -> bool:
         fn(arbiter, sp, data)
