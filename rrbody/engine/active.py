@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.engine.columns import LAW, LAW_DRY, MUS, SNAP, STOP
+from rrbody.engine import columns as K
 from rrbody.model.active import MAX_SEED, Active
 from rrbody.model.checks import check_int
 from rrbody.physics.effects import active as A
@@ -81,26 +81,25 @@ class ActiveSet:
         """Half a kick of the deterministic active terms for bodies activated since the last step (the
         staggered scheme's start, as the plugin's own half kick of friction: docs/engine.md).
 
-        A body at rest under static friction (or being stopped by the rest rule) gets none: the step's
-        static-friction test decides whether its load, the propulsion included, is held (it then stays
-        exactly at rest) or breaks it away, as for a tilt's pull or a force of the user's, which have no
-        half kick from rest either. Kicked, it would start with the velocity F dt / (2 m), and a body
-        that moves only meets kinetic friction: a propulsion between mu m g and mu_static m g slid off."""
+        A body exactly at rest on dry friction under the rest rule gets none: its propulsion is a load
+        like a hand-applied force or a tilt's pull, which the step's rest rule and static friction hold
+        exactly, or let break away, as they do those (a kick without friction moved a body that static
+        friction holds, and it slid off)."""
         h = 0.5 * dt
-        rows = pf._bodies
         for body in self.pending:
             j = pf._slots.get(body)
             if j is None:
                 continue
-            v = body.velocity
-            w = float(body.angular_velocity)
-            static = rows[j, MUS] > 0.0 and rows[j, SNAP] > 0.0 and rows[j, LAW] == LAW_DRY
-            if static and ((v.x == 0.0 and v.y == 0.0 and w == 0.0) or rows[j, STOP] > 0.0):
+            row = pf._bodies[j]
+            if row[K.LAW] == K.LAW_DRY and row[K.SNAP] > 0.0 and body.angular_velocity == 0.0 \
+                    and body.velocity == (0.0, 0.0):
                 continue
             a = self.params[body]
             m, moment = float(body.mass), float(body.moment)
             fbx, fby = a.body_force
             ca, sa = math.cos(body.angle), math.sin(body.angle)
+            v = body.velocity
+            w = float(body.angular_velocity)
             body.velocity = (v.x + h * ((ca * fbx - sa * fby) / m - a.drag * v.x),
                              v.y + h * ((sa * fbx + ca * fby) / m - a.drag * v.y))
             body.angular_velocity = w + h * (a.torque / moment - a.rot_drag * w)
