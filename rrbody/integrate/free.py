@@ -117,6 +117,23 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     dry = scene.friction.active and scene.friction.law == "dry" and scene.active is None
     pull = math.hypot(p[P.GTX], p[P.GTY])  # gravity along a tilted plane (m/s^2)
     t_start = 0.0
+    rests = False  # an active body static friction holds at rest: it stays there (its load is constant)
+    if a is not None and scene.friction.active and scene.friction.law == "dry" and v0[0] == v0[1] == w0 == 0.0:
+        # launched at rest: the propulsion is a load like a tilt's pull; static friction holds the sum or
+        # the body breaks away along the maximum-dissipation acceleration (as on the plugin path)
+        held = _held_at_rest(scene, p, active=True)
+        if held[3] and sde:
+            raise ValueError(f"v0 and spin0 must not both be zero for an active body with noise whose load static "
+                             f"friction holds at rest (propulsion {a.force!r} N, static friction up to "
+                             f"{p[P.MUS] * scene.body.mass!r} N): the ODE path's noise has no rest rule; run it "
+                             f"with method='engine'")
+        if held[3]:
+            rests = True
+        elif not sde:  # (the fixed-step noise scheme starts at t = 0: there friction is regularised at rest)
+            t_start = _break_away(y, held, 1e-6 * t_max, icm)
+            v0 = y[3:5].copy()
+            w0 = y[5]
+            free_rhs(t_start, y, p, S, f)
     if dry and pull > 0.0 and v0[0] == v0[1] == w0 == 0.0:
         held = _held_at_rest(scene, p)
         if not held[3]:
@@ -156,7 +173,7 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     if sde:  # Langevin noise: fixed steps of the stochastic scheme, the same right-hand side
         status, h_sde = run_sde(scene, p, S, y, st, out, t_max=t_max, dt_out=dt_out, max_steps=max_steps,
                                 progress=progress)
-    elif u0 == 0.0 and dry:
+    elif (u0 == 0.0 and dry) or rests:
         ev[E_TSTOP] = 0.0
         status = 1
         out[:, 0] = np.arange(n_out) * dt_out
@@ -262,15 +279,22 @@ def _break_away(y: np.ndarray, held: tuple[float, float, float, bool], tau: floa
     return tau
 
 
-def _held_at_rest(scene: Scene, p: np.ndarray, alpha: float | None = None) -> tuple[float, float, float, bool]:
+def _held_at_rest(scene: Scene, p: np.ndarray, alpha: float | None = None, *,
+                  active: bool = False) -> tuple[float, float, float, bool]:
     """(ax, ay, spin', held) of the scene's body at rest at angle ``alpha`` (default its start) under
-    gravity's pull along the tilted plane: held by static friction (then zeros), or the break-away
-    acceleration (m/s^2, body frame; rad/s^2)."""
+    gravity's pull along the tilted plane (and, with ``active``, its propulsion and the propulsion's
+    torque): held by static friction (then zeros), or the break-away acceleration (m/s^2, body frame;
+    rad/s^2)."""
     F = packed(scene.body, scene.pressure)
     a = scene.body.alpha0 if alpha is None else float(alpha)
     c, s = math.cos(a), math.sin(a)
     gx, gy = p[P.GTX], p[P.GTY]
     icm = scene.body.inertia_per_mass
+    lx, ly, lt = c * gx + s * gy, -s * gx + c * gy, 0.0
+    if active:  # the propulsion per unit mass (body frame) and its torque per unit mass (m^2/s^2)
+        lx += p[P.AFX]
+        ly += p[P.AFY]
+        lt = p[P.AALPHA] * icm
     # a point mass's spin is kinematic: any positive j serves its (torque-free) metric
-    return at_rest(F, F, HEADER, HEADER + int(F[0, H_PARTS]), c * gx + s * gy, -s * gx + c * gy, 0.0,
-                   icm if icm > 0.0 else 1.0, p[P.MUS], p[P.COEFF])
+    return at_rest(F, F, HEADER, HEADER + int(F[0, H_PARTS]), lx, ly, lt, icm if icm > 0.0 else 1.0, p[P.MUS],
+                   p[P.COEFF])
