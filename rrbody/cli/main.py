@@ -39,32 +39,34 @@ def _progress(args: argparse.Namespace) -> bool:
 
 # ---- subcommands -----------------------------------------------------------------------------
 def _check_outputs(args: argparse.Namespace) -> dict[str, str]:
-    """simulate's output paths by option, each checked before anything runs or is written: writable
-    (a regular file or absent, not empty, not too long), the suffix its writer needs, no two of them
-    one file, none of them the batch input being read."""
-    from rrbody.model.io import check_distinct, check_writable
+    """simulate's output paths by option, each checked before anything runs or is written
+    (:func:`rrbody.model.outputs.preflight`): writable (a regular file or absent, not empty, not too
+    long), the suffix its writer needs, that writer installed, no two of them one file, none of them
+    the batch input being read; and the extras the run itself needs (pymunk for --method engine, rerun
+    for the viewer)."""
+    from rrbody.model.outputs import WRITERS, preflight
 
-    paths = {opt: getattr(args, opt[2:]) for opt in SIMULATE_OUTPUTS if getattr(args, opt[2:], None) is not None}
-    for opt, path in paths.items():
-        check_writable(path, force=args.force, name=opt)
-        suffix = SIMULATE_OUTPUTS[opt][0]
-        if suffix and not str(path).lower().endswith(suffix):  # the renderer's rule, checked before the run
-            raise CliError(f"{opt} must end in {suffix}, got {path!r}")
+    specs: dict[str, Any] = {}
+    for opt, (suffix, _) in SIMULATE_OUTPUTS.items():
+        path = getattr(args, opt[2:], None)
+        # --out is a CSV whatever its suffix (the renderers need theirs)
+        specs[opt] = (path, None, WRITERS[".csv"]) if opt == "--out" else (path, (suffix,) if suffix else None)
+    needs = []
+    if args.rerun_spawn:
+        needs.append(("rerun", "the rerun viewer (--rerun-spawn)"))
+    if args.method == "engine":
+        needs.append(("pymunk", "the engine path (--method engine)"))
     batch_input = getattr(args, "batch_input", None)
-    check_distinct(paths, {"--batch": batch_input} if batch_input else {})
-    return paths
+    checked = preflight(specs, force=args.force, inputs={"--batch": batch_input} if batch_input else {}, needs=needs)
+    return {opt: getattr(args, opt[2:]) for opt in checked}
 
 
 def cmd_simulate(args: argparse.Namespace) -> int:
     check_options(args, ("--dt-out", "--fps", "--movie-speed"))
     scene = with_active(scene_from_args(args, required=("--t-max",)), args)
     stepper = stepper_option(args)
-    paths = _check_outputs(args)
+    paths = _check_outputs(args)  # and the writers' extras: before anything runs or is written
     pictures = bool(args.movie or args.rerun or args.rerun_spawn)
-    if pictures:  # a missing extra is reported before anything runs or is written
-        from rrbody.render import check_extras
-
-        check_extras(movie=bool(args.movie), rerun=bool(args.rerun or args.rerun_spawn))
     from rrbody.model.io import check_writable
     from rrbody.model.outlock import claimed
 
@@ -195,13 +197,17 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 
 def cmd_scene(args: argparse.Namespace) -> int:
-    from rrbody.cli.scenes import list_scenes, output_root, run_scene
+    from rrbody.cli.scenes import check_scene, list_scenes, output_root, run_scene
 
     if args.list or args.name is None:
-        for n, doc in list_scenes():
-            print(f"{n:24s} {doc}")
+        scenes = list_scenes()
+        width = max((len(n) for n, _ in scenes), default=0)  # one column, however long the longest name
+        for n, doc in scenes:
+            print(f"{n:{width}s}  {doc}")
         return 0
     names = [n for n, _ in list_scenes()] if args.name == "all" else [args.name]
+    for n in names:  # every scene's extras and folders before the first one computes anything
+        check_scene(n)
     import time
 
     t0 = time.perf_counter()
