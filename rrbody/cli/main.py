@@ -22,8 +22,9 @@ from rrbody.cli.args import CliError, Parser, angle, check_options, commands, em
     parse
 from rrbody.cli.active_options import add_active_options, with_active
 from rrbody.cli.cache import add_parser as add_cache_parser
-from rrbody.cli.options import (SIMULATE_OUTPUTS, add_accuracy_options, add_integrator_options,
-                                add_scene_options, check_contradictions, scene_from_args, stepper_option)
+from rrbody.cli.options import (SIMULATE_OUTPUTS, add_accuracy_options, add_integrator_options, add_scene_options,
+                                check_contradictions, check_simulate_outputs, number_text, scene_from_args,
+                                stepper_option, typed_h)
 
 __all__ = ["main", "entry", "build_parser", "scene_from_args", "run_command"]
 
@@ -38,34 +39,11 @@ def _progress(args: argparse.Namespace) -> bool:
 
 
 # ---- subcommands -----------------------------------------------------------------------------
-def _check_outputs(args: argparse.Namespace) -> dict[str, str]:
-    """simulate's output paths by option, each checked before anything runs or is written
-    (:func:`rrbody.model.outputs.preflight`): writable (a regular file or absent, not empty, not too
-    long), the suffix its writer needs, that writer installed, no two of them one file, none of them
-    the batch input being read; and the extras the run itself needs (pymunk for --method engine, rerun
-    for the viewer)."""
-    from rrbody.model.outputs import WRITERS, preflight
-
-    specs: dict[str, Any] = {}
-    for opt, (suffix, _) in SIMULATE_OUTPUTS.items():
-        path = getattr(args, opt[2:], None)
-        # --out is a CSV whatever its suffix (the renderers need theirs)
-        specs[opt] = (path, None, WRITERS[".csv"]) if opt == "--out" else (path, (suffix,) if suffix else None)
-    needs = []
-    if args.rerun_spawn:
-        needs.append(("rerun", "the rerun viewer (--rerun-spawn)"))
-    if args.method == "engine":
-        needs.append(("pymunk", "the engine path (--method engine)"))
-    batch_input = getattr(args, "batch_input", None)
-    checked = preflight(specs, force=args.force, inputs={"--batch": batch_input} if batch_input else {}, needs=needs)
-    return {opt: getattr(args, opt[2:]) for opt in checked}
-
-
 def cmd_simulate(args: argparse.Namespace) -> int:
     check_options(args, ("--dt-out", "--fps", "--movie-speed"))
     scene = with_active(scene_from_args(args, required=("--t-max",)), args)
     stepper = stepper_option(args)
-    paths = _check_outputs(args)  # and the writers' extras: before anything runs or is written
+    paths = check_simulate_outputs(args)  # and the writers' extras: before anything runs or is written
     pictures = bool(args.movie or args.rerun or args.rerun_spawn)
     from rrbody.model.io import check_writable
     from rrbody.model.outlock import claimed
@@ -116,6 +94,8 @@ def _simulate(args: argparse.Namespace, scene: Any, stepper: dict[str, str], pic
                "phi_end": float(traj.phi[-1]), "phi_min": ev.get("phi_min"), "t_phi_min": ev.get("t_phi_min"),
                "t_stop": ev.get("t_stop"), "distance": ev.get("distance"), "turn": ev.get("turn"),
                "meta": {k: v for k, v in traj.meta.items() if k != "scene"}, "written": written}
+    if scene.driven:
+        summary["scene"]["H"] = typed_h(args, scene)
     if "pivots" in ev:  # a free body on point feet (the ODE path): its pivots on a foot
         summary["pivots"] = ev["pivots"]
     if flip is not None:
@@ -124,10 +104,11 @@ def _simulate(args: argparse.Namespace, scene: Any, stepper: dict[str, str], pic
                            "caption": flip.caption(float(traj.t[0]), float(traj.t[-1]))}
     text = (f"simulated {scene.body.kind} body, H={scene.H:.6g}, k={scene.k:.6g}, omega={scene.omega:.6g} rad/s "
             f"for {traj.t[-1]:.6g} s with {args.method}: {len(traj)} samples; lowest phi in this span "
-            f"{ev.get('phi_min')} rad at t={ev.get('t_phi_min')} s"
+            f"{number_text(ev.get('phi_min'))} rad at t={number_text(ev.get('t_phi_min'))} s"
             if scene.driven else
             f"simulated free {scene.body.kind} body for {traj.t[-1]:.6g} s: {len(traj)} samples; "
-            f"stop time {ev.get('t_stop')}")
+            + (f"at rest from t = {ev['t_stop']:.6g} s" if ev.get("t_stop") is not None
+               else f"still moving at t = {traj.t[-1]:.6g} s"))
     if flip is not None:
         text += f"\npictures: {flip.caption(float(traj.t[0]), float(traj.t[-1]))}"
     for k, v in written.items():
@@ -152,7 +133,7 @@ def cmd_flip_time(args: argparse.Namespace) -> int:
         res = flip_time(scene, rtol=args.rtol, accuracy=args.accuracy, t_max=args.t_max, max_steps=args.max_steps,
                         progress=_progress(args), **stepper)
     d = res.as_dict()
-    d.update(H=scene.H, k=scene.k, omega=scene.omega, phi0=scene.phi0, friction=scene.friction.law,
+    d.update(H=typed_h(args, scene), k=scene.k, omega=scene.omega, phi0=scene.phi0, friction=scene.friction.law,
              body=scene.body.kind, method=args.method)
     if res.t_f is not None:
         text = f"t_f = {res.t_f:.10g} s  (phi_min = {res.phi_min:.10g} rad)  [{res.regime}]"

@@ -14,7 +14,7 @@ from rrbody.model.scene import FRICTION_METHODS
 
 __all__ = ["add_scene_options", "add_integrator_options", "add_accuracy_options", "scene_from_args", "scene_params",
            "SCENE_OPTIONS", "INTEGRATOR_OPTIONS", "STEPPERS", "stepper_option", "check_contradictions",
-           "SIMULATE_OUTPUTS"]
+           "SIMULATE_OUTPUTS", "check_simulate_outputs", "typed_h", "number_text"]
 
 #: simulate's outputs: option -> (the suffix its writer needs, what the file holds)
 SIMULATE_OUTPUTS = {"--out": ("", "trajectory CSV"), "--movie": (".mp4", "movie"),
@@ -214,3 +214,38 @@ def scene_from_args(a: argparse.Namespace, *, required: tuple[str, ...] = ()) ->
     if missing:
         raise CliError(f"missing required options: {', '.join(missing)}")
     return scene
+
+
+def typed_h(args: argparse.Namespace, scene: Any) -> float:
+    """H as the user gave it (``--H 0.2`` is echoed 0.2), else the scene's, derived from the body (the
+    rod-mass body stores l = H d, and H = l^2 / (d l) from it rounds to 0.20000000000000004)."""
+    H = getattr(args, "H", None)
+    return float(H) if H is not None else scene.H
+
+
+def check_simulate_outputs(args: argparse.Namespace) -> dict[str, str]:
+    """simulate's output paths by option, each checked before anything runs or is written
+    (:func:`rrbody.model.outputs.preflight`): writable (a regular file or absent, not empty, not too
+    long), the suffix its writer needs, that writer installed, no two of them one file, none of them
+    the batch input being read; and the extras the run itself needs (pymunk for --method engine, rerun
+    for the viewer)."""
+    from rrbody.model.outputs import WRITERS, preflight
+
+    specs: dict[str, Any] = {}
+    for opt, (suffix, _) in SIMULATE_OUTPUTS.items():
+        path = getattr(args, opt[2:], None)
+        # --out is a CSV whatever its suffix (the renderers need theirs)
+        specs[opt] = (path, None, WRITERS[".csv"]) if opt == "--out" else (path, (suffix,) if suffix else None)
+    needs = []
+    if args.rerun_spawn:
+        needs.append(("rerun", "the rerun viewer (--rerun-spawn)"))
+    if args.method == "engine":
+        needs.append(("pymunk", "the engine path (--method engine)"))
+    batch_input = getattr(args, "batch_input", None)
+    checked = preflight(specs, force=args.force, inputs={"--batch": batch_input} if batch_input else {}, needs=needs)
+    return {opt: getattr(args, opt[2:]) for opt in checked}
+
+
+def number_text(x: float | None) -> str:
+    """A number for a sentence (10 significant digits), or 'none'."""
+    return "none" if x is None else f"{x:.10g}"
