@@ -30,14 +30,20 @@ def test_a_driven_run_rounds_its_numbers_in_the_sentence(capsys: pytest.CaptureF
     assert "H=0.2," in text and "lowest phi in this span 3.141592654 rad at t=0 s" in text, text
 
 
-@pytest.mark.parametrize("command", [["flip-time"], ["simulate", "--t-max", "1"]])
-def test_H_is_echoed_as_typed(command: list[str], capsys: pytest.CaptureFixture[str]) -> None:
-    """--H 0.2 comes back 0.2, not the 0.20000000000000004 that the body's l = H d gives back."""
-    assert main([*command, *ROD, "--json"]) == 0
+@pytest.mark.parametrize("command", [["flip-time"], ["simulate", "--t-max", "1"], ["lyapunov", "--t-max", "20"]])
+def test_H_and_k_are_echoed_as_typed(command: list[str], capsys: pytest.CaptureFixture[str]) -> None:
+    """--H 0.2 --k 0.05 --d 0.7 come back 0.2 and 0.05, not the 0.19999999999999998 and
+    0.049999999999999996 that the scene derives from l = H d and the friction's coefficient."""
+    from rrbody.model.scene import scene_from_params
+
+    derived = scene_from_params(H=0.2, k=0.05, omega=0.6, d=0.7)
+    assert (derived.H, derived.k) != (0.2, 0.05)  # what this test is about: the scene's values differ
+    assert main([*command, *ROD, "--d", "0.7", "--json"]) == 0
     raw = capsys.readouterr().out
     out = json.loads(raw)
-    H = out["H"] if command[0] == "flip-time" else out["scene"]["H"]
-    assert H == 0.2 and "0.20000000000000004" not in raw
+    echo = out["scene"] if command[0] == "simulate" else out
+    assert (echo["H"], echo["k"]) == (0.2, 0.05)
+    assert repr(derived.H) not in raw and repr(derived.k) not in raw
 
 
 def test_a_derived_H_is_the_scenes(capsys: pytest.CaptureFixture[str]) -> None:

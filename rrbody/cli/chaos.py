@@ -9,7 +9,7 @@ import math
 from typing import Any
 
 from rrbody.cli.args import CliError, angle, emit, integer, number, option_help, option_message
-from rrbody.cli.options import add_scene_options, scene_from_args, typed_h
+from rrbody.cli.options import add_scene_options, echo_typed, scene_from_args
 
 __all__ = ["add_parser", "cmd_lyapunov", "cmd_poincare", "OUTPUTS"]
 
@@ -107,7 +107,7 @@ def cmd_lyapunov(args: argparse.Namespace) -> int:
         written["out"] = str(_write_csv(res, paths["--out"], force=args.force))
     if "--plot" in paths:
         written["plot"] = str(_plot(res, scene, paths["--plot"], force=args.force))
-    d = {**res.to_dict(), "H": typed_h(args, scene), "k": scene.k, "omega": scene.omega, "tilt": scene.tilt,
+    d = {**res.to_dict(), **echo_typed(args, scene), "omega": scene.omega, "tilt": scene.tilt,
          "friction": scene.friction.law, "body": scene.body.kind, "written": written}
     text = "lambda = " + ", ".join(f"{x:.6g}" for x in res.exponents) + f" 1/s  ({method}, {len(res.times)} renormalisations"
     text += f"; divergence {res.divergence:.6g} 1/s)" if res.divergence is not None else ")"
@@ -142,7 +142,7 @@ def cmd_poincare(args: argparse.Namespace) -> int:
         written["out"] = paths["--out"]
     if "--plot" in paths:
         written["plot"] = str(_section_plot(sec, scene, paths["--plot"], force=args.force))
-    d = {**sec.to_dict(), "direction": args.direction, "H": typed_h(args, scene), "k": scene.k, "omega": scene.omega,
+    d = {**sec.to_dict(), "direction": args.direction, **echo_typed(args, scene), "omega": scene.omega,
          "tilt": scene.tilt, "friction": scene.friction.law, "written": written}
     emit(args, d, f"{len(sec.t)} points of the {args.kind} section"
                   + (f" (fewer than {args.points}: the run's cap came first)" if len(sec.t) < args.points else ""))

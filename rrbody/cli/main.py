@@ -23,8 +23,8 @@ from rrbody.cli.args import CliError, Parser, angle, check_options, commands, em
 from rrbody.cli.active_options import add_active_options, with_active
 from rrbody.cli.cache import add_parser as add_cache_parser
 from rrbody.cli.options import (SIMULATE_OUTPUTS, add_accuracy_options, add_integrator_options, add_scene_options,
-                                check_contradictions, check_simulate_outputs, number_text, scene_from_args,
-                                stepper_option, typed_h)
+                                check_contradictions, check_simulate_outputs, echo_typed, number_text,
+                                scene_from_args, stepper_option, typed)
 
 __all__ = ["main", "entry", "build_parser", "scene_from_args", "run_command"]
 
@@ -95,7 +95,7 @@ def _simulate(args: argparse.Namespace, scene: Any, stepper: dict[str, str], pic
                "t_stop": ev.get("t_stop"), "distance": ev.get("distance"), "turn": ev.get("turn"),
                "meta": {k: v for k, v in traj.meta.items() if k != "scene"}, "written": written}
     if scene.driven:
-        summary["scene"]["H"] = typed_h(args, scene)
+        summary["scene"].update(echo_typed(args, scene))
     if "pivots" in ev:  # a free body on point feet (the ODE path): its pivots on a foot
         summary["pivots"] = ev["pivots"]
     if flip is not None:
@@ -133,7 +133,7 @@ def cmd_flip_time(args: argparse.Namespace) -> int:
         res = flip_time(scene, rtol=args.rtol, accuracy=args.accuracy, t_max=args.t_max, max_steps=args.max_steps,
                         progress=_progress(args), **stepper)
     d = res.as_dict()
-    d.update(H=typed_h(args, scene), k=scene.k, omega=scene.omega, phi0=scene.phi0, friction=scene.friction.law,
+    d.update(**echo_typed(args, scene), omega=scene.omega, phi0=scene.phi0, friction=scene.friction.law,
              body=scene.body.kind, method=args.method)
     if res.t_f is not None:
         text = f"t_f = {res.t_f:.10g} s  (phi_min = {res.phi_min:.10g} rad)  [{res.regime}]"
@@ -164,7 +164,8 @@ def cmd_critical_h(args: argparse.Namespace) -> int:
         raise
     except ValueError as e:
         raise CliError(option_message(str(e))) from None
-    emit(args, {"H_c": Hc, "k": k, "omega": args.omega, "phi0": args.phi0, "friction": args.friction, "tol": args.tol},
+    emit(args, {"H_c": Hc, "k": typed(args, "k", k), "omega": args.omega, "phi0": args.phi0, "friction": args.friction,
+                "tol": args.tol},
          f"H_c = {Hc:.10g}  (k={k:g}, omega={args.omega:g} rad/s, {args.friction} friction)")
     return 0
 

@@ -14,7 +14,7 @@ from rrbody.model.scene import FRICTION_METHODS
 
 __all__ = ["add_scene_options", "add_integrator_options", "add_accuracy_options", "scene_from_args", "scene_params",
            "SCENE_OPTIONS", "INTEGRATOR_OPTIONS", "STEPPERS", "stepper_option", "check_contradictions",
-           "SIMULATE_OUTPUTS", "check_simulate_outputs", "typed_h", "number_text"]
+           "SIMULATE_OUTPUTS", "check_simulate_outputs", "typed", "echo_typed", "number_text"]
 
 #: simulate's outputs: option -> (the suffix its writer needs, what the file holds)
 SIMULATE_OUTPUTS = {"--out": ("", "trajectory CSV"), "--movie": (".mp4", "movie"),
@@ -216,11 +216,20 @@ def scene_from_args(a: argparse.Namespace, *, required: tuple[str, ...] = ()) ->
     return scene
 
 
-def typed_h(args: argparse.Namespace, scene: Any) -> float:
-    """H as the user gave it (``--H 0.2`` is echoed 0.2), else the scene's, derived from the body (the
-    rod-mass body stores l = H d, and H = l^2 / (d l) from it rounds to 0.20000000000000004)."""
-    H = getattr(args, "H", None)
-    return float(H) if H is not None else scene.H
+def typed(args: argparse.Namespace, name: str, computed: float | None) -> float | None:
+    """The option ``name`` (``H``, ``k``) as the user gave it, else ``computed`` (the scene's value).
+
+    A scene stores what its parts need and derives the rest: the rod-mass body keeps l = H d and
+    gives H = l^2 / (d l) back as 0.20000000000000004 for ``--H 0.2``, and k = mu g / d comes back
+    from the friction's coefficient as 0.049999999999999996 for ``--k 0.05 --d 0.7``. An echo of the
+    input shows what was typed; a value the user did not give (a disk's H) is the scene's."""
+    v = getattr(args, name, None)
+    return float(v) if v is not None else computed
+
+
+def echo_typed(args: argparse.Namespace, scene: Any) -> dict[str, float | None]:
+    """H and k of a driven ``scene`` for a JSON echo, each as typed where it was (:func:`typed`)."""
+    return {"H": typed(args, "H", scene.H), "k": typed(args, "k", scene.k)}
 
 
 def check_simulate_outputs(args: argparse.Namespace) -> dict[str, str]:
