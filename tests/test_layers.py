@@ -3,7 +3,8 @@
 Layers, bottom to top: model -> physics -> integrate -> engine -> analysis -> render -> cli. A module
 may import from its own layer or a lower one, never from a higher one (a back edge), and the module
 graph has no cycle. Imports inside functions count too: a lazy import is still a dependency. The
-package root ``rrbody/__init__.py`` (with ``rrbody/plugin.py``, the plugin's entry point, and ``rrbody/mujoco.py``, the MuJoCo adapter's) is the curated public
+package root ``rrbody/__init__.py`` (with ``rrbody/plugin.py``, the plugin's entry point, ``rrbody/mujoco.py``, the MuJoCo adapter's, and
+``rrbody/pressure.py`` and ``rrbody/planar.py``, the contacts' and the batched wrench's) is the curated public
 API above every layer; below it only
 ``rrbody._version`` and ``rrbody._cache`` (where caches live) may be imported from the root.
 """
@@ -19,7 +20,7 @@ PKG = Path(__file__).resolve().parents[1] / "rrbody"
 LAYERS = ("model", "physics", "integrate", "engine", "analysis", "render", "cli")
 #: modules at the package root and the layer they count as
 ROOT_MODULES = {"rrbody._version": -1, "rrbody._cache": -1, "rrbody": len(LAYERS), "rrbody.plugin": len(LAYERS),
-                "rrbody.mujoco": len(LAYERS)}
+                "rrbody.mujoco": len(LAYERS), "rrbody.pressure": len(LAYERS), "rrbody.planar": len(LAYERS)}
 
 
 def _module_name(path: Path) -> str:

@@ -50,14 +50,19 @@ def output_files(out: str | os.PathLike[str]) -> list[tuple[str, Path]]:
     return [("out", p), ("checkpoint", checkpoint_path(p)), ("sidecar", p.with_name(p.name + ".json"))]
 
 
-def check_outputs(out: str | os.PathLike[str], *, grid: bool, resume: bool, force: bool, existing: bool = True) -> None:
-    """Validate a sweep's outputs before any work: the suffix (``.nc`` needs a grid), every file a
-    regular file or absent in a writable folder; without ``resume``, an existing table needs
-    ``force`` and an existing checkpoint needs ``resume`` or ``force``. ValueError naming ``out``.
+def check_outputs(out: str | os.PathLike[str], *, grid: bool, resume: bool, force: bool, existing: bool = True,
+                  name: str = "out") -> None:
+    """Validate a sweep's outputs before any work: the suffix (``.nc`` needs a grid), its writer
+    installed (``.nc``: xarray, else :class:`~rrbody.model.extras.MissingExtraError` naming the
+    ``data`` extra), every file a regular file or absent in a writable folder; without ``resume``, an
+    existing table needs ``force`` and an existing checkpoint needs ``resume`` or ``force``.
+    ValueError naming ``out``.
 
+    ``name``: the output as the caller calls it, in the message of a missing writer (``--out``).
     ``existing=False`` checks only what another writer cannot change (suffix, names, folder, kinds):
     the check before the output lock is taken; the full check follows under the lock."""
     from rrbody.model.io import check_writable
+    from rrbody.model.outputs import require_writer, writer_of
 
     p = Path(out)
     if p.suffix not in (".csv", ".nc"):
@@ -67,9 +72,14 @@ def check_outputs(out: str | os.PathLike[str], *, grid: bool, resume: bool, forc
     if resume and force:
         raise ValueError("resume and force contradict each other: resume continues the checkpoint, force discards "
                          "it and starts afresh; give one of them")
-    for name, f in output_files(p):
-        check_writable(f, force=resume or force or name != "out" or not existing,
-                       name="out" if name == "out" else f"out: {name}")
+    for kind, f in output_files(p):
+        check_writable(f, force=resume or force or kind != "out" or not existing,
+                       name="out" if kind == "out" else f"out: {kind}")
+    # the table's writer is installed: a missing one found after the work would leave a checkpoint that
+    # blocks the same command (without --resume) once the extra is installed
+    writer = writer_of(p)
+    if writer is not None:
+        require_writer(writer, name=name)
     ck = checkpoint_path(p)
     if existing and not (resume or force) and ck.exists():
         raise ValueError(f"out: checkpoint {str(ck)!r} exists from an earlier run; pass resume=True (--resume) to "
@@ -226,10 +236,12 @@ def load_sweep(path: str | os.PathLike[str]) -> Any:
 
 
 def _nc_engine() -> str:
-    """h5netcdf (NetCDF4) when h5py is importable, else scipy's NetCDF3 writer (always available)."""
+    """h5netcdf (NetCDF4) when both h5netcdf and h5py are importable, else scipy's NetCDF3 writer (a core
+    package: always available once xarray is)."""
     try:
+        import h5netcdf  # noqa: F401
         import h5py  # noqa: F401
-    except ImportError:
+    except ImportError:  # h5py alone is not enough: xarray's engine "h5netcdf" is the h5netcdf package
         return "scipy"
     return "h5netcdf"
 

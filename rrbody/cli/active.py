@@ -147,16 +147,18 @@ def _given_box(args: argparse.Namespace) -> dict[str, Any]:
     return {name: getattr(args, name) for name in BOX_OPTIONS if getattr(args, name) is not None}
 
 
-def _check_paths(paths: dict[str, str], suffixes: dict[str, tuple[str, ...]], *, force: bool) -> None:
-    """Each output writable (absent or a regular file; existing: --force), with its writer's suffix, and
-    no two of them one file: before anything runs."""
-    from rrbody.model.io import check_distinct, check_writable
+def _check_paths(paths: dict[str, str], suffixes: dict[str, tuple[str, ...]], *, force: bool,
+                 needs: tuple[tuple[str, str], ...] = ()) -> None:
+    """Each output writable (absent or a regular file; existing: --force), with its writer's suffix and
+    that writer installed, no two of them one file, and the extras the run needs (``needs``: (module,
+    purpose)): before anything runs (:func:`rrbody.model.outputs.preflight`)."""
+    from rrbody.model.outputs import preflight
 
-    for opt, path in paths.items():
-        check_writable(path, force=force, name=opt)
-        if not str(path).lower().endswith(suffixes[opt]):
-            raise CliError(f"{opt} must end in {' or '.join(suffixes[opt])}, got {path!r}")
-    check_distinct(paths, {})
+    preflight({opt: (path, suffixes[opt]) for opt, path in paths.items()}, force=force, needs=needs)
+
+
+#: the run itself steps pymunk: its extra is named before anything is written
+_ENGINE = (("pymunk", "the active bodies' run"),)
 
 
 def _only_with(args: argparse.Namespace, pairs: tuple[tuple[str, str], ...]) -> None:
@@ -177,11 +179,8 @@ def cmd_active(args: argparse.Namespace) -> int:
 
         every = check_int("--rerun-every", every, 1, 1_000_000)
     paths = {o: getattr(args, o[2:]) for o in ("--out", "--movie", "--rerun") if getattr(args, o[2:]) is not None}
-    _check_paths(paths, {"--out": (".json",), "--movie": (".mp4",), "--rerun": (".rrd",)}, force=args.force)
-    if args.movie or args.rerun:  # a missing extra is named before anything runs
-        from rrbody.render import check_extras
-
-        check_extras(movie=bool(args.movie), rerun=bool(args.rerun))
+    _check_paths(paths, {"--out": (".json",), "--movie": (".mp4",), "--rerun": (".rrd",)}, force=args.force,
+                 needs=_ENGINE)
     from rrbody.model.io import check_writable
     from rrbody.model.outlock import claimed
 
@@ -261,11 +260,7 @@ def cmd_active_ensemble(args: argparse.Namespace) -> int:
     ck = checkpoint_path(args.out)
     _check_paths({**paths, "--out: checkpoint": str(ck)},
                  {"--out": (".csv", ".json"), "--plot": (".png",), "--out: checkpoint": (".jsonl",)},
-                 force=True)  # (existing outputs: below, once the lock is held)
-    if args.plot:
-        from rrbody.model.extras import require
-
-        require("matplotlib", purpose="a figure (--plot)")
+                 force=True, needs=_ENGINE)  # (existing outputs: below, once the lock is held)
     if args.scheduler is not None:
         from rrbody.analysis.pool import check_scheduler_address
         from rrbody.cli.sweep import _quiet_dask

@@ -161,6 +161,15 @@ def angle(option: str) -> Callable[[str], float]:
             v = parse_angle(text, name=option)
         except ValueError as e:
             raise argparse.ArgumentTypeError(str(e)) from None
+        param = OPTION_PARAMS.get(option)
+        if param is not None and not _plain(text):
+            # an expression ('100deg', '3pi/4') out of range is reported as typed, with its value in rad:
+            # the range check further on sees only the number (1.7453292519943295)
+            try:
+                check(param, v, label=option)
+            except ValueError:
+                raise argparse.ArgumentTypeError(f"{option} must be {LIMITS[param].text()}, got {text.strip()} "
+                                                 f"({v:.6g} rad)") from None
         if maybe_degrees(text, v):
             print(f"rrbody: warning: {option} {text} is read as {v:g} rad ({v / (2 * math.pi):.3g} turns); "
                   f"for degrees write {text}deg", file=sys.stderr)
@@ -168,6 +177,15 @@ def angle(option: str) -> Callable[[str], float]:
 
     parse.__name__ = "angle"
     return parse
+
+
+def _plain(text: str) -> bool:
+    """True when ``text`` is a plain decimal number (its value is what was typed)."""
+    try:
+        parse_number(text, name="value")
+    except ValueError:
+        return False
+    return True
 
 
 def float_list(option: str, n: int) -> Callable[[str], tuple[float, ...]]:

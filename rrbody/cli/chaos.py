@@ -9,7 +9,7 @@ import math
 from typing import Any
 
 from rrbody.cli.args import CliError, angle, emit, integer, number, option_help, option_message
-from rrbody.cli.options import add_scene_options, scene_from_args
+from rrbody.cli.options import add_scene_options, echo_typed, scene_from_args
 
 __all__ = ["add_parser", "cmd_lyapunov", "cmd_poincare", "OUTPUTS"]
 
@@ -74,27 +74,20 @@ def add_parser(sub: Any) -> None:
 
 
 def _outputs(args: argparse.Namespace) -> dict[str, str]:
-    """The output paths by option, checked before anything runs (writable, their suffix, distinct), and
-    the figure's extra."""
-    from rrbody.model.io import check_distinct, check_writable
+    """The output paths by option, checked before anything runs or the analysis is loaded
+    (:func:`rrbody.model.outputs.preflight`: writable, their suffix, distinct, the figure's extra)."""
+    from rrbody.model.outputs import preflight
 
-    paths = {opt: getattr(args, opt[2:]) for opt in OUTPUTS if getattr(args, opt[2:]) is not None}
-    for opt, path in paths.items():
-        check_writable(path, force=args.force, name=opt)
-        if not str(path).lower().endswith(OUTPUTS[opt]):
-            raise CliError(f"{opt} must end in {OUTPUTS[opt]}, got {path!r}")
-    check_distinct(paths, {})
-    if "--plot" in paths:  # a missing extra is named before anything runs
-        from rrbody.model.extras import require
-
-        require("matplotlib", purpose="a figure (--plot)")
-    return paths
+    checked = preflight({opt: (getattr(args, opt[2:]), (suffix,)) for opt, suffix in OUTPUTS.items()},
+                        force=args.force)
+    return {opt: getattr(args, opt[2:]) for opt in checked}
 
 
 def cmd_lyapunov(args: argparse.Namespace) -> int:
     scene = scene_from_args(args, required=("--t-max",))
     if not scene.driven:
         raise CliError("--no-drive: Lyapunov exponents are computed for driven scenes (drop --no-drive)")
+    paths = _outputs(args)
     from rrbody.analysis.chaos import auto_method, lyapunov
 
     method = args.estimate
@@ -104,7 +97,6 @@ def cmd_lyapunov(args: argparse.Namespace) -> int:
                        "contact stops sliding: use --estimate two (or auto)")
     if method == "auto":
         method = "two" if dry else "tangent"
-    paths = _outputs(args)
     try:
         res = lyapunov(scene, t_max=scene.t_max, renorm=args.renorm, rtol=args.rtol, method=method, d0=args.d0,
                        progress=not args.json and _tty())
@@ -115,7 +107,7 @@ def cmd_lyapunov(args: argparse.Namespace) -> int:
         written["out"] = str(_write_csv(res, paths["--out"], force=args.force))
     if "--plot" in paths:
         written["plot"] = str(_plot(res, scene, paths["--plot"], force=args.force))
-    d = {**res.to_dict(), "H": scene.H, "k": scene.k, "omega": scene.omega, "tilt": scene.tilt,
+    d = {**res.to_dict(), **echo_typed(args, scene), "omega": scene.omega, "tilt": scene.tilt,
          "friction": scene.friction.law, "body": scene.body.kind, "written": written}
     text = "lambda = " + ", ".join(f"{x:.6g}" for x in res.exponents) + f" 1/s  ({method}, {len(res.times)} renormalisations"
     text += f"; divergence {res.divergence:.6g} 1/s)" if res.divergence is not None else ")"
@@ -150,7 +142,7 @@ def cmd_poincare(args: argparse.Namespace) -> int:
         written["out"] = paths["--out"]
     if "--plot" in paths:
         written["plot"] = str(_section_plot(sec, scene, paths["--plot"], force=args.force))
-    d = {**sec.to_dict(), "direction": args.direction, "H": scene.H, "k": scene.k, "omega": scene.omega,
+    d = {**sec.to_dict(), "direction": args.direction, **echo_typed(args, scene), "omega": scene.omega,
          "tilt": scene.tilt, "friction": scene.friction.law, "written": written}
     emit(args, d, f"{len(sec.t)} points of the {args.kind} section"
                   + (f" (fewer than {args.points}: the run's cap came first)" if len(sec.t) < args.points else ""))

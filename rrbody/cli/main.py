@@ -22,8 +22,9 @@ from rrbody.cli.args import CliError, Parser, angle, check_options, commands, em
     parse
 from rrbody.cli.active_options import add_active_options, with_active
 from rrbody.cli.cache import add_parser as add_cache_parser
-from rrbody.cli.options import (SIMULATE_OUTPUTS, add_accuracy_options, add_integrator_options,
-                                add_scene_options, check_contradictions, scene_from_args, stepper_option)
+from rrbody.cli.options import (SIMULATE_OUTPUTS, add_accuracy_options, add_integrator_options, add_scene_options,
+                                check_contradictions, check_simulate_outputs, echo_typed, number_text,
+                                scene_from_args, stepper_option, typed)
 
 __all__ = ["main", "entry", "build_parser", "scene_from_args", "run_command"]
 
@@ -38,33 +39,12 @@ def _progress(args: argparse.Namespace) -> bool:
 
 
 # ---- subcommands -----------------------------------------------------------------------------
-def _check_outputs(args: argparse.Namespace) -> dict[str, str]:
-    """simulate's output paths by option, each checked before anything runs or is written: writable
-    (a regular file or absent, not empty, not too long), the suffix its writer needs, no two of them
-    one file, none of them the batch input being read."""
-    from rrbody.model.io import check_distinct, check_writable
-
-    paths = {opt: getattr(args, opt[2:]) for opt in SIMULATE_OUTPUTS if getattr(args, opt[2:], None) is not None}
-    for opt, path in paths.items():
-        check_writable(path, force=args.force, name=opt)
-        suffix = SIMULATE_OUTPUTS[opt][0]
-        if suffix and not str(path).lower().endswith(suffix):  # the renderer's rule, checked before the run
-            raise CliError(f"{opt} must end in {suffix}, got {path!r}")
-    batch_input = getattr(args, "batch_input", None)
-    check_distinct(paths, {"--batch": batch_input} if batch_input else {})
-    return paths
-
-
 def cmd_simulate(args: argparse.Namespace) -> int:
     check_options(args, ("--dt-out", "--fps", "--movie-speed"))
     scene = with_active(scene_from_args(args, required=("--t-max",)), args)
     stepper = stepper_option(args)
-    paths = _check_outputs(args)
+    paths = check_simulate_outputs(args)  # and the writers' extras: before anything runs or is written
     pictures = bool(args.movie or args.rerun or args.rerun_spawn)
-    if pictures:  # a missing extra is reported before anything runs or is written
-        from rrbody.render import check_extras
-
-        check_extras(movie=bool(args.movie), rerun=bool(args.rerun or args.rerun_spawn))
     from rrbody.model.io import check_writable
     from rrbody.model.outlock import claimed
 
@@ -114,6 +94,8 @@ def _simulate(args: argparse.Namespace, scene: Any, stepper: dict[str, str], pic
                "phi_end": float(traj.phi[-1]), "phi_min": ev.get("phi_min"), "t_phi_min": ev.get("t_phi_min"),
                "t_stop": ev.get("t_stop"), "distance": ev.get("distance"), "turn": ev.get("turn"),
                "meta": {k: v for k, v in traj.meta.items() if k != "scene"}, "written": written}
+    if scene.driven:
+        summary["scene"].update(echo_typed(args, scene))
     if "pivots" in ev:  # a free body on point feet (the ODE path): its pivots on a foot
         summary["pivots"] = ev["pivots"]
     if flip is not None:
@@ -122,10 +104,11 @@ def _simulate(args: argparse.Namespace, scene: Any, stepper: dict[str, str], pic
                            "caption": flip.caption(float(traj.t[0]), float(traj.t[-1]))}
     text = (f"simulated {scene.body.kind} body, H={scene.H:.6g}, k={scene.k:.6g}, omega={scene.omega:.6g} rad/s "
             f"for {traj.t[-1]:.6g} s with {args.method}: {len(traj)} samples; lowest phi in this span "
-            f"{ev.get('phi_min')} rad at t={ev.get('t_phi_min')} s"
+            f"{number_text(ev.get('phi_min'))} rad at t={number_text(ev.get('t_phi_min'))} s"
             if scene.driven else
             f"simulated free {scene.body.kind} body for {traj.t[-1]:.6g} s: {len(traj)} samples; "
-            f"stop time {ev.get('t_stop')}")
+            + (f"at rest from t = {ev['t_stop']:.6g} s" if ev.get("t_stop") is not None
+               else f"still moving at t = {traj.t[-1]:.6g} s"))
     if flip is not None:
         text += f"\npictures: {flip.caption(float(traj.t[0]), float(traj.t[-1]))}"
     for k, v in written.items():
@@ -150,7 +133,7 @@ def cmd_flip_time(args: argparse.Namespace) -> int:
         res = flip_time(scene, rtol=args.rtol, accuracy=args.accuracy, t_max=args.t_max, max_steps=args.max_steps,
                         progress=_progress(args), **stepper)
     d = res.as_dict()
-    d.update(H=scene.H, k=scene.k, omega=scene.omega, phi0=scene.phi0, friction=scene.friction.law,
+    d.update(**echo_typed(args, scene), omega=scene.omega, phi0=scene.phi0, friction=scene.friction.law,
              body=scene.body.kind, method=args.method)
     if res.t_f is not None:
         text = f"t_f = {res.t_f:.10g} s  (phi_min = {res.phi_min:.10g} rad)  [{res.regime}]"
@@ -181,7 +164,8 @@ def cmd_critical_h(args: argparse.Namespace) -> int:
         raise
     except ValueError as e:
         raise CliError(option_message(str(e))) from None
-    emit(args, {"H_c": Hc, "k": k, "omega": args.omega, "phi0": args.phi0, "friction": args.friction, "tol": args.tol},
+    emit(args, {"H_c": Hc, "k": typed(args, "k", k), "omega": args.omega, "phi0": args.phi0, "friction": args.friction,
+                "tol": args.tol},
          f"H_c = {Hc:.10g}  (k={k:g}, omega={args.omega:g} rad/s, {args.friction} friction)")
     return 0
 
@@ -195,13 +179,17 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 
 def cmd_scene(args: argparse.Namespace) -> int:
-    from rrbody.cli.scenes import list_scenes, output_root, run_scene
+    from rrbody.cli.scenes import check_scene, list_scenes, output_root, run_scene
 
     if args.list or args.name is None:
-        for n, doc in list_scenes():
-            print(f"{n:24s} {doc}")
+        scenes = list_scenes()
+        width = max((len(n) for n, _ in scenes), default=0)  # one column, however long the longest name
+        for n, doc in scenes:
+            print(f"{n:{width}s}  {doc}")
         return 0
     names = [n for n, _ in list_scenes()] if args.name == "all" else [args.name]
+    for n in names:  # every scene's extras and folders before the first one computes anything
+        check_scene(n)
     import time
 
     t0 = time.perf_counter()

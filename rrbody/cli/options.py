@@ -14,7 +14,7 @@ from rrbody.model.scene import FRICTION_METHODS
 
 __all__ = ["add_scene_options", "add_integrator_options", "add_accuracy_options", "scene_from_args", "scene_params",
            "SCENE_OPTIONS", "INTEGRATOR_OPTIONS", "STEPPERS", "stepper_option", "check_contradictions",
-           "SIMULATE_OUTPUTS"]
+           "SIMULATE_OUTPUTS", "check_simulate_outputs", "typed", "echo_typed", "number_text"]
 
 #: simulate's outputs: option -> (the suffix its writer needs, what the file holds)
 SIMULATE_OUTPUTS = {"--out": ("", "trajectory CSV"), "--movie": (".mp4", "movie"),
@@ -214,3 +214,47 @@ def scene_from_args(a: argparse.Namespace, *, required: tuple[str, ...] = ()) ->
     if missing:
         raise CliError(f"missing required options: {', '.join(missing)}")
     return scene
+
+
+def typed(args: argparse.Namespace, name: str, computed: float | None) -> float | None:
+    """The option ``name`` (``H``, ``k``) as the user gave it, else ``computed`` (the scene's value).
+
+    A scene stores what its parts need and derives the rest: the rod-mass body keeps l = H d and
+    gives H = l^2 / (d l) back as 0.20000000000000004 for ``--H 0.2``, and k = mu g / d comes back
+    from the friction's coefficient as 0.049999999999999996 for ``--k 0.05 --d 0.7``. An echo of the
+    input shows what was typed; a value the user did not give (a disk's H) is the scene's."""
+    v = getattr(args, name, None)
+    return float(v) if v is not None else computed
+
+
+def echo_typed(args: argparse.Namespace, scene: Any) -> dict[str, float | None]:
+    """H and k of a driven ``scene`` for a JSON echo, each as typed where it was (:func:`typed`)."""
+    return {"H": typed(args, "H", scene.H), "k": typed(args, "k", scene.k)}
+
+
+def check_simulate_outputs(args: argparse.Namespace) -> dict[str, str]:
+    """simulate's output paths by option, each checked before anything runs or is written
+    (:func:`rrbody.model.outputs.preflight`): writable (a regular file or absent, not empty, not too
+    long), the suffix its writer needs, that writer installed, no two of them one file, none of them
+    the batch input being read; and the extras the run itself needs (pymunk for --method engine, rerun
+    for the viewer)."""
+    from rrbody.model.outputs import WRITERS, preflight
+
+    specs: dict[str, Any] = {}
+    for opt, (suffix, _) in SIMULATE_OUTPUTS.items():
+        path = getattr(args, opt[2:], None)
+        # --out is a CSV whatever its suffix (the renderers need theirs)
+        specs[opt] = (path, None, WRITERS[".csv"]) if opt == "--out" else (path, (suffix,) if suffix else None)
+    needs = []
+    if args.rerun_spawn:
+        needs.append(("rerun", "the rerun viewer (--rerun-spawn)"))
+    if args.method == "engine":
+        needs.append(("pymunk", "the engine path (--method engine)"))
+    batch_input = getattr(args, "batch_input", None)
+    checked = preflight(specs, force=args.force, inputs={"--batch": batch_input} if batch_input else {}, needs=needs)
+    return {opt: getattr(args, opt[2:]) for opt in checked}
+
+
+def number_text(x: float | None) -> str:
+    """A number for a sentence (10 significant digits), or 'none'."""
+    return "none" if x is None else f"{x:.10g}"

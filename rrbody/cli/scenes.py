@@ -10,11 +10,17 @@ from __future__ import annotations
 
 import ast
 import importlib.util
+import os
 import time
+from pathlib import Path
 
 from rrbody.model.paths import output_root, scenes_dir
 
-__all__ = ["scenes_dir", "output_root", "list_scenes", "run_scene"]
+__all__ = ["scenes_dir", "output_root", "list_scenes", "run_scene", "scene_needs", "check_scene"]
+
+#: rrbody modules that import an optional package where they are used: a scene importing one needs it
+_RRBODY_NEEDS = {"rrbody.plugin": ("pymunk",), "rrbody.engine": ("pymunk",), "rrbody.mujoco": ("mujoco",),
+                 "rrbody.analysis.active_study": ("pymunk",), "rrbody.render": ("matplotlib",)}
 
 
 def list_scenes() -> list[tuple[str, str]]:
@@ -28,12 +34,65 @@ def list_scenes() -> list[tuple[str, str]]:
     return out
 
 
-def run_scene(name: str, *, force: bool = True, report: bool = False) -> None:
-    """Run scene ``name``: its outputs go to ``results/<name>/``."""
+def scene_needs(path: Path) -> tuple[str, ...]:
+    """The optional packages the scene script ``path`` needs, read from its source, lazy imports
+    included: the extras' packages it imports, those the rrbody modules it imports use
+    (:data:`_RRBODY_NEEDS`), and the writers of the files it names (``.nc``, ``.mp4``, ``.png``, ``.rrd``:
+    :data:`rrbody.model.outputs.WRITERS`)."""
+    from rrbody.model.extras import EXTRA_OF
+    from rrbody.model.outputs import WRITERS
+
+    found: list[str] = []
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        modules: list[str] = []
+        if isinstance(node, ast.Import):
+            modules = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            modules = [node.module, *(f"{node.module}.{a.name}" for a in node.names)]
+        elif isinstance(node, ast.Constant) and isinstance(node.value, str):  # a file name, or an f-string's tail
+            text = node.value
+            writer = WRITERS.get(text[text.rfind("."):].lower()) if "." in text else None
+            if writer is not None and not any(c.isspace() for c in text):  # a name, not a sentence
+                found += writer.modules
+        for m in modules:
+            if m.split(".")[0] in EXTRA_OF:
+                found.append(m.split(".")[0])
+            for prefix, needs in _RRBODY_NEEDS.items():
+                if m == prefix or m.startswith(prefix + "."):
+                    found += needs
+    return tuple(dict.fromkeys(found))
+
+
+def _scene_path(name: str) -> Path:
     names = [n for n, _ in list_scenes()]
     if name not in names:
         raise ValueError(f"scene must be one of {', '.join(names) or '(none yet)'} or 'all', got {name!r}")
-    path = scenes_dir() / f"{name.replace('-', '_')}.py"
+    return scenes_dir() / f"{name.replace('-', '_')}.py"
+
+
+def check_scene(name: str) -> Path:
+    """Scene ``name``'s pre-flight, before it computes or writes anything: it exists, the optional
+    packages it needs are installed (:class:`~rrbody.model.extras.MissingExtraError` naming the extra),
+    and its output folders can be made (``ValueError`` naming the folder). Returns the script's path."""
+    from rrbody.model.extras import require
+
+    path = _scene_path(name)
+    for module in scene_needs(path):
+        require(module, purpose=f"scene {name}")
+    root = output_root()
+    for folder in (root / "results" / name, root / "movies"):
+        existing = folder
+        while not existing.exists() and existing.parent != existing:
+            existing = existing.parent  # the nearest folder that exists is where the new ones are made
+        if not existing.is_dir() or not os.access(existing, os.W_OK | os.X_OK):
+            raise ValueError(f"scene {name}: cannot write {str(folder)!r}: {str(existing)!r} is not a writable "
+                             "folder")
+    return path
+
+
+def run_scene(name: str, *, force: bool = True, report: bool = False) -> None:
+    """Run scene ``name``: its outputs go to ``results/<name>/``."""
+    path = check_scene(name)
     spec = importlib.util.spec_from_file_location(f"rrbody_scene_{name.replace('-', '_')}", path)
     if spec is None or spec.loader is None:
         raise ValueError(f"scene {name!r}: cannot load {path}")

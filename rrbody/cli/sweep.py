@@ -209,7 +209,9 @@ def _base(args: argparse.Namespace, axes: dict[str, Any]) -> dict[str, Any]:
 def _quiet_dask() -> None:
     """Silence Dask's loggers: it logs a lost connection as tracebacks on stderr, and the command
     reports the fault in one line. Importing it here reports a missing extra before any file."""
-    import distributed  # noqa: F401
+    from rrbody.model.extras import require
+
+    require("distributed", purpose="a Dask scheduler (--scheduler)")
 
     for name in ["distributed", *logging.root.manager.loggerDict]:
         if name == "distributed" or name.startswith("distributed."):  # several have their own level
@@ -231,15 +233,26 @@ def _chaos_checks(args: argparse.Namespace, axes: dict[str, Any]) -> str | None:
     if args.zip_axes or len(axes) != 2:
         raise CliError(f"--plot draws a 2-D map: give two --axis and no --list, got {len(axes)} --axis"
                        f"{' with --list' if args.zip_axes else ''}")
-    if not str(args.plot).lower().endswith(".png"):
-        raise CliError(f"--plot must end in .png, got {args.plot!r}")
-    from rrbody.model.extras import require
-    from rrbody.model.io import check_distinct, check_writable
+    from rrbody.model.outputs import preflight
+
+    preflight({"--plot": (args.plot, (".png",)), "--out": (args.out, None)}, force=True)  # (--out: below)
+    from rrbody.model.io import check_writable
 
     check_writable(args.plot, force=args.force or args.resume, name="--plot")
-    check_distinct({"--plot": args.plot, "--out": args.out}, {})
-    require("matplotlib", purpose="a figure (--plot)")
     return str(args.plot)
+
+
+def _check_out(args: argparse.Namespace) -> None:
+    """--out, its checkpoint and sidecar before the sweep engine is even loaded: the suffix, its writer
+    installed (.nc: the data extra), the folder (:func:`rrbody.analysis.sweep_store.check_outputs`; what
+    another process could change is checked again under the output's lock)."""
+    from rrbody.analysis.sweep_store import check_outputs
+
+    try:
+        check_outputs(args.out, grid=not args.zip_axes, resume=args.resume, force=args.force, existing=False,
+                      name="--out")
+    except ValueError as e:
+        raise CliError(option_message(str(e))) from None
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
@@ -260,6 +273,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         options["t_max"] = args.t_max
     if args.tol is not None and args.quantity == "critical_h":
         options["tol"] = args.tol
+    _check_out(args)
     from rrbody.analysis.sweep import Sweep, SweepFault, SweepStopped, run_sweep
     from rrbody.model.checks import MissingParameters
 

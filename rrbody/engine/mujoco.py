@@ -42,7 +42,7 @@ from rrbody.engine import mjkernel as MK
 from rrbody.engine.active import NO_ACTIVE
 from rrbody.engine.lean import fast_entry
 from rrbody.engine.mjgeoms import gap, name_of as _name, lookup as _lookup, parts_of
-from rrbody.model.checks import check_nonnegative, check_positive
+from rrbody.model.checks import check_int, check_nonnegative, check_positive
 from rrbody.model.extras import require
 from rrbody.model.pressure import Pressure, as_pressure
 from rrbody.physics.batch import stack
@@ -257,7 +257,7 @@ class PlaneFriction:
     def _refuse(self) -> None:
         m = self.model
         i = int(self._cache[K.STATUS, K.FIRST_BAD])
-        raise ValueError(f"body {_name(m, 'body', self._ids[i])}: angle, velocity and spin must be finite, "
+        raise ValueError(f"{_name(m, 'body', self._ids[i])}: angle, velocity and spin must be finite, "
                          f"got {self._got[i, :4].tolist()}; the step was refused and nothing changed")
 
     def _kick(self, dt: float) -> None:
@@ -292,7 +292,9 @@ class PlaneFriction:
     def step(self, n: int = 1) -> None:
         """``n`` steps of ``mujoco.mj_step`` with the plane's friction (use it in place of mj_step).
 
-        Raises ValueError, having changed nothing, naming a body whose angle, velocity or spin is not finite."""
+        ``n``: the number of steps, an integer >= 0 (0 does nothing). Raises ValueError, having changed
+        nothing, for any other ``n`` (naming it) or naming a body whose angle, velocity or spin is not finite."""
+        n = check_int("n", n, 0)  # range(-1) and range(1.5) would do nothing or fail far from the call
         m, d = self.model, self.data
         dt = float(m.opt.timestep)
         for _ in range(n):

@@ -199,7 +199,9 @@ class Polygon(Body):
         e = np.roll(v, -1, axis=0) - v
         turn = e[:, 0] * np.roll(e[:, 1], -1) - e[:, 1] * np.roll(e[:, 0], -1)
         if np.any(turn < -1e-12 * size * size):
-            raise ValueError(f"vertices must make a convex polygon (every turn counter-clockwise), got {self.vertices!r}")
+            # (the vertices were put counter-clockwise above: either orientation is accepted as given)
+            raise ValueError(f"vertices must make a convex polygon (every turn the same way, all left or all "
+                             f"right), got {self.vertices!r}")
         if math.hypot(cx, cy) <= 1e-13 * size:
             cx = cy = 0.0  # centred already (to rounding): kept as given, so a description round-trips
         object.__setattr__(self, "vertices", tuple((float(x - cx), float(y - cy)) for x, y in v))

@@ -1,0 +1,13 @@
+"""The batched dry-friction wrench of planar contacts, public entry point: ``from rrbody.planar import
+Footprints``.
+
+Like :mod:`rrbody.plugin` this module is part of the curated public API above every layer; the wrench
+lives in :mod:`rrbody.physics.planar` (footprints in m in the body frame, forces in N in the world
+frame, torques in N m). ``import rrbody.planar``, ``from rrbody import planar`` and the attribute
+``rrbody.planar`` all give this module. Importing it loads numpy and the compiled kernels' modules;
+``import rrbody`` alone does not.
+"""
+
+from rrbody.physics.planar import Footprints, Part, box, circle, ellipse, is_part, point, polygon
+
+__all__ = ["circle", "ellipse", "box", "polygon", "point", "Footprints", "Part", "is_part"]
