@@ -88,15 +88,15 @@ def test_the_tee_translating_feels_no_torque(how: str, v: tuple) -> None:
 
 
 def test_the_tee_spread_by_area_would_turn() -> None:
-    """The old loading (by area, the centre of pressure at the area centroid, 7.5 below the centre of
+    """The old loading (by area, the centre of pressure at the area centroid, 30/7 below the centre of
     gravity) has torque -mu m g (P x v_hat) != 0: the test above can fail."""
     _, _, body = tee("gym")
     shapes, geo, *_ = apply_pressure(body_parts(body), uniform())  # no balance: the load where the areas put it
-    py = (3600 * 15.0 + 2700 * 75.0) / 6300 - 45.0  # area centroid - centre of gravity (body frame): -7.5
+    py = (3600 * 15.0 + 2700 * 75.0) / 6300 - 45.0  # area centroid - centre of gravity (body frame): -30/7
     load, P = centre_of_pressure(shapes, geo)
     assert load == pytest.approx(1.0, rel=1e-14) and P == pytest.approx([0.0, py], abs=1e-12)
     _, _, tq = C.footprint_wrench(shapes, geo, 0, shapes.shape[0], 1.0, 0.0, 0.0, 0.0)
-    assert tq == pytest.approx(py, rel=1e-13)  # -(P x x_hat) = P_y: 7.5 m per unit load, far from 0
+    assert tq == pytest.approx(py, rel=1e-13)  # -(P x x_hat) = P_y: -4.3 m per unit load, far from 0
 
 
 @pytest.mark.parametrize("how", ["gym", "masses"])
