@@ -168,6 +168,31 @@ def test_a_pressure_profile_is_taken_as_given() -> None:
     assert got[0].shape[0] == 1 and got[0][0, C.KIND] == C.RING and got[0][0, C.WEIGHT] == 1.0
 
 
+def test_a_footprint_table_carries_the_mass_shares() -> None:
+    """friction_method="table" on a T of bars of masses 1 and 3 (shares 1/4, 3/4, no tilt): within 1e-10 of
+    the exact wrench (the table's stated accuracy, units mu m g and mu m g x reach), docs/footprint-table.md."""
+    space = pymunk.Space()
+    pf = PlaneFriction(space, g=G)
+    bodies = []
+    for _ in range(2):
+        body = pymunk.Body()
+        bar, stem = pymunk.Poly(body, [(x / S * 0.03, y / S * 0.03) for x, y in BAR]), \
+            pymunk.Poly(body, [(x / S * 0.03, y / S * 0.03) for x, y in STEM])  # in metres: a 0.12 m T
+        bar.mass, stem.mass = 1.0, 3.0
+        space.add(body, bar, stem)
+        bodies.append(body)
+    pf.add(bodies[0], mu=MU, friction_method="table")
+    pf.add(bodies[1], mu=MU)
+    rng = np.random.default_rng(5)
+    scale, reach = MU * G * 4.0, 0.12
+    worst = 0.0
+    for _ in range(100):
+        v = (float(rng.normal()), float(rng.normal()), float(rng.choice([-1, 1]) * 10.0 ** rng.uniform(-1, 2)))
+        a, e = (np.array(pf.wrench(b, velocity=v, angle=0.3)) for b in bodies)
+        worst = max(worst, *(np.abs(a - e) / [scale, scale, scale * reach]))
+    assert worst < 1e-10
+
+
 # ---- a centre of gravity set by hand: the linear pressure ---------------------------------------
 W, H = 0.3, 0.1
 
