@@ -24,7 +24,10 @@ be added: one that is not slides on it without friction.
 Footprints come from each body's geoms whose lowest point lies within ``touch`` of the plane: a box
 on one of its faces (a rectangle), a cylinder on one of its flat ends (a disk), a sphere (a point);
 several geoms make a union, and the load is spread over them as ``pressure`` says
-(:mod:`rrbody.pressure`, uniform by default). Bodies must be single rigid bodies on a free joint.
+(:mod:`rrbody.pressure`; by default by area, made linear where that is needed to put the centre of
+pressure under the body's centre of mass: a compiled model keeps a body's mass and centre of mass,
+not its geoms' masses; a footprint given by hand may carry per-part masses, ``rrbody.planar.box(...,
+mass=...)``). Bodies must be single rigid bodies on a free joint.
 Frames: the plane's own axes (its geom frame: t1, t2 in the plane, n its normal); angles about n
 are measured from each body's pose when the adapter was built. The contract is docs/mujoco.md.
 """
@@ -47,7 +50,7 @@ from rrbody.model.extras import require
 from rrbody.model.pressure import Pressure, as_pressure
 from rrbody.physics.batch import stack
 from rrbody.physics.footprint import Part, apply_pressure
-from rrbody.physics.planar import is_part
+from rrbody.physics.planar import is_part, masses_given
 
 mujoco = require("mujoco", purpose="the MuJoCo adapter (rrbody.mujoco)")
 
@@ -92,7 +95,8 @@ class PlaneFriction:
         the in-plane load (gravity along a tilted plane, your forces, a push) lies in its contact's
         limit surface.
     pressure : Pressure or str
-        How each body's normal load is spread over its footprint (:mod:`rrbody.pressure`).
+        How each body's normal load is spread over its footprint (:mod:`rrbody.pressure`; the default
+        is centred on the body's centre of mass, linear where it must be: docs/mujoco.md).
     touch : float
         Largest gap (m) between a geom's lowest point and the plane for the geom to be a footprint.
     footprints : dict, optional
@@ -153,7 +157,11 @@ class PlaneFriction:
         for i, b in enumerate(ids):
             self._geom_row[model.geom_bodyid == b] = i
             parts = given[b] if b in given else parts_of(model, data, b, self._frame, self._height, self.touch)
-            shapes, geo, reach, (gx, gy), jj = apply_pressure(parts, pressure)
+            try:  # the footprint is from the centre of mass: a load centred elsewhere is made linear to centre it
+                masses_given(parts)  # (geoms read from the model carry none: MuJoCo keeps only the body's mass)
+                shapes, geo, reach, (gx, gy), jj = apply_pressure(parts, pressure, balance=True)
+            except ValueError as e:
+                raise ValueError(f"{_name(model, 'body', b)}: {e}") from None
             feet.append((shapes, geo))
             m = float(model.body_mass[b])
             Ri = data.ximat[b].reshape(3, 3)

@@ -9,8 +9,8 @@
         pf.step(1 / 120)                          # instead of space.step(1 / 120)
 
 The friction of each body is integrated over the area of its own shapes (circles, polygons,
-segments with a radius, several per body) under a uniform normal pressure m g / A: exact for
-circles (instantaneous-centre quadrature) and convex polygons (:mod:`rrbody.physics.polygon`), or
+segments with a radius, several per body), each shape pressing with its own weight over its area
+(centred on the centre of gravity: docs/plugin.md): exact for circles and convex polygons, or
 under a pressure distribution you choose (``pf.add(body, mu=0.4, pressure=rrbody.pressure.ring(0.05))``:
 a rim, an annulus, a Hertz patch, feet, any p(x, y); :mod:`rrbody.physics.contact`).
 One compiled call per step reads every body through ``pymunk.batch``, computes all wrenches and
@@ -134,7 +134,7 @@ class PlaneFriction:
             friction_method: str = "auto") -> None:
         """Give ``body`` (dynamic, already in the space, with at least one shape of positive area)
         friction coefficient ``mu`` (>= 0) against the plane, its weight pressing on it as
-        ``pressure`` says (:mod:`rrbody.pressure`: uniform over its shapes, the default; a ring, an
+        ``pressure`` says (:mod:`rrbody.pressure`: each shape's weight over its area, the default; a ring, an
         annulus, a Hertz patch, feet, or your own p(x, y); positions in the body frame from its centre
         of gravity, m; also the text form, e.g. ``"ring:0.05"``). ``mu_static`` (>= mu, default mu):
         a body at rest stays exactly at rest while the load on it (your forces and torques, gravity
@@ -149,14 +149,14 @@ class PlaneFriction:
         again after changing either. The body's current velocity is its velocity at the next step's
         start time (the first step gives it the half kick of the staggered scheme).
 
-        Raises ValueError naming the body for a mass or moment that is not positive and finite and
-        for a position, angle, velocity or spin that is not finite. Amortised O(1): no copy of the
-        other bodies' data."""
+        Raises ValueError naming the body for a mass or moment that is not positive and finite, for a
+        position, angle, velocity or spin that is not finite, and for a centre of gravity no non-negative
+        pressure holds (it would tip). Amortised O(1): no copy of the other bodies' data."""
         self._check_body(body)
         mu = float(check("mu", mu))
         mu_s = mu if mu_static is None else check_mu_static(mu_static, mu)
         method = check_choice("friction_method", friction_method, FRICTION_METHODS)
-        footprint = body_footprint(body, as_pressure(pressure))
+        footprint = body_footprint(body, as_pressure(pressure), name=self._name, table=method == "table")
         self._add(body, law=K.LAW_DRY, coeff=mu * self._g_normal, footprint=footprint, snap=True, history=None,
                   static=mu_s * self._g_normal, tabulate=method == "table")
 

@@ -7,17 +7,23 @@ and enters as one convex polygon with ``SEGMENT_CAP_EDGES`` edges on each round 
 0.6 % short at 16); a segment of radius 0 has no area and no friction. rrbody's own scenes build
 their footprint from the scene instead (:func:`rrbody.physics.footprint.body_parts`). Geometry is
 in the body frame with the origin at the body's centre of gravity (m); the pressure distribution
-(:mod:`rrbody.model.pressure`) says what load each part carries.
+(:mod:`rrbody.model.pressure`) says what load each part carries. Under the default one each shape
+presses with its own weight (``shape.mass``, as pymunk has it from a mass or a density) over its own
+area, or by area when no shape has a mass (a body whose mass you set); a centre of gravity off the
+shapes' centre of mass (``body.center_of_gravity`` set by hand) gets the linear pressure that centres
+the load on it (:mod:`rrbody.physics.loads`).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
 from rrbody.model.pressure import Pressure, uniform
+from rrbody.physics import contact as C
 from rrbody.physics.footprint import Footprint, Part, apply_pressure, ellipse_part, polygon_part
 
 __all__ = ["body_parts", "body_footprint", "SEGMENT_CAP_EDGES"]
@@ -36,15 +42,27 @@ def _stadium(a: tuple[float, float], b: tuple[float, float], r: float) -> np.nda
     return np.array(pts)
 
 
-def body_footprint(body: Any, pressure: Pressure | None = None) -> Footprint:
-    """The footprint of a pymunk ``body``'s own shapes under ``pressure`` (default uniform). Raises
-    ValueError for a body without area, a shape kind pymunk added after 7.x, or a pressure whose load
-    does not lie on the shapes."""
-    return apply_pressure(body_parts(body), uniform() if pressure is None else pressure)
+def body_footprint(body: Any, pressure: Pressure | None = None, *, name: Callable[[Any], str] = repr,
+                   table: bool = False) -> Footprint:
+    """The footprint of a pymunk ``body``'s own shapes under ``pressure`` (default uniform: each shape's
+    weight over its area, centred on the centre of gravity). Raises ValueError for a body without area,
+    a shape kind pymunk added after 7.x, or a pressure whose load does not lie on the shapes, and,
+    naming the body (``name(body)``), where no linear pressure centres the load on a centre of gravity
+    set by hand (the body would tip), or where ``table`` (a wrench table, which needs each polygon
+    uniformly loaded) meets such a linear pressure."""
+    try:
+        foot = apply_pressure(body_parts(body), uniform() if pressure is None else pressure, balance=True)
+    except ValueError as e:
+        raise ValueError(f"body {name(body)}: {e}") from None
+    if table and np.any((foot[0][:, C.KIND] == C.POLYGON) & ((foot[0][:, C.KX] != 0.0) | (foot[0][:, C.KY] != 0.0))):
+        raise ValueError(f"body {name(body)}: friction_method 'table' needs each polygon uniformly loaded, but its "
+                         f"centre of gravity, off its shapes' centre of mass, tilts the pressure: use 'auto' (exact)")
+    return foot
 
 
 def body_parts(body: Any) -> list[Part]:
-    """The parts of a pymunk ``body``'s own shapes with area (body frame from its centre of gravity)."""
+    """The parts of a pymunk ``body``'s own shapes with area (body frame from its centre of gravity),
+    each carrying its shape's mass (kg, row WEIGHT: :func:`rrbody.physics.loads.shares`)."""
     import pymunk
 
     cog = body.center_of_gravity
@@ -62,6 +80,7 @@ def body_parts(body: Any) -> list[Part]:
 
     parts: list[Part] = []
     for s in sorted(body.shapes, key=keyf):
+        n = len(parts)
         if isinstance(s, pymunk.Circle):
             if s.radius > 0.0:
                 parts.append(ellipse_part(s.offset.x - ox, s.offset.y - oy, s.radius, s.radius))
@@ -77,6 +96,8 @@ def body_parts(body: Any) -> list[Part]:
             parts.append(polygon_part(np.array([(v.x - ox, v.y - oy) for v in s.get_vertices()])))
         else:
             raise ValueError(f"shape must be a pymunk Circle, Poly or Segment, got {type(s).__name__}")
+        if len(parts) > n:
+            parts[-1][0][C.WEIGHT] = float(s.mass)
     if not parts:
         raise ValueError("body must have at least one shape with area (a Circle, a Poly or a Segment with a "
                          "radius) for plane friction, got none")

@@ -4,16 +4,19 @@ A distribution is plain validated data; where its load goes is in the body frame
 centre of gravity, in metres. Friction is linear in the pressure, so each distribution is a sum of
 parts whose dry-friction wrench is exact (:mod:`rrbody.physics.contact`):
 
-- :func:`uniform` (the default): the weight spread evenly over the body's footprint;
+- :func:`uniform` (the default): each shape's weight spread evenly over its own area, centred on the
+  centre of gravity (linear where a centre of gravity set by hand needs it:
+  :mod:`rrbody.physics.loads`);
 - :func:`ring`: all of it on a circle (a cup's rim, a curling stone's running band);
 - :func:`annulus`: spread evenly between two circles (a disk minus a disk);
 - :func:`hertz`: p proportional to sqrt(1 - r^2/a^2) on a disk of radius a (a sphere, a rounded foot);
 - :func:`points`: feet, each carrying its share of the weight (a finite sum of point contacts);
 - :func:`field`: any p(x, y) >= 0 you give, sampled on the footprint.
 
-rrbody takes the distribution as given: in a static body on a level plane the centre of pressure
-lies under the centre of gravity, which the centred profiles (``centre=(0, 0)``, the default) and
-symmetric feet satisfy; placing it elsewhere is allowed and means a moment the plane supplies.
+In a static body on a level plane the centre of pressure lies under the centre of gravity: the
+default sees to it from the shapes' masses and the centre of gravity (or refuses a body that would
+tip); the other profiles are taken as given, which the centred ones (``centre=(0, 0)``, the default)
+and symmetric feet satisfy; placing them elsewhere is allowed and means a moment the plane supplies.
 Where the load must lie on the body (a ring inside its footprint, feet on it) is checked where the
 footprint is known (:func:`rrbody.physics.footprint.apply_pressure`).
 
@@ -115,7 +118,9 @@ class Pressure:
 
 
 def uniform() -> Pressure:
-    """The weight spread evenly over the footprint (the default)."""
+    """The default: each shape's (part's) weight spread evenly over its own area (by area where the
+    shapes carry no masses), its centre of pressure at the centre of gravity (linear where a centre of
+    gravity set by hand needs it: :mod:`rrbody.physics.loads`)."""
     return Pressure()
 
 

@@ -8,7 +8,10 @@ A *footprint* is a list of parts, each a row of ``shapes`` carrying its share of
 - ELLIPSE (a circle if RA = RB): uniform pressure, the instantaneous-centre quadrature (NQ nodes per
   panel; 24 give a circle to ~5e-12), semi-axes RA, RB (m), the RA axis at angle ORI (rad);
 - POLYGON: uniform pressure on a convex polygon, exact (:mod:`rrbody.physics.polygon`): RAD, AREA,
-  MXX, MXY, MYY, its vertices ``geo[V0:V1]`` and far-field rule ``geo[Q0:Q1]``;
+  MXX, MXY, MYY, its vertices ``geo[V0:V1]`` and far-field rule ``geo[Q0:Q1]``; a pressure slope
+  (KX, KY) != 0 (1/m) makes its pressure linear, proportional to 1 + k . (s - centroid), also exact
+  (:mod:`rrbody.physics.polygon_linear`; the slope that puts a body's centre of pressure at its
+  centre of gravity, :mod:`rrbody.physics.footprint`);
 - POINT: the load at one point (a foot, a point mass);
 - SAMPLED: area elements ``geo[Q0:Q1]`` (rows x, y, weight; weights sum to 1): any pressure p(x, y);
 - RING: the load spread evenly on a circle of radius RA (a rim, a running band), exact
@@ -33,14 +36,17 @@ from rrbody.physics.effects import area_sampled, law_dry
 from rrbody.physics.effects.laws import DRY
 from rrbody.physics.icr import icr_wrench
 from rrbody.physics.polygon import polygon_wrench
+from rrbody.physics.polygon_linear import linear_polygon_wrench
 from rrbody.physics.radial import hertz_wrench, ring_wrench
 
 __all__ = ["footprint_wrench", "pack", "KIND", "WEIGHT", "CX", "CY", "RA", "RB", "ORI", "NQ", "RAD", "AREA",
            "MXX", "MXY", "MYY", "V0", "V1", "Q0", "Q1", "N_SHAPE", "ELLIPSE", "POLYGON", "POINT", "SAMPLED",
-           "RING", "HERTZ", "KIND_NAMES", "HEADER", "H_PARTS", "H_GX", "H_GY", "H_J", "H_REACH"]
+           "RING", "HERTZ", "KX", "KY", "KIND_NAMES", "HEADER", "H_PARTS", "H_GX", "H_GY", "H_J", "H_REACH"]
 
 KIND, WEIGHT, CX, CY, RA, RB, ORI, NQ, RAD, AREA, MXX, MXY, MYY, V0, V1, Q0, Q1 = range(17)
 N_SHAPE = 17
+#: a polygon's pressure slope (1/m): columns an ellipse's semi-axes use, free in a polygon's row
+KX, KY = RA, RB
 ELLIPSE, POLYGON, POINT, SAMPLED, RING, HERTZ = 0.0, 1.0, 2.0, 3.0, 4.0, 5.0
 KIND_NAMES = {ELLIPSE: "ellipse", POLYGON: "polygon", POINT: "point", SAMPLED: "sampled", RING: "ring",
               HERTZ: "hertz"}
@@ -73,10 +79,14 @@ def footprint_wrench(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int, vbx:
             gx, gy, gt = icr_wrench(shapes[k, RA], shapes[k, RB], int(shapes[k, NQ]), shapes[k, ORI], ux, uy, w,
                                     1, 1.0, v_eps, 0.0)
             gt += ox * gy - oy * gx  # the kernels' torques are about the part's centre
-        elif kind == POLYGON:
+        elif kind == POLYGON and shapes[k, KX] == 0.0 and shapes[k, KY] == 0.0:
             gx, gy, gt = polygon_wrench(geo, int(shapes[k, V0]), int(shapes[k, V1]), shapes[k, AREA], ox, oy,
                                         shapes[k, RAD], shapes[k, MXX], shapes[k, MXY], shapes[k, MYY], geo,
                                         int(shapes[k, Q0]), int(shapes[k, Q1]), vbx, vby, w, v_eps)
+        elif kind == POLYGON:
+            gx, gy, gt = linear_polygon_wrench(geo, int(shapes[k, V0]), int(shapes[k, V1]), shapes[k, AREA], ox, oy,
+                                               shapes[k, RAD], shapes[k, KX], shapes[k, KY], geo, int(shapes[k, Q0]),
+                                               int(shapes[k, Q1]), vbx, vby, w, v_eps)
         elif kind == POINT:
             gx, gy = law_dry.force(ux, uy, 1.0, v_eps)
             gt = ox * gy - oy * gx

@@ -3,7 +3,9 @@
 
 The geometry comes from a pymunk body (:func:`rrbody.engine.shapes.body_footprint`) or from one of
 rrbody's bodies (:func:`scene_parts`); :func:`apply_pressure` then spreads the load as the pressure
-distribution (:mod:`rrbody.model.pressure`) says. One description feeds both paths: the plugin
+distribution (:mod:`rrbody.model.pressure`) says; under the default one each part presses with its
+own weight and a centre of gravity off the parts' centre of mass gets a linear pressure
+(:mod:`rrbody.physics.loads`). One description feeds both paths: the plugin
 steps these rows, and the ODE path packs the same rows into its ``S`` (:func:`rrbody.physics.contact.pack`).
 Geometry is in the body frame with the origin at the body's centre of gravity (m).
 """
@@ -17,6 +19,7 @@ import numpy as np
 from rrbody.model.bodies import Body
 from rrbody.model.pressure import Pressure
 from rrbody.physics import contact as C
+from rrbody.physics.loads import centred, shares
 from rrbody.physics.polygon import gauss_rule, polygon_geometry
 
 __all__ = ["Footprint", "Part", "ellipse_part", "polygon_part", "point_part", "sampled_part", "ring_part",
@@ -94,15 +97,14 @@ def hertz_part(cx: float, cy: float, a: float) -> Part:
 
 
 def combine(parts: list[Part], weights: np.ndarray | None = None) -> Footprint:
-    """One body's footprint from its parts: load shares ``weights`` (summing to 1), by default by
-    area (uniform pressure; parts of no area, points or samples, share it equally), and the geo
-    blocks concatenated."""
+    """One body's footprint from its parts: load shares ``weights`` (summing to 1), by default each
+    part's own weight where parts carry masses, else by area (:func:`rrbody.physics.loads.shares`;
+    parts of no area, points or samples, share it equally), and the geo blocks concatenated."""
     if not parts:
         raise ValueError("body must have at least one shape with area (a Circle, a Poly or a Segment with a "
                          "radius) for plane friction, got none")
     if weights is None:
-        areas = np.array([p[2] for p in parts])
-        weights = areas / areas.sum() if areas.sum() > 0.0 else np.full(len(parts), 1.0 / len(parts))
+        weights = shares(parts)
     rows, geos, n = [], [], 0
     for (row, geo, *_), wt in zip(parts, weights):
         row = row.copy()
@@ -190,12 +192,19 @@ def _field_samples(parts: list[Part], pressure: Pressure) -> np.ndarray:
     return np.column_stack([q[:, 0], q[:, 1], w / w.sum()])
 
 
-def apply_pressure(parts: list[Part], pressure: Pressure) -> Footprint:
+def apply_pressure(parts: list[Part], pressure: Pressure, *, balance: bool = False) -> Footprint:
     """The footprint of a body whose geometry is ``parts`` (ellipses, polygons: its shapes with area)
-    under ``pressure``. Raises ValueError naming the pressure's parameter when its load does not
-    lie on the footprint (a ring wider than the body, a foot off it)."""
+    under ``pressure``. The default (uniform) presses each part with its own weight (its mass, else
+    by area); with ``balance`` the origin is the body's centre of gravity and a load centred
+    elsewhere is made linear to centre it there (:mod:`rrbody.physics.loads`). Other profiles are
+    taken as given (they say where the load is). Raises ValueError naming the pressure's parameter
+    when its load does not lie on the footprint (a ring wider than the body, a foot off it), or why
+    no linear pressure centres the load (the body would tip)."""
     if pressure.is_uniform:
-        return combine(parts)
+        weights = shares(parts)
+        if balance:
+            parts, weights = centred(parts, weights)
+        return combine(parts, weights)
     if not any(p[2] > 0.0 for p in parts):
         raise ValueError(f"pressure {pressure.kind!r} needs a body with area (a point mass has no footprint)")
     reach = max(p[3] for p in parts)

@@ -3,7 +3,10 @@
 A body's *footprint* is the union of its parts on the plane: circles, ellipses, convex polygons
 (boxes), points; its normal load is spread over them as a pressure distribution says
 (:mod:`rrbody.pressure`: uniform by default, a ring, an annulus, a Hertz patch, feet, any p(x, y)).
-Geometry is in the body frame, from the body's centre of gravity, in metres. :class:`Footprints`
+Geometry is in the body frame, from the body's centre of gravity, in metres. Each part may carry
+its ``mass`` (kg): then each presses with its own weight over its own area, and a centre of gravity
+(the origin) off the parts' centre of mass gets the linear pressure that centres the load on it
+(:mod:`rrbody.physics.loads`); parts without masses share the load by area, as placed. :class:`Footprints`
 stacks n bodies once; :meth:`Footprints.wrench` then takes their angles, velocities and spins and
 returns the Coulomb friction force and torque of each, exact (the kernel of the pymunk plugin and of
 the ODE path, :func:`rrbody.physics.contact.footprint_wrench`, in one compiled loop)::
@@ -39,10 +42,11 @@ import numpy as np
 from rrbody.model.bodies import Polygon
 from rrbody.model.checks import check_nonnegative, check_positive, check_real
 from rrbody.model.pressure import Pressure, as_pressure
+from rrbody.physics import contact as C
 from rrbody.physics.batch import batch_wrench, stack
 from rrbody.physics.footprint import ICR_NODES, Part, apply_pressure, ellipse_part, point_part, polygon_part
 
-__all__ = ["circle", "ellipse", "box", "polygon", "point", "Footprints", "Part", "is_part"]
+__all__ = ["circle", "ellipse", "box", "polygon", "point", "Footprints", "Part", "is_part", "masses_given"]
 
 
 def _xy(name: str, value: object) -> tuple[float, float]:
@@ -53,40 +57,63 @@ def _xy(name: str, value: object) -> tuple[float, float]:
     return check_real(f"{name}[0]", x), check_real(f"{name}[1]", y)
 
 
-def circle(radius: float, centre: Sequence[float] = (0.0, 0.0)) -> Part:
-    """A disk of ``radius`` (m, > 0) centred at ``centre`` (m, body frame from the centre of gravity)."""
+def _massed(part: Part, mass: float | None) -> Part:
+    """``part`` carrying ``mass`` (kg, > 0; None: none) in its row's WEIGHT (:func:`rrbody.physics.loads.shares`)."""
+    if mass is not None:
+        part[0][C.WEIGHT] = check_positive("mass", mass, unit="kg")
+    return part
+
+
+def circle(radius: float, centre: Sequence[float] = (0.0, 0.0), *, mass: float | None = None) -> Part:
+    """A disk of ``radius`` (m, > 0) centred at ``centre`` (m, body frame from the centre of gravity);
+    ``mass`` (kg, > 0) its own weight's mass, or None."""
     r = check_positive("radius", radius, unit="m")
     cx, cy = _xy("centre", centre)
-    return ellipse_part(cx, cy, r, r, 0.0, ICR_NODES)
+    return _massed(ellipse_part(cx, cy, r, r, 0.0, ICR_NODES), mass)
 
 
-def ellipse(a: float, b: float, centre: Sequence[float] = (0.0, 0.0), angle: float = 0.0) -> Part:
-    """An ellipse with semi-axes ``a`` (along ``angle``, rad from the body x axis) and ``b`` (m, > 0)."""
+def ellipse(a: float, b: float, centre: Sequence[float] = (0.0, 0.0), angle: float = 0.0, *,
+            mass: float | None = None) -> Part:
+    """An ellipse with semi-axes ``a`` (along ``angle``, rad from the body x axis) and ``b`` (m, > 0);
+    ``mass`` (kg, > 0) or None."""
     cx, cy = _xy("centre", centre)
-    return ellipse_part(cx, cy, check_positive("a", a, unit="m"), check_positive("b", b, unit="m"),
-                        check_real("angle", angle), ICR_NODES)
+    return _massed(ellipse_part(cx, cy, check_positive("a", a, unit="m"), check_positive("b", b, unit="m"),
+                                check_real("angle", angle), ICR_NODES), mass)
 
 
-def polygon(vertices: Sequence[Sequence[float]]) -> Part:
-    """A convex polygon, ``vertices`` (m, body frame from the centre of gravity, either orientation)."""
+def polygon(vertices: Sequence[Sequence[float]], *, mass: float | None = None) -> Part:
+    """A convex polygon, ``vertices`` (m, body frame from the centre of gravity, either orientation);
+    ``mass`` (kg, > 0) or None."""
     Polygon(vertices=tuple(map(tuple, vertices)))  # type: ignore[arg-type]  # validates: ValueError naming vertices
-    return polygon_part(np.array(vertices, dtype=float))
+    return _massed(polygon_part(np.array(vertices, dtype=float)), mass)
 
 
-def box(width: float, height: float, centre: Sequence[float] = (0.0, 0.0), angle: float = 0.0) -> Part:
-    """A rectangle ``width`` x ``height`` (m, > 0), ``width`` along ``angle`` (rad from the body x axis)."""
+def box(width: float, height: float, centre: Sequence[float] = (0.0, 0.0), angle: float = 0.0, *,
+        mass: float | None = None) -> Part:
+    """A rectangle ``width`` x ``height`` (m, > 0), ``width`` along ``angle`` (rad from the body x axis);
+    ``mass`` (kg, > 0) or None."""
     w = 0.5 * check_positive("width", width, unit="m")
     h = 0.5 * check_positive("height", height, unit="m")
     cx, cy = _xy("centre", centre)
     a = check_real("angle", angle)
     c, s = math.cos(a), math.sin(a)
     corners = [(w, -h), (w, h), (-w, h), (-w, -h)]
-    return polygon_part(np.array([(cx + c * x - s * y, cy + s * x + c * y) for x, y in corners]))
+    return _massed(polygon_part(np.array([(cx + c * x - s * y, cy + s * x + c * y) for x, y in corners])), mass)
 
 
-def point(x: float, y: float) -> Part:
-    """All of the part's load at one point (m, body frame): a foot, a point mass."""
-    return point_part(check_real("x", x), check_real("y", y))
+def point(x: float, y: float, *, mass: float | None = None) -> Part:
+    """All of the part's load at one point (m, body frame): a foot, a point mass; ``mass`` (kg, > 0) or None."""
+    return _massed(point_part(check_real("x", x), check_real("y", y)), mass)
+
+
+def masses_given(parts: Sequence[Part]) -> bool:
+    """Whether every part of one body carries a mass (True) or none does (False); ValueError when only
+    some do (the others' share of the weight would be unknown; the caller names the body)."""
+    has = [p[0][C.WEIGHT] > 0.0 for p in parts]
+    if any(has) and not all(has):
+        raise ValueError(f"mass must be given for every part of a body or for none, got masses on {sum(has)} of "
+                         f"{len(has)} parts (part {has.index(False)} has none)")
+    return all(has)
 
 
 def _column(name: str, value: object, n: int, unit: str, *, lo: float = -math.inf) -> np.ndarray:
@@ -117,8 +144,9 @@ class Footprints:
         union; overlapping parts count twice), body frame from the centre of gravity (m).
     pressure : Pressure, str or sequence of them
         How each body's load is spread (:mod:`rrbody.pressure`, or its text form ``"ring:0.05"``):
-        one for all or one per body; default uniform over the parts' area (parts without area,
-        points, share the load equally).
+        one for all or one per body; default uniform: each part's own weight over its area where
+        the parts carry masses (centred on the origin, the centre of gravity, by a linear pressure if
+        their centre of mass is elsewhere), else by area (parts without area, points, share it equally).
     """
 
     def __init__(self, bodies: Sequence[Part | Sequence[Part]], pressure: Pressure | str | Sequence[Pressure | str]
@@ -139,7 +167,7 @@ class Footprints:
                 raise ValueError(f"bodies[{i}] must be a part or a non-empty list of parts (rrbody.planar.circle, "
                                  f"box, polygon, ellipse, point), got {parts!r}")
             try:
-                shapes, geo, *_ = apply_pressure(parts, p)
+                shapes, geo, *_ = apply_pressure(parts, p, balance=masses_given(parts))
             except ValueError as e:
                 raise ValueError(f"bodies[{i}]: {e}") from None
             feet.append((shapes, geo))
