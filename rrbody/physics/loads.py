@@ -114,7 +114,7 @@ def centred(parts: list[Part], weights: np.ndarray) -> tuple[list[Part], np.ndar
         raise ValueError(f"{where}, and its load lies on a line (points in a row): no pressure on it can hold "
                          f"a centre of gravity off that line")
     k = -np.linalg.solve(J, np.array([px, py]))
-    low, lx, ly = _lowest(parts, px, py, k)
+    low, lx, ly = _lowest([p for p, w in zip(parts, weights) if w != 0.0], px, py, k)  # (a part of no load: any)
     if low < -TIP_TOL:
         raise ValueError(f"{where}, farther than any non-negative linear pressure can carry it: the pressure "
                          f"would be {low:.3g} x its mean value at ({lx:.6g}, {ly:.6g}) m (the body would tip "
