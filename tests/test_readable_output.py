@@ -18,10 +18,10 @@ DISK = ["--body", "disk", "--R0", "0.1", "--no-drive", "--v0", "1,0", "--spin0",
 def test_a_free_body_says_when_it_came_to_rest(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["simulate", *DISK, "--t-max", "5"]) == 0
     text = capsys.readouterr().out
-    assert "at rest from t = 0.571705 s" in text, text  # 6 digits, not 0.5717050384572355
+    assert "stop time 0.571705 s" in text, text  # 6 digits, not 0.5717050384572355
     assert main(["simulate", *DISK, "--t-max", "0.1"]) == 0
     text = capsys.readouterr().out
-    assert "still moving at t = 0.1 s" in text and "None" not in text, text
+    assert "still moving at t = 0.1 s (no stop time)" in text and "None" not in text, text
 
 
 def test_a_driven_run_rounds_its_numbers_in_the_sentence(capsys: pytest.CaptureFixture[str]) -> None:

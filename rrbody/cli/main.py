@@ -107,8 +107,8 @@ def _simulate(args: argparse.Namespace, scene: Any, stepper: dict[str, str], pic
             f"{number_text(ev.get('phi_min'))} rad at t={number_text(ev.get('t_phi_min'))} s"
             if scene.driven else
             f"simulated free {scene.body.kind} body for {traj.t[-1]:.6g} s: {len(traj)} samples; "
-            + (f"at rest from t = {ev['t_stop']:.6g} s" if ev.get("t_stop") is not None
-               else f"still moving at t = {traj.t[-1]:.6g} s"))
+            + (f"stop time {ev['t_stop']:.6g} s" if ev.get("t_stop") is not None
+               else f"still moving at t = {traj.t[-1]:.6g} s (no stop time)"))
     if flip is not None:
         text += f"\npictures: {flip.caption(float(traj.t[0]), float(traj.t[-1]))}"
     for k, v in written.items():
