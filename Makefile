@@ -8,7 +8,7 @@ DEMO_EXTRAS := movie
 TEST_EXTRAS := test,engine,movie,rerun,dask,data,mujoco
 DOCS_EXTRAS := docs,movie
 
-.PHONY: demo test bench scenes docs docs-check clean venv
+.PHONY: demo test bench scenes docs docs-check clean venv venv-lowest
 
 # The venv's packages are installed by uv (from PyPI, like pip; the test venv's packages in 17 s
 # against pip's 35-39 s), itself installed into the venv by the venv's pip: a fresh machine needs
@@ -65,12 +65,37 @@ venv: $(VENV)/.installed-test
 demo: $(VENV)/.installed-demo
 	$(BIN)/rrbody demo
 
-## make test: set up (test, engine, movie, rerun, dask, data, mujoco extras), then the whole test suite (2 workers)
+# the oldest versions pyproject allows: uv's lowest-direct resolution of the core, the engine (pymunk
+# 6.6), mujoco, movie and test extras (not rerun: rerun-sdk 0.41 needs numpy >= 2, which numba 0.59 does not run on;
+# the rerun recordings' tests are left out there), in a venv of their own; rrbody runs there from this checkout,
+# its kernels compiled by that venv's numba into a cache folder of its own (the checkout's install-time
+# kernels are the main venv's numba's: not copied, RRBODY_NO_SEED). make test runs LOWEST_TESTS there
+# after the whole suite: the kernels of a flip time, the plugin and its exact references on every route,
+# the recorder, the takeovers of private names, the MuJoCo adapter (docs/versions.md)
+LOWEST := .venv-lowest
+LOWEST_EXTRAS := test engine mujoco movie
+LOWEST_TESTS := tests/test_flip.py tests/test_plugin_io.py tests/test_takeovers.py tests/test_plugin.py \
+	tests/test_recorder.py tests/test_mujoco.py
+LOWEST_RUN = PYTHONPATH=$(CURDIR) RRBODY_CACHE_DIR=$(CURDIR)/$(LOWEST)/cache RRBODY_NO_SEED=1 MPLBACKEND=Agg \
+	$(LOWEST)/bin/python
+
+$(LOWEST)/.installed: pyproject.toml | $(UV)
+	$(UV) venv --quiet --allow-existing --python $(BIN)/python $(LOWEST)
+	$(UV) pip install --quiet --compile-bytecode --python $(LOWEST)/bin/python --resolution lowest-direct \
+		-r pyproject.toml $(addprefix --extra ,$(LOWEST_EXTRAS))
+	touch $@
+
+venv-lowest: $(LOWEST)/.installed
+
+## make test: set up (test, engine, movie, rerun, dask, data, mujoco extras), then the whole test suite (2 workers),
+## then a stated part of it on the oldest versions pyproject allows (.venv-lowest)
 # --dist loadgroup: the tests marked xdist_group (a file that builds costly wrench tables) run in one
 # worker, which builds each table once; pytest-xdist hands those groups out first, then every other
 # test one at a time in the suite's order (tests/conftest.py: the slow ones first)
-test: $(VENV)/.installed-test $(VENV)/.kernels
+test: $(VENV)/.installed-test $(VENV)/.kernels $(LOWEST)/.installed
 	$(BIN)/python -m pytest -n 2 --dist loadgroup --durations=15 tests
+	$(LOWEST_RUN) -m pytest -n 2 -q -p no:cacheprovider -k 'not rerun and not film_it' $(LOWEST_TESTS)
+
 
 ## make bench: work-precision benchmarks -> benchmarks/results/, then every figure the README and docs quote
 bench: $(VENV)/.installed-test $(VENV)/.kernels
@@ -90,4 +115,4 @@ docs-check: $(VENV)/.installed-docs
 	$(BIN)/python docs/check_site.py docs/_build/html
 
 clean:
-	rm -rf $(VENV) build *.egg-info docs/_build rrbody/_kernels
+	rm -rf $(VENV) $(LOWEST) build *.egg-info docs/_build rrbody/_kernels

@@ -184,3 +184,52 @@ def test_non_editable_install_lists_scenes_and_writes_nothing_inside(tmp_path: P
     assert _snapshot(site) == before  # nothing written inside the installed package
     assert any((tmp_path / "cache" / "kernels").rglob("*.nbi"))  # the kernels went to the cache folder
     assert any((tmp_path / "cache" / "tables").glob("*.npz"))
+
+
+def readme_plugin_program(movie: bool) -> str:
+    """The README's ``rrbody.plugin`` example, as the README has it now; without its movie line when the
+    environment has no movie extra."""
+    from tests.test_readme import snippets
+
+    code = next(c for lang, c in snippets((ROOT / "README.md").read_text())
+                if lang == "python" and "from rrbody.plugin import" in c)
+    return code if movie else "\n".join(line for line in code.splitlines() if not line.startswith("rec.movie("))
+
+
+@pytest.mark.install
+@pytest.mark.slow
+def test_the_engine_extra_installs_beside_gym_pusht(tmp_path: Path) -> None:
+    """`pip install '.[engine]' gym-pusht` in a fresh venv resolves (gym-pusht pins pymunk < 7: a
+    pymunk 6) and there the README's plugin example runs and the plugin's exact references hold
+    (tests/test_plugin_io.py, run against the installed package: every route to the bodies, bit for
+    bit). Installed with RRBODY_BUILD_KERNELS=0: the kernels compile on first use, the plugin's only
+    (the install's compilation of every kernel is the test above's)."""
+    env_dir = tmp_path / "venv"
+    py = env_dir / "bin" / "python"
+    uv = _installer(py)
+    venv.EnvBuilder(with_pip=uv is None).create(env_dir)
+    pip = uv or [str(py), "-m", "pip", "install", "--quiet", "--disable-pip-version-check"]
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
+    env.update(RRBODY_WORKER="off", RRBODY_CACHE_DIR=str(tmp_path / "cache"), MPLBACKEND="Agg",
+               RRBODY_BUILD_KERNELS="0")
+    test_reqs = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["optional-dependencies"]["test"]
+    fresh = ["--refresh-package", "rrbody"] if uv else []
+    got = subprocess.run([*pip, *fresh, f"{ROOT}[engine]", "gym-pusht", *test_reqs], env=env, capture_output=True,
+                         text=True, timeout=900)
+    if got.returncode != 0 and "resolv" not in got.stderr.lower() and "conflict" not in got.stderr.lower():
+        pytest.skip(f"could not install the packages here: {got.stderr.strip()[-300:]}")
+    assert got.returncode == 0, got.stderr  # a resolution failure is this test's failure
+    work = tmp_path / "work"
+    work.mkdir()
+    shutil.copy(ROOT / "tests" / "test_plugin_io.py", work)  # not the checkout's tests/: its rrbody would shadow
+    probe = ("import importlib.metadata as m, importlib.util as u, pathlib, rrbody; "
+             "print(m.version('pymunk'), u.find_spec('matplotlib') is not None, pathlib.Path(rrbody.__file__).parent)")
+    out = subprocess.run([str(py), "-c", probe], cwd=work, env=env, capture_output=True, text=True, check=True)
+    version, movie, site = out.stdout.split()
+    assert version.startswith("6.") and Path(site).is_relative_to(env_dir), out.stdout  # gym-pusht's pymunk 6
+    p = subprocess.run([str(py), "-c", readme_plugin_program(movie == "True")], cwd=work, env=env,
+                       capture_output=True, text=True, timeout=900)
+    assert p.returncode == 0, p.stderr
+    t = subprocess.run([str(py), "-m", "pytest", "-q", "-p", "no:cacheprovider", "test_plugin_io.py"], cwd=work,
+                       env=env, capture_output=True, text=True, timeout=1800)
+    assert t.returncode == 0 and " passed" in t.stdout and "failed" not in t.stdout, t.stdout[-2000:]

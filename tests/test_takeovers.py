@@ -1,0 +1,211 @@
+"""What takes over where rrbody's uses of pymunk's and numba's private names are missing
+(docs/versions.md lists every such use): each takeover is forced here and must give the same bits
+as the route it replaces (or, for numba's cache, refuse what it cannot trust).
+
+References: the default route of the same program (bit-for-bit equality: the takeovers move the
+same numbers by other means, they compute nothing of their own), and numba's own cache index.
+"""
+
+from __future__ import annotations
+
+import math
+import pickle
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pymunk
+import pytest
+
+from rrbody.engine import EngineSettings, attach
+from rrbody.engine.batchio import ROUTES, BatchIO
+from rrbody.engine.bodymem import layout
+from rrbody.engine.compat import on_begin
+from rrbody.model.bodies import Ellipse
+from rrbody.model.drive import CircularDrive
+from rrbody.model.friction import Friction
+from rrbody.model.scene import Scene
+from rrbody.plugin import PlaneFriction, Recorder
+
+
+def _sliding() -> tuple[pymunk.Space, PlaneFriction, list[pymunk.Body]]:
+    """Three bodies sliding into each other (two in the plugin, one not) and a spinning kinematic one."""
+    space = pymunk.Space()
+    pf = PlaneFriction(space, g=9.81)
+    bodies = []
+    for i, make in enumerate((lambda b: pymunk.Circle(b, 0.2), lambda b: pymunk.Poly.create_box(b, (0.4, 0.3)),
+                              lambda b: pymunk.Circle(b, 0.15, (0.05, 0.0)))):
+        b = pymunk.Body()
+        s = make(b)
+        s.density = 1.0
+        b.position, b.angle = (0.5 * i, 0.1 * i), 0.3 * i
+        b.velocity, b.angular_velocity = (1.0 - i, 0.3 * i), 4.0 - 3.0 * i
+        space.add(b, s)
+        if i != 2:
+            pf.add(b, mu=0.3)
+        bodies.append(b)
+    kin = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+    kin.position, kin.velocity, kin.angular_velocity = (0.2, 0.8), (0.1, 0.0), 1.5
+    space.add(kin, pymunk.Circle(kin, 0.05))
+    return space, pf, bodies
+
+
+def test_every_recorder_route_captures_the_same_frames(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The recorder reads its bodies' structs where the layout is proven (bodymem.layout), else the
+    space's bulk read on BatchIO's routes (pymunk.batch's C iterator, its public function, each body's
+    properties): every route stores the same frames, bit for bit, through collisions, a kinematic
+    body and a body outside the plugin."""
+    assert layout() is not None  # on every pymunk the suite runs on: else the struct route goes untested
+    space, pf, bodies = _sliding()
+    recs = [Recorder(space, pf)]
+    monkeypatch.setattr("rrbody.render.recorder.layout", lambda: None)
+    for route in ROUTES:
+        rec = Recorder(space, pf)
+        rec._io = BatchIO(space, poses=True, route=route)  # forced (the default is the fastest this pymunk has)
+        assert rec._io.route == route
+        recs.append(rec)
+    assert recs[0]._io is None
+    for _ in range(60):
+        pf.step(1e-2)
+        assert all(r.capture() for r in recs)
+    for r in recs[1:]:
+        assert np.array_equal(r.frames, recs[0].frames) and np.array_equal(r.times, recs[0].times)
+    assert recs[0].frames[-1, 0, 0] != recs[0].frames[0, 0, 0]  # they moved
+
+
+def test_a_pymunk_batch_without_the_lean_names_takes_its_public_functions(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The lean route calls pymunk.batch's C iterator and struct, names pymunk does not document: where
+    one is missing, BatchIO takes pymunk.batch's public functions (route "bulk"), with the same numbers."""
+    import pymunk.batch as pb
+
+    real = pb.lib
+
+    class NoLib:
+        """pymunk's cffi lib without pymunk.batch's C iterators (as a pymunk that renamed them would be)."""
+
+        def __getattr__(self, name: str) -> Any:
+            if "IteratorFuncBatched" in name:
+                raise AttributeError(name)
+            return getattr(real, name)
+
+    space, pf, bodies = _sliding()
+    want = BatchIO(space, poses=True).read()[0].copy()
+    monkeypatch.setattr(pb, "lib", NoLib())  # what BatchIO's lean set-up finds
+    io = BatchIO(space, poses=True)
+    assert io.route == "bulk" and not io.lean
+    monkeypatch.undo()  # pymunk.batch's public functions call the iterators by their real names
+    assert np.array_equal(io.read()[0], want)
+
+
+def test_the_drive_without_chipmunks_setters_runs_the_same_bits(monkeypatch: pytest.MonkeyPatch) -> None:
+    """rrbody's builder moves a driven body's driver through Chipmunk's setters (pymunk.batch.lib,
+    not a documented name); without them, through the driver's public properties: the same run."""
+    import pymunk.batch as pb
+
+    def run() -> tuple[Any, ...]:
+        sc = Scene(body=Ellipse(R0=0.1, delta=0.5, l=0.2), drive=CircularDrive(0.6),
+                   friction=Friction.from_k("dry", 0.05, 1.0), phi0=math.pi)
+        space = pymunk.Space()
+        h = attach(space, sc, settings=EngineSettings(dt=2e-3))
+        for _ in range(300):
+            h.plane.step(2e-3)
+        return (*h.body.position, h.body.angle, *h.body.velocity, h.body.angular_velocity, h.phi, h._drv_ptr is None)
+
+    fast = run()
+    assert fast[-1] is False  # Chipmunk's setters: the fast route
+    real = pb.lib
+
+    class NoSetters:
+        """pymunk's cffi lib without Chipmunk's body setters (as a pymunk that stopped exposing them)."""
+
+        def __getattr__(self, name: str) -> Any:
+            if name in ("cpBodySetVelocity", "cpBodySetPosition"):
+                raise AttributeError(name)
+            return getattr(real, name)
+
+    monkeypatch.setattr(pb, "lib", NoSetters())
+    slow = run()
+    assert slow[-1] is True and slow[:-1] == fast[:-1]
+
+
+def test_on_begin_observes_contacts_and_lets_them_act() -> None:
+    """rrbody.engine.compat.on_begin (pymunk 6's collision handlers, pymunk 7's on_collision): the
+    callback sees each contact begin, and the contact still acts. Two equal disks head on: the
+    collision reverses their approach (elasticity 0: they leave together, each at their mean
+    velocity, 0 m/s)."""
+    for types_ in ((None, None), (1, 2), (1, None)):
+        space = pymunk.Space()
+        disks = []
+        for x, v, ct in ((-0.5, 1.0, 1), (0.5, -1.0, 2)):
+            b = pymunk.Body()
+            s = pymunk.Circle(b, 0.1)
+            s.density, s.collision_type = 1.0, ct
+            b.position, b.velocity = (x, 0.0), (v, 0.0)
+            space.add(b, s)
+            disks.append(b)
+        hits: list[float] = []
+        on_begin(space, *types_, lambda arb, sp, data: hits.append(1.0))
+        for _ in range(100):
+            space.step(1e-2)
+        assert hits == [1.0], types_
+        assert abs(disks[0].velocity.x) < 1e-9 and abs(disks[1].velocity.x) < 1e-9  # the contact acted
+    with pytest.raises(ValueError, match="b must be None when a is None"):
+        on_begin(pymunk.Space(), None, 2, lambda *a: None)
+
+
+def test_kernels_compile_without_numbas_private_option(monkeypatch: pytest.MonkeyPatch) -> None:
+    """rrbody.lean's kernels are compiled with numba's undocumented ``_nrt=False``; a numba without it
+    gets no option (rrbody._cache.no_refcount), and a kernel compiled so computes the same numbers."""
+    import numba
+    import numba.core.cpu as cpu
+
+    from rrbody._cache import no_refcount
+    from rrbody.engine.structio import gather
+
+    assert no_refcount() == {"_nrt": False}  # the numbas the suite runs on have it
+    monkeypatch.setattr(cpu, "CPUTargetOptions", type("Options", (), {}))
+    assert no_refcount.__wrapped__() == {}
+    monkeypatch.undo()
+    space, pf, bodies = _sliding()
+    pf.step(1e-3)
+    sio = pf._sio
+    got = [np.zeros((2, 7)), np.zeros((2, 7))]
+    args = (sio._addr, sio._offs, sio._space)
+    assert gather(*args, got[0]) == -1
+    assert numba.njit(gather.py_func)(*args, got[1]) == -1  # with reference counting
+    assert np.array_equal(got[0], got[1]) and got[0][0, 1] == bodies[0].velocity.x
+
+
+def test_fast_entry_falls_back_to_the_dispatcher() -> None:
+    """rrbody.engine.lean.fast_entry reads numba's compiled entry point (dispatcher.overloads, not
+    documented); a dispatcher without it is called itself, with the same result."""
+    from rrbody.engine.lean import fast_entry
+
+    class Plain:
+        """A callable without numba's dispatcher attributes."""
+
+        def __call__(self, x: float) -> float:
+            return 2.0 * x
+
+    fn, result = fast_entry(Plain(), 1.5)
+    assert result == 3.0 and fn(2.0) == 4.0 and isinstance(fn, Plain)
+
+
+def test_numba_refuses_kernels_another_numba_cached(tmp_path: Path) -> None:
+    """rrbody's kernel folders are keyed by its version and sources, not by numba's: two environments
+    with different numbas share a folder. numba's own index names the numba that wrote it and
+    numba loads none written by another (numba.core.caching.IndexDataCacheFile): such an index reads
+    as empty, so the kernel is compiled again, never loaded."""
+    from numba.core import caching
+
+    idx = caching.IndexDataCacheFile(str(tmp_path), "kernel-probe", "stamp")
+    idx.save("key", "data")
+    assert idx.load("key") == "data"
+    index = next(tmp_path.glob("*.nbi"))
+    with open(index, "rb") as f:
+        version = pickle.load(f)
+        rest = f.read()
+    with open(index, "wb") as f:
+        pickle.dump(version + ".other", f, protocol=-1)
+        f.write(rest)
+    assert caching.IndexDataCacheFile(str(tmp_path), "kernel-probe", "stamp").load("key") is None
