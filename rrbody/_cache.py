@@ -7,14 +7,12 @@ Layout (``cache_dir()``, by default the platform's user cache folder, ``~/.cache
     tables/                        quadrature rules (``.npz``), keyed by their own parameters
     locks/                         one advisory lock file per output in use (rrbody.model.outlock)
 
-``<sources>`` is a hash of every ``.py`` file of the layers that hold kernels and of the layers below
-them (``KERNEL_LAYERS``: a kernel can inline only what it imports, and imports go only downward, which
-``tests/test_layers.py`` enforces; the same test keeps kernels out of the layers above), so a kernel
-compiled from other sources (another version, an edited checkout) is never
-loaded: numba itself keys a cached function only by its own file's time stamp and would miss an
-edit to a kernel it inlines from another file. The same hash, not the files' time stamps, is the
-stamp numba checks in each index, so kernels compiled from a source tree load from an installed copy
-of it.
+``<sources>`` hashes every ``.py`` file of the layers that hold kernels and of those below them
+(``KERNEL_LAYERS``: a kernel inlines only what it imports, and imports go only downward, which
+``tests/test_layers.py`` enforces), so a kernel compiled from other sources (another version, an
+edited checkout) is never loaded: numba keys a cached function only by its own file's time stamp
+and would miss an edit to a kernel it inlines from another file. The same hash is the stamp numba
+checks in each index, so kernels compiled from a source tree load from an installed copy of it.
 
 Kernels compiled at install: the build backend compiles every kernel once
 (:mod:`rrbody.cli.prebuild`) into the package's ``_kernels/<version>-<sources>/``; the first use of
@@ -24,6 +22,10 @@ that does not match is compiled again, never used). The first run of new sources
 folders of other sources beyond the four newest that have gone unused for an hour. ``rrbody cache clear`` empties the folder;
 ``rrbody cache info`` shows it.
 
+A damaged or foreign file in the folder (truncated, garbage, a folder in a file's place) is rebuilt:
+numba's files of a kernel it cannot read are removed and the kernel compiled again (``_guard_numba``),
+and so are tables (``stored_arrays``); one that cannot be removed raises :class:`CacheDamaged`.
+
 The package folder is never written to: an installed rrbody leaves its files as pip put them.
 This module is imported by the layers that hold kernels (physics, integrate, engine) before they
 define any, and it imports numba only there, so ``import rrbody`` stays cheap.
@@ -31,6 +33,7 @@ define any, and it imports numba only there, so ``import rrbody`` stays cheap.
 
 from __future__ import annotations
 
+import errno
 import functools
 import hashlib
 import os
@@ -41,9 +44,8 @@ from typing import Any
 from rrbody._version import __version__
 
 __all__ = ["ENV", "BUILD_FILE", "cache_dir", "kernels_dir", "shipped_kernels_dir", "tables_dir", "stored_arrays",
-           "locks_dir", "source_hash",
-           "use_for_kernels", "kernel_sources", "KERNEL_LAYERS", "prune_kernels", "seed_kernels",
-           "built_by_numba", "NO_SEED", "no_refcount"]
+           "locks_dir", "source_hash", "use_for_kernels", "kernel_sources", "KERNEL_LAYERS", "prune_kernels",
+           "seed_kernels", "built_by_numba", "NO_SEED", "no_refcount", "CacheDamaged", "remove_damaged"]
 
 #: the environment variable that moves the cache folder
 ENV = "RRBODY_CACHE_DIR"
@@ -60,9 +62,28 @@ def cache_dir() -> Path:
     return Path(platformdirs.user_cache_dir("rrbody", appauthor=False))
 
 
-#: the sub-packages whose sources the kernels are compiled from: those that define kernels (physics,
-#: integrate, engine) and the one below them (model); an edit in analysis, render or cli, which
-#: hold no kernel and which no kernel imports, compiles nothing again
+class CacheDamaged(OSError):
+    """A damaged cache file that cannot be removed: the command line prints its ``strerror`` (which says
+    ``rrbody cache clear``) and ``filename`` on one line and exits with status 1, as for any OSError."""
+
+
+def remove_damaged(path: Path) -> None:
+    """Remove the damaged cache entry ``path`` (a file, a link, or a folder in a file's place), for what
+    it held to be rebuilt. Raises :class:`CacheDamaged` naming it if it cannot be."""
+    import shutil
+
+    try:
+        if path.is_dir() and not path.is_symlink():
+            shutil.rmtree(path)
+        else:
+            path.unlink(missing_ok=True)
+    except OSError:
+        raise CacheDamaged(errno.EIO, "a damaged file in rrbody's cache folder could not be removed; run "
+                                      "`rrbody cache clear`", str(path)) from None
+
+
+#: the sub-packages the kernels are compiled from: those that define kernels (physics, integrate, engine)
+#: and the one below them (model); an edit in analysis, render or cli (no kernel there) compiles nothing
 KERNEL_LAYERS = ("model", "physics", "integrate", "engine")
 #: modules at the package root that the kernel layers import
 KERNEL_ROOT_FILES = ("_cache.py", "_version.py")
@@ -122,11 +143,9 @@ def built_by_numba(folder: Path) -> str | None:
 
 
 def _fill_in(shipped: Path, target: Path) -> bool:
-    """Complete a kernel folder numba began before the install's kernels existed (a source tree
-    used before its prebuild finished): every function whose index it lacks gets the install's index
-    and compiled files, each copied to a temporary name and renamed (a reader never sees half a
-    file); functions numba compiled here keep their own. The build file, written last, marks the
-    folder complete."""
+    """Complete a kernel folder numba began before the install's kernels existed (a source tree used
+    before its prebuild finished): each function it lacks gets the install's files, each copied and
+    renamed (never seen half-written); numba's own stay. The build file, last, marks it complete."""
     import shutil
 
     copied = False
@@ -156,10 +175,9 @@ def _fill_in(shipped: Path, target: Path) -> bool:
 
 def seed_kernels() -> bool:
     """Copy the kernels compiled at install into the cache folder, if it has none for these sources
-    yet. Atomic (a copy in a temporary folder, renamed): of two processes seeding at once, one wins
-    and the other's copy is dropped. A folder numba began before the install's kernels existed is
-    completed function by function (:func:`_fill_in`). Kernels compiled by another numba (pip's build environment may
-    hold a newer one than the environment it installs into) would all be refused by numba: they are
+    yet. Atomic (a copy in a temporary folder, renamed): of two processes seeding at once, one wins.
+    A folder numba began before them is completed function by function (:func:`_fill_in`). Kernels
+    of another numba (pip's build environment may hold a newer one) would all be refused by numba:
     not copied, and a RuntimeWarning says how to compile them once (``rrbody cache build``).
     Returns whether this call seeded (never under ``RRBODY_NO_SEED``)."""
     import shutil
@@ -222,24 +240,30 @@ def tables_dir() -> Path:
 
 
 def stored_arrays(path: Path, build: Any, *, valid: Any = None) -> tuple[Any, ...]:
-    """The arrays ``build()`` returns (a tuple of numpy arrays), read from the ``.npz`` file ``path`` if
-    it holds them (and ``valid(arrays)`` says they are usable), else built and stored there for the
-    next process. Written to a temporary file and renamed: two processes may build the same arrays
-    at once, and either's file is the same; a folder that cannot be written (a read-only install)
-    only costs the build, and an unreadable or invalid file is built again."""
+    """The arrays ``build()`` returns (a tuple of numpy arrays), read from the ``.npz`` file ``path`` if it
+    holds them (stamped with its own place in the cache folder, and ``valid(arrays)``), else built and
+    stored there for the next process, through a temporary file renamed (two processes may build the
+    same arrays at once); a folder that cannot be written only costs the build. A file that cannot be
+    read for any reason (truncated, garbage, a folder in its place, another table's) is built again."""
     import tempfile
-    import zipfile
 
     import numpy as np
 
+    try:  # (outside the cache folder, the file's name)
+        stamp = path.resolve().relative_to(cache_dir().resolve()).as_posix()
+    except ValueError:
+        stamp = path.name
     try:
         with np.load(path, allow_pickle=False) as z:
-            arrays = tuple(z[f"a{i}"] for i in range(len(z.files)))
-        if arrays and (valid is None or valid(arrays)):
-            return arrays
-    except (OSError, KeyError, ValueError, zipfile.BadZipFile):
+            if "stamp" in z.files and str(z["stamp"][()]) == stamp:
+                arrays = tuple(z[f"a{i}"] for i in range(len(z.files) - 1))
+                if arrays and (valid is None or valid(arrays)):
+                    return arrays
+    except Exception:  # noqa: BLE001 (whatever a missing or damaged file makes numpy raise: built again)
         pass
     arrays = tuple(build())
+    if path.is_dir() and not path.is_symlink():
+        remove_damaged(path)  # (a file is replaced by the rename below)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
@@ -247,7 +271,7 @@ def stored_arrays(path: Path, build: Any, *, valid: Any = None) -> tuple[Any, ..
         return arrays
     try:
         with os.fdopen(fd, "wb") as fh:
-            np.savez(fh, **{f"a{i}": a for i, a in enumerate(arrays)})
+            np.savez(fh, stamp=np.array(stamp), **{f"a{i}": a for i, a in enumerate(arrays)})
         os.replace(tmp, path)
     except OSError:
         Path(tmp).unlink(missing_ok=True)
@@ -261,16 +285,11 @@ def locks_dir() -> Path:
 
 @functools.lru_cache(maxsize=1)
 def no_refcount() -> dict[str, Any]:
-    """Keyword arguments for ``njit`` of a kernel that allocates no array and keeps none.
-
-    numba's runtime counts references to the arrays a compiled function makes or passes on (an
-    atomic increment and decrement each); such a kernel gains nothing from the count. Without it
-    (numba's ``_nrt=False``) the plugin's step for 1,000 bodies ran 9-10 % faster (interleaved A/B,
-    best of 7 runs of 100 steps: 445 -> 405 us), and a footprint table's look-up, which reads its
-    coefficients through a float32 view of the table, 70 -> 43 ns (the view alone was counted
-    10 ns). ``_nrt`` is an option numba does not document: if a numba release drops it the kernels
-    are compiled as usual (same results, the count back). Called when kernels are defined, so numba
-    is imported then only."""
+    """Keyword arguments for ``njit`` of a kernel that allocates no array and keeps none: numba's
+    reference counting off (its undocumented ``_nrt=False``; dropped, the kernels compile as usual).
+    The count is an atomic increment and decrement per array passed on; without it the plugin's step
+    for 1,000 bodies ran 445 -> 405 us (interleaved A/B, best of 7 runs of 100 steps) and a footprint
+    table's look-up (a float32 view of the table) 70 -> 43 ns. numba is imported only when called."""
     try:
         from numba.core.cpu import CPUTargetOptions
     except ImportError:  # pragma: no cover - depends on the numba version
@@ -317,14 +336,17 @@ def use_for_kernels() -> None:
             try:
                 self.ensure_cache_path()
             except OSError:
-                # an unwritable cache folder: a private temporary one, never numba's next choice
-                # (which would be the package folder itself)
-                import tempfile
+                try:  # a file where a folder of the path belongs (damage): removed, then once more
+                    _clear_way(Path(self._cache_path))
+                    self.ensure_cache_path()
+                except OSError:  # an unwritable cache folder: a private temporary one, never numba's next
+                    import tempfile  # choice (which would be the package folder itself)
 
-                self._cache_path = os.path.join(tempfile.gettempdir(), f"rrbody-{os.getuid()}",
-                                                Path(self._cache_path).relative_to(cache_dir()))
+                    self._cache_path = os.path.join(tempfile.gettempdir(), f"rrbody-{os.getuid()}",
+                                                    Path(self._cache_path).relative_to(cache_dir()))
             return self
 
+    _guard_numba(caching, _Locator)
     if not kernels_dir().is_dir():  # the first run of these sources: the time to tidy up old ones
         try:
             prune_kernels()
@@ -335,3 +357,44 @@ def use_for_kernels() -> None:
     impl._locator_classes.insert(0, _Locator)
     # keep the class reachable by name for pickling and debugging
     sys.modules[__name__].RrbodyCacheLocator = _Locator  # type: ignore[attr-defined]
+
+
+def _clear_way(folder: Path) -> None:
+    """Remove what is not a folder on the way from the cache folder down to ``folder`` (damage)."""
+    root = p = cache_dir()
+    for part in folder.relative_to(root).parts if folder.is_relative_to(root) else ():
+        p = p / part
+        if (p.is_symlink() or p.exists()) and not p.is_dir():
+            remove_damaged(p)
+
+
+def _guard_numba(caching: Any, locator: type) -> None:
+    """Make a file of an rrbody kernel that numba cannot read (truncated, garbage, a folder in its place,
+    another program's) a cache miss rather than the end of the command (numba raises from deep in its
+    loader, an UnpicklingError from ``IndexDataCacheFile._load_index``, say): the function's index and
+    data files are removed, and numba compiles and saves it afresh; a failed save is retried once after
+    the same removal (a second failure is the system's: raised). Other programs' caches are untouched."""
+    cls = caching.Cache
+    if getattr(cls, "_rrbody_guarded", False):
+        return
+
+    def discard(cache: Any) -> None:
+        index = Path(cache._cache_file._index_path)
+        base = index.name[:-len("nbi")]
+        for p in [index, *(q for q in (index.parent.iterdir() if index.parent.is_dir() else ())
+                           if q.name.startswith(base) and q.name.endswith(".nbc"))]:
+            remove_damaged(p)
+
+    def guarded(method: Any, otherwise: Any) -> Any:
+        def call(self: Any, sig: Any, arg: Any) -> Any:
+            if not isinstance(self._impl.locator, locator):
+                return method(self, sig, arg)
+            try:
+                return method(self, sig, arg)
+            except Exception:  # noqa: BLE001 (whatever numba's loader raises on a damaged file)
+                discard(self)
+                return otherwise(self, sig, arg)
+        return call
+
+    cls.load_overload = guarded(cls.load_overload, lambda *_: None)  # a miss: numba compiles it
+    cls.save_overload, cls._rrbody_guarded = guarded(cls.save_overload, cls.save_overload), True  # retried once

@@ -32,7 +32,8 @@ G = 9.81
 MU, MU_S = 0.3, 0.5
 DT = 1 / 120
 #: three point feet of equal load on a circle of radius 0.06 m (tests/test_lean_sweep.py's)
-FEET = [(0.06, 0.0, 1.0), (-0.03, 0.06 * math.sin(2 * math.pi / 3), 1.0), (-0.03, -0.06 * math.sin(2 * math.pi / 3), 1.0)]
+FEET = [(0.06, 0.0, 1.0), (-0.03, 0.06 * math.sin(2 * math.pi / 3), 1.0),
+        (-0.03, -0.06 * math.sin(2 * math.pi / 3), 1.0)]
 #: the footprints: a box (exact polygon wrench), a disk (its table), a disk on feet, a box from its own
 #: footprint table, an L from its own table
 KINDS = ("box", "disk", "feet", "box-table", "L-table")
@@ -216,7 +217,7 @@ def test_rrbody_simulate_holds_and_breaks_away_on_both_paths(tmp_path: Path) -> 
         force = repr(share * 1.0 * G)
         argvs += [[*base, "--active-force", force, "--out", f"ode-{share}.csv"],
                   [*base, "--active-force", force, "--method", "engine", "--dt", "0.01", "--out", f"eng-{share}.csv"]]
-    runs = run_many(argvs, cwd=tmp_path, parallel=2)  # the real command, in subprocesses
+    runs = run_many(argvs, cwd=tmp_path, parallel=2, timeout=1800)  # the real command (compiles on a first use)
     for r in runs:
         assert r.code == 0, (r.argv, r.err)
     cols = np.genfromtxt(tmp_path / "ode-0.4.csv", delimiter=",", skip_header=1, names=True)

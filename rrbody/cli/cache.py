@@ -55,9 +55,15 @@ def cmd_cache(args: argparse.Namespace) -> int:
     if args.action == "clear":
         root = Path(rep["path"])
         if root.is_dir():
-            # the locks folder stays: a running rrbody may hold a lock in it, and its files are empty
+            # the locks folder stays: a running rrbody may hold a lock in it, and its files are empty;
+            # only what is no lock file goes (a folder or a link in one's place: damage no process holds)
             for part in root.iterdir():
-                if part.name == "locks":
+                if part.name == "locks" and part.is_dir() and not part.is_symlink():
+                    for f in part.iterdir():
+                        if f.is_dir() and not f.is_symlink():
+                            shutil.rmtree(f, ignore_errors=True)
+                        elif f.is_symlink():
+                            f.unlink(missing_ok=True)
                     continue
                 if part.is_dir() and not part.is_symlink():
                     shutil.rmtree(part, ignore_errors=True)

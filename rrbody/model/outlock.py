@@ -21,7 +21,7 @@ import sys
 from collections.abc import Iterable, Iterator
 from pathlib import Path
 
-from rrbody._cache import locks_dir
+from rrbody._cache import locks_dir, remove_damaged
 
 __all__ = ["OutputBusy", "claim", "release", "claimed", "lock_key"]
 
@@ -72,6 +72,8 @@ def claim(path: str | os.PathLike[str], *, name: str = "out") -> None:
     if key in _HELD:
         return
     f = _lock_file(key)
+    if (f.parent.exists() or f.parent.is_symlink()) and not f.parent.is_dir():
+        remove_damaged(f.parent)  # a file in the lock folder's place (damage)
     try:
         f.parent.mkdir(parents=True, exist_ok=True)
     except OSError as e:
@@ -80,6 +82,9 @@ def claim(path: str | os.PathLike[str], *, name: str = "out") -> None:
     while True:
         try:
             fd = os.open(f, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
+        except IsADirectoryError:  # a folder in the lock file's place (damage; no process can hold it)
+            remove_damaged(f)
+            continue
         except OSError as e:
             raise ValueError(f"{name}: cannot open the lock file {str(f)!r} ({e.strerror}); set RRBODY_CACHE_DIR "
                              "to a writable folder") from None

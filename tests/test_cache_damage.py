@@ -1,0 +1,232 @@
+"""A damaged or foreign file in rrbody's cache folder never ends a command in a traceback.
+
+Every kind of file the folder holds (rrbody._cache, docs/compile.md): numba's index (``.nbi``) and data
+(``.nbc``) files of a kernel, the kernel folder's ``BUILD.json``, the quadrature tables
+(``tables/*.npz``), the plugin's wrench tables (``kernels/<version>-<hash>/tables/*.npz``) and the output
+locks (``locks/*.lock``), each truncated, overwritten with garbage, replaced by a folder, made
+unreadable (not as root, who reads anything) or, for the tables, replaced by another table's file. The
+real command (``python -m rrbody.cli``, with ``RRBODY_CACHE_DIR`` set to a copy of a filled cache) then
+succeeds with the answer of the undamaged cache, and the file is rebuilt: the next run loads it. A
+damaged file that cannot even be removed ends the command with one line naming it and ``rrbody cache
+clear``, exit status 1.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import random
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rrbody import _cache
+
+RRBODY = [sys.executable, "-m", "rrbody.cli"]
+FLIP = ["flip-time", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--phi0", "pi", "--json"]
+#: a box of disks and L-shapes: the disks read the disk's wrench table from the kernel folder
+ACTIVE = ["active", "--n", "6", "--packing", "0.3", "--t-end", "0.2", "--seed", "1", "--json"]
+SIMULATE = ["simulate", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--t-max", "1", "--out", "x.csv"]
+ROOT = Path(__file__).resolve().parents[1]
+DAMAGES = ("truncated", "garbage", "folder", "unreadable")
+
+
+def _run(cache: Path, argv: list[str], *, cwd: Path, debug: bool = False,
+         prelude: str = "") -> subprocess.CompletedProcess[str]:
+    """``rrbody ARGV`` in a subprocess on the cache folder ``cache`` (numba's cache log on stdout with
+    ``debug``; ``prelude``: Python run before the command, to inject a failure)."""
+    env = dict(os.environ, **{_cache.ENV: str(cache), "MPLBACKEND": "Agg"})
+    env.pop("NUMBA_DEBUG_CACHE", None)
+    if debug:
+        env["NUMBA_DEBUG_CACHE"] = "1"
+    env["PYTHONPATH"] = str(ROOT) + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+    code = f"import sys\n{prelude}\nfrom rrbody.cli.main import entry\nsys.exit(entry(sys.argv[1:]))"
+    return subprocess.run([sys.executable, "-c", code, *argv], env=env, cwd=cwd, capture_output=True, text=True,
+                          timeout=1800)
+
+
+def _answer(r: subprocess.CompletedProcess[str]) -> dict:
+    """The command's JSON (numba's cache log lines left out), without what is timing."""
+    d = json.loads("\n".join(ln for ln in r.stdout.splitlines() if not ln.startswith("[cache]")))
+    return {k: v for k, v in d.items() if "wall" not in k and "time_s" not in k}
+
+
+def _loaded(r: subprocess.CompletedProcess[str], what: str) -> list[Path]:
+    """The files numba's cache log says it loaded (``what``: "index" or "data")."""
+    return [Path(ln.split(" from ", 1)[1].strip().strip("'\"")) for ln in r.stdout.splitlines()
+            if ln.startswith(f"[cache] {what} loaded from")]
+
+
+@pytest.fixture(scope="module")
+def filled(tmp_path_factory: pytest.TempPathFactory) -> dict:
+    """A cache folder the three commands have run on (from a copy of this session's kernels for these
+    sources, if it has them: else compiled here), their answers, and for FLIP the smallest function it
+    loads from the cache (index and data file: the quickest to compile again)."""
+    root = tmp_path_factory.mktemp("filled")
+    cache, work = root / "cache", root / "work"
+    work.mkdir()
+    mine = _cache.kernels_dir()
+    if mine.is_dir():
+        shutil.copytree(mine, cache / "kernels" / mine.name, ignore=shutil.ignore_patterns("*.tmp.*", "tables"))
+    answers = {}
+    for name, argv in (("flip", FLIP), ("active", ACTIVE), ("simulate", SIMULATE)):
+        r = _run(cache, argv, cwd=work)
+        assert r.returncode == 0, r.stderr
+        answers[name] = _answer(r) if name != "simulate" else (work / "x.csv").read_text()
+    r = _run(cache, FLIP, cwd=work, debug=True)
+    assert "data saved" not in r.stdout  # everything it needs is in the cache now
+    data = min(_loaded(r, "data"), key=lambda p: p.stat().st_size)
+    base = data.name.split(".")[0]
+    index = next(p for p in _loaded(r, "index") if p.name.split(".")[0] == base and p.parent == data.parent)
+    return {"cache": cache, "answers": answers, "nbi": index, "nbc": data}
+
+
+def _copy(filled: dict, tmp_path: Path) -> tuple[Path, Path]:
+    cache, work = tmp_path / "cache", tmp_path / "work"
+    shutil.copytree(filled["cache"], cache)
+    work.mkdir()
+    return cache, work
+
+
+def _damage(path: Path, how: str) -> None:
+    if how == "unreadable" and os.geteuid() == 0:
+        pytest.skip("root reads a file whatever its permissions")
+    data = path.read_bytes()
+    if how == "truncated":
+        path.write_bytes(data[:len(data) // 2])
+    elif how == "garbage":
+        path.write_bytes(random.Random(7).randbytes(max(len(data), 64)))
+    elif how == "folder":
+        path.unlink()
+        path.mkdir()
+        (path / "inside").write_text("a folder with a file in it, where the cache file was")
+    elif how == "unreadable":
+        path.chmod(0)
+    else:  # another table's file in this one's place: a well-formed table that names another place
+        shutil.copyfile(how, path)
+
+
+def _clean(r: subprocess.CompletedProcess[str]) -> None:
+    assert r.returncode == 0, r.stderr
+    assert "Traceback" not in r.stderr and "error" not in r.stderr.lower(), r.stderr
+
+
+@pytest.mark.parametrize("kind", ["nbi", "nbc"])
+@pytest.mark.parametrize("how", DAMAGES)
+def test_a_damaged_kernel_file_is_compiled_again(filled: dict, tmp_path: Path, kind: str, how: str) -> None:
+    cache, work = _copy(filled, tmp_path)
+    target = cache / filled[kind].relative_to(filled["cache"])
+    _damage(target, how)
+    r = _run(cache, FLIP, cwd=work)
+    _clean(r)
+    assert _answer(r) == filled["answers"]["flip"]
+    again = _run(cache, FLIP, cwd=work, debug=True)  # rebuilt: the next run loads it and saves nothing
+    _clean(again)
+    assert target.is_file() and "data saved" not in again.stdout
+    assert cache / filled["nbi"].relative_to(filled["cache"]) in _loaded(again, "index")
+
+
+@pytest.mark.parametrize("how", ["truncated", "garbage", "folder"])
+def test_a_damaged_build_file_changes_nothing(filled: dict, tmp_path: Path, how: str) -> None:
+    """``BUILD.json`` marks a kernel folder an install compiled as complete; only its presence is read."""
+    cache, work = _copy(filled, tmp_path)
+    build = cache / "kernels" / _cache.kernels_dir().name / _cache.BUILD_FILE
+    build.write_text(json.dumps({"numba": "0.0.0", "python": "3", "machine": "x"}))
+    _damage(build, how)
+    r = _run(cache, FLIP, cwd=work)
+    _clean(r)
+    assert _answer(r) == filled["answers"]["flip"]
+
+
+def _tables(cache: Path) -> tuple[Path, Path]:
+    """The quadrature table FLIP reads and the wrench table ACTIVE's disks read."""
+    (quad,) = (cache / "tables").glob("icr_tables-*.npz")
+    wrench = sorted((cache / "kernels" / _cache.kernels_dir().name / "tables").glob("*.npz"))[0]
+    return quad, wrench
+
+
+@pytest.mark.parametrize("which", ["quadrature", "wrench"])
+@pytest.mark.parametrize("how", [*DAMAGES, "foreign"])
+def test_a_damaged_table_is_built_again(filled: dict, tmp_path: Path, which: str, how: str) -> None:
+    cache, work = _copy(filled, tmp_path)
+    quad, wrench = _tables(cache)
+    target, other = (quad, wrench) if which == "quadrature" else (wrench, quad)
+    _damage(target, str(other) if how == "foreign" else how)
+    name, argv = ("flip", FLIP) if which == "quadrature" else ("active", ACTIVE)
+    r = _run(cache, argv, cwd=work)
+    _clean(r)
+    assert _answer(r) == filled["answers"][name]
+    with np.load(target, allow_pickle=False) as z:  # rebuilt and stored again, naming its own place
+        assert str(z["stamp"][()]) == target.relative_to(cache).as_posix()
+
+
+def _lock(cache: Path, work: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    from rrbody.model import outlock
+
+    monkeypatch.setenv(_cache.ENV, str(cache))
+    return outlock._lock_file(outlock.lock_key(work / "x.csv"))
+
+
+@pytest.mark.parametrize("how", ["garbage", "folder", "locks folder a file"])
+def test_a_damaged_lock_file_is_replaced(filled: dict, tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                         how: str) -> None:
+    cache, work = _copy(filled, tmp_path)
+    lock = _lock(cache, work, monkeypatch)
+    lock.parent.mkdir(parents=True, exist_ok=True)
+    if how == "locks folder a file":
+        shutil.rmtree(lock.parent)
+        lock.parent.write_text("not a folder")
+    else:
+        lock.write_text("process 1 (x)\n")
+        _damage(lock, how)
+    r = _run(cache, SIMULATE, cwd=work)
+    _clean(r)
+    assert (work / "x.csv").read_text() == filled["answers"]["simulate"]
+
+
+def test_a_damaged_file_that_cannot_be_removed_is_one_line_and_exit_1(filled: dict, tmp_path: Path,
+                                                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    """A folder in a lock file's place that cannot be removed (a removal that fails, injected: as root
+    nothing here resists it): one line naming it and ``rrbody cache clear``, exit 1, nothing written."""
+    cache, work = _copy(filled, tmp_path)
+    lock = _lock(cache, work, monkeypatch)
+    lock.mkdir(parents=True)
+    (lock / "inside").write_text("x")
+    fail = "import shutil\ndef _no(*a, **k): raise PermissionError(13, 'Permission denied')\nshutil.rmtree = _no"
+    r = _run(cache, SIMULATE, cwd=work, prelude=fail)
+    lines = r.stderr.strip().splitlines()
+    assert r.returncode == 1 and len(lines) == 1, r.stderr
+    assert str(lock) in lines[0] and "rrbody cache clear" in lines[0] and "Traceback" not in r.stderr
+    assert not (work / "x.csv").exists()
+
+
+def test_cache_clear_removes_what_is_no_lock_file(tmp_path: Path) -> None:
+    """The locks folder stays (a running rrbody may hold a lock in it); a folder in a lock file's place
+    goes (no process can hold it), a lock file stays."""
+    cache = tmp_path / "cache"
+    (cache / "locks" / "a.lock").mkdir(parents=True)
+    (cache / "locks" / "a.lock" / "inside").write_text("x")
+    (cache / "locks" / "b.lock").write_text("process 1 (x)\n")
+    r = _run(cache, ["cache", "clear", "--json"], cwd=tmp_path)
+    _clean(r)
+    assert not (cache / "locks" / "a.lock").exists() and (cache / "locks" / "b.lock").is_file()
+
+
+def test_other_programs_numba_caches_keep_numbas_behaviour(tmp_path: Path) -> None:
+    """rrbody treats only its own kernels' damaged files as misses: a function of another program, with
+    rrbody imported, still meets numba's own error on a truncated index."""
+    (tmp_path / "userfn.py").write_text("from numba import njit\n\n@njit(cache=True)\ndef f(x):\n    return x + 1\n")
+    code = "import rrbody.physics, userfn; print(userfn.f(1))"
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(tmp_path), str(ROOT)]), NUMBA_CACHE_DIR=str(tmp_path / "nb"))
+    first = subprocess.run([sys.executable, "-c", code], env=env, cwd=tmp_path, capture_output=True, text=True,
+                           timeout=600)
+    assert first.returncode == 0 and first.stdout.strip() == "2", first.stderr
+    (index,) = (tmp_path / "nb").rglob("*.nbi")
+    index.write_bytes(index.read_bytes()[:10])
+    second = subprocess.run([sys.executable, "-c", code], env=env, cwd=tmp_path, capture_output=True, text=True,
+                            timeout=600)
+    assert second.returncode != 0 and "Error" in second.stderr
