@@ -120,8 +120,8 @@ def _rhs_table(results: Path) -> str:
 
 def _coldstart_table(results: Path) -> str:
     """The cold-start study's processes, cold (empty cache: the install's kernels) and warm, beside
-    issue 23's bound, and the same call compiling its kernels (no install-time kernels)."""
-    return md_table(["first call (a fresh process)", "cold (s)", "warm (s)", "issue 23's bound, cold (s)",
+    the cold-start bound, and the same call compiling its kernels (no install-time kernels)."""
+    return md_table(["first call (a fresh process)", "cold (s)", "warm (s)", "bound, cold (s)",
                      "compiling, without the install's kernels (s)"],
                     [(r["scenario"], float(r["cold_s"]), float(r["warm_s"]), float(r["target_s"]), float(r["compile_s"]))
                      for r in _rows(results, "coldstart.csv")])

@@ -21,7 +21,7 @@ from benchmarks.quotes import MARKER, QuoteError, quote, quoted_files, rewrite, 
 ROOT = Path(__file__).resolve().parent.parent
 PAGES = quoted_files(ROOT)
 
-#: figures issue 29 found quoted beside the recorded ones (another run's batch, plugin and engine-step
+#: figures a review found quoted beside the recorded ones (another run's batch, plugin and engine-step
 #: ratios and times, and a Movie S1 frame count the file does not have)
 STALE = ["2.25x", "1.89x", "1.35x", "**1.35**", "5.0x", "4.79 us", "0.965 us", "1294", "1.50 s, 1.89x",
          "~0.7-1.4 s", "0.79 s for the call"]
