@@ -230,3 +230,16 @@ def test_other_programs_numba_caches_keep_numbas_behaviour(tmp_path: Path) -> No
     second = subprocess.run([sys.executable, "-c", code], env=env, cwd=tmp_path, capture_output=True, text=True,
                             timeout=600)
     assert second.returncode != 0 and "Error" in second.stderr
+
+
+def test_a_file_in_the_place_of_a_kernel_folder_is_removed(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """numba's locator makes the folder of a kernel's files; a file on the way (damage) is removed first,
+    then the folder made (rrbody._cache._clear_way, called where that fails); a folder on the way stays."""
+    monkeypatch.setenv(_cache.ENV, str(tmp_path))
+    kernels = tmp_path / "kernels"
+    kernels.mkdir()
+    (kernels / "keep").write_text("a file beside the way")
+    (kernels / "v-hash").write_text("a file where the kernel folder belongs")
+    _cache._clear_way(kernels / "v-hash" / "physics")
+    assert not (kernels / "v-hash").exists() and (kernels / "keep").is_file() and kernels.is_dir()
+    (kernels / "v-hash" / "physics").mkdir(parents=True)  # what numba's ensure_cache_path then does
