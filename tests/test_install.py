@@ -223,7 +223,8 @@ def test_the_engine_extra_installs_beside_gym_pusht(tmp_path: Path) -> None:
     work.mkdir()
     shutil.copy(ROOT / "tests" / "test_plugin_io.py", work)  # not the checkout's tests/: its rrbody would shadow
     probe = ("import importlib.metadata as m, importlib.util as u, pathlib, rrbody; "
-             "print(m.version('pymunk'), u.find_spec('matplotlib') is not None, pathlib.Path(rrbody.__file__).parent)")
+             "print(m.version('pymunk'), all(u.find_spec(p) for p in ('matplotlib', 'imageio', 'imageio_ffmpeg')), "
+             "pathlib.Path(rrbody.__file__).parent)")  # the movie extra's packages, all of them
     out = subprocess.run([str(py), "-c", probe], cwd=work, env=env, capture_output=True, text=True, check=True)
     version, movie, site = out.stdout.split()
     assert version.startswith("6.") and Path(site).is_relative_to(env_dir), out.stdout  # gym-pusht's pymunk 6
