@@ -69,15 +69,15 @@ def require_writer(writer: Writer, *, name: str) -> None:
 
 def check_output(path: str | os.PathLike[str], *, name: str, suffixes: Sequence[str] | None = None,
                  force: bool = False, writer: Writer | None = None) -> Path:
-    """One output before any work: its suffix one of ``suffixes`` (None: any; then ``writer``, else
-    the suffix's own writer, if it has one, writes it), that writer installed, the path writable.
+    """One output before any work: the path writable, its suffix one of ``suffixes`` (None: any; then
+    ``writer``, else the suffix's own writer, if it has one, writes it), that writer installed.
     Returns the path to write (:func:`~rrbody.model.io.check_writable`). ``ValueError`` naming
     ``name`` for a bad suffix or path; ``MissingExtraError`` for a missing writer."""
+    final = check_writable(path, force=force, name=name)  # first: an empty path is that, not a bad suffix
     text = os.fspath(path)
     if suffixes is not None and not text.lower().endswith(tuple(s.lower() for s in suffixes)):
         raise ValueError(f"{name} must end in {' or '.join(suffixes)}, got {text!r}")
     chosen = writer if writer is not None else writer_of(text)
-    final = check_writable(text, force=force, name=name)  # spelling, kind, folder: before the extras
     if chosen is not None:
         require_writer(chosen, name=name)
     return final
