@@ -46,7 +46,7 @@ from rrbody.integrate.dop853 import TABLEAU, step_factor, trial_step
 from rrbody.integrate.events import (E_HAVEMIN, E_PHIMIN, E_SECDIR, E_SECTION, E_T1, E_THETA0, E_TMIN, E_TSTOP, STOP_REST, crossings,
                                      record_minimum, rest_admissible, rest_reached, rest_step_limit, section_crossings, section_gap,
                                      stop_reached)
-from rrbody.integrate.radau import radau_step
+from rrbody.integrate.radau import K_ROWS, NEWTON_FAILED, radau_memory, radau_step
 from rrbody.integrate.rodas import ros_step, spectral_radius
 from rrbody.physics import params as P
 from rrbody.physics.dynamics import SYSTEM_DRIVEN, jacobian
@@ -89,8 +89,7 @@ def new_loop_state(h0: float, mode: int, yscale: float = 0.0) -> np.ndarray:
 
 
 @njit(cache=True, inline="always")
-def _step(meth, system, t, y, f, h, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost=1.0,  # noqa: ANN001
-          rtol=1e-10):
+def _step(meth, system, t, y, f, h, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost, rtol):  # noqa: ANN001
     """One trial step of the current method (0 DOP853, 1 RODAS4, 2 Radau IIA); returns its error
     norm (RODAS4's divided by ``boost``: its tolerance is raised to the floor STIFF_RTOL_FLOOR).
 
@@ -104,8 +103,11 @@ def _step(meth, system, t, y, f, h, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, 
 
 
 @njit(cache=True, inline="always")
-def _ros_factor(err, rejected):  # noqa: ANN001
-    """RODAS4 step factor: err^(-1/4) with safety 0.9, within [1/5, 6] (Hairer's FAC1, FAC2)."""
+def _ros_factor(err, rejected, meth=1):  # noqa: ANN001
+    """Stiff step factor: err^(-1/4) with safety 0.9, within [1/5, 6] (Hairer's FAC1, FAC2); 1/2 after
+    a Radau step whose Newton iteration failed (RADAU5's: its error norm says nothing of the step)."""
+    if meth == 2 and err >= NEWTON_FAILED:
+        return 0.5
     fac = 6.0 if err == 0.0 else min(6.0, max(0.2, 0.9 * err ** -0.25))
     if rejected:
         fac = min(1.0, fac)
@@ -144,7 +146,7 @@ def _refine(meth, system, t, y, f, h0, hmax, which, p, S, J, fx, K2, y2, ytmp, s
     h = min(max(h0, 0.0), hmax)
     htol = max(rtol * hmax, 4e-16 * (abs(t) + abs(hmax)) + 1e-300)
     for _ in range(12):
-        _step(meth, system, t, y, f, h, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5)
+        _step(meth, system, t, y, f, h, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5, 1.0, rtol)
         if which == 1:
             g = y2[1]
             dg = K2[12, 1]
@@ -161,7 +163,7 @@ def _refine(meth, system, t, y, f, h0, hmax, which, p, S, J, fx, K2, y2, ytmp, s
         if abs(d) <= htol or 10.0 * abs(ddg / (2.0 * dg)) * d * d <= htol:
             return hn, y2[0] + d * (y2[1] + 0.5 * K2[12, 1] * d), y2[1] + d * K2[12, 1]
         h = hn
-    _step(meth, system, t, y, f, h, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5)
+    _step(meth, system, t, y, f, h, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5, 1.0, rtol)
     return h, y2[0], y2[1]
 
 
@@ -197,8 +199,8 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
     compiled in as a constant: four loops in all; the area method is read from ``p`` at run time."""
     literally(system)
     n = y.shape[0]
-    K = np.empty((13, n))
-    K2 = np.empty((13, n))
+    K = np.zeros((K_ROWS, n))  # zeros: no Radau memory yet (rrbody.integrate.radau)
+    K2 = np.zeros((K_ROWS, n))
     ynew = np.empty(n)
     y2 = np.empty(n)
     ytmp = np.empty(n)
@@ -287,11 +289,13 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
                         nonstiff = 0.0
                         jacobian(system, t, y, p, S, f, J, fx)
             else:
-                h = hh * _ros_factor(err, rejected)
+                h = hh * _ros_factor(err, rejected, meth)
             rejected = True
             nrej += 1
             continue
         # ---- accepted step [t, t + hh] ----
+        if meth == 2:  # re-steps from t (output, events) start Newton on this step's polynomial
+            radau_memory(K, K2)
         if track >= 0:
             yscale = max(yscale, abs(ynew[track]))
         switch = False
@@ -313,7 +317,7 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
                     for j in range(n):
                         out[k, 1 + j] = y[j]
                 else:
-                    _step(meth, system, t, y, f, ho, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5)
+                    _step(meth, system, t, y, f, ho, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5, 1.0, rtol)
                     for j in range(n):
                         out[k, 1 + j] = y2[j]
                 st[L_NOUT] += 1

@@ -19,13 +19,18 @@ from numba import literally, njit
 
 from rrbody.physics.dynamics import rhs
 
-__all__ = ["radau_step", "RADAU_TABLE", "NEWTON_MAXITER"]
+__all__ = ["radau_step", "RADAU_TABLE", "NEWTON_MAXITER", "NEWTON_FAILED", "K_ROWS"]
 
 NEWTON_MAXITER: int = 6
+#: what :func:`radau_step` returns when its Newton iteration does not converge (an error norm no step passes)
+NEWTON_FAILED: float = 1e10
+#: the rows of the stage array ``K`` a Radau step uses (13 for the stages of the other methods, 5 of memory)
+K_ROWS: int = 18
 
 
 def _load() -> tuple[np.ndarray, ...]:
-    """(C, E, T, TI, [MU_REAL, MU_COMPLEX.real, MU_COMPLEX.imag]) from scipy's radau module."""
+    """(C, E, T, TI, [MU_REAL, MU_COMPLEX.real, MU_COMPLEX.imag], P) from scipy's radau module (P: its
+    dense-output coefficients, Z(s) = sum_q (Z^T P)_q s^(q+1))."""
     import importlib.util
     from pathlib import Path
 
@@ -36,26 +41,35 @@ def _load() -> tuple[np.ndarray, ...]:
     src = path.read_text()
     # only the constant block (the module's imports would pull in scipy.linalg)
     start = src.index("S6 = 6 ** 0.5")
-    end = src.index("TI_REAL")
+    end = src.index("NEWTON_MAXITER")
     ns: dict[str, object] = {"np": np}
     exec(compile(src[start:end], str(path), "exec"), ns)  # noqa: S102 - scipy's own constants
     mu_c = complex(ns["MU_COMPLEX"])  # type: ignore[arg-type]
     return (np.ascontiguousarray(ns["C"], dtype=np.float64), np.ascontiguousarray(ns["E"], dtype=np.float64),
             np.ascontiguousarray(ns["T"], dtype=np.float64), np.ascontiguousarray(ns["TI"], dtype=np.float64),
-            np.array([float(ns["MU_REAL"]), mu_c.real, mu_c.imag]))  # type: ignore[arg-type]
+            np.array([float(ns["MU_REAL"]), mu_c.real, mu_c.imag]),  # type: ignore[arg-type]
+            np.ascontiguousarray(ns["P"], dtype=np.float64))
 
 
 RADAU_TABLE: tuple[np.ndarray, ...] = _load()
 # global arrays are compile-time constants for numba
-_RC, _RE, _RT, _RTI, _RMU = RADAU_TABLE
+_RC, _RE, _RT, _RTI, _RMU, _RP = RADAU_TABLE
 
 
 @njit(cache=True)
 def radau_step(system, t, y, f0, h, p, S, J, K, ynew, ytmp, scale, rtol):  # noqa: ANN001
     """One Radau IIA step of size h from (t, y), f0 = f(t, y), J = df/dy at (t, y), for n = 2.
 
-    Fills ``ynew`` and K[12] = f(t + h, ynew). Returns the scaled RMS error norm, or 1e10 if the
-    Newton iteration does not converge (the loop then rejects the step and shrinks h).
+    Fills ``ynew`` and K[12] = f(t + h, ynew). Returns the scaled RMS error norm, or
+    :data:`NEWTON_FAILED` if the Newton iteration does not converge (the loop then halves h).
+
+    ``K`` (at least :data:`K_ROWS` rows) is also the step's memory: rows 0-8 are scratch (the stage
+    increments Z, their transform W, the stage slopes), rows 13-15 the collocation polynomial of the
+    last converged step (power-basis coefficients of Z(s), s in units of its h), row 16 its (t, h)
+    and K[17, 0] its Newton contraction factor. The Newton iteration starts from that polynomial, extrapolated to this step's stages,
+    when this step starts where that one started or ended (as RADAU5 and scipy's Radau do), else
+    from Z = 0: one to two iterations fewer per step in smooth stretches, and fewer failed
+    iterations where the step is limited by Newton's convergence rather than by the error.
     """
     literally(system)
     n = 2
@@ -64,6 +78,7 @@ def radau_step(system, t, y, f0, h, p, S, J, K, ynew, ytmp, scale, rtol):  # noq
     RT = _RT
     RTI = _RTI
     RMU = _RMU
+    RP = _RP
     mr = RMU[0] / h
     mc = complex(RMU[1], RMU[2]) / h
     # real matrix mr I - J and complex matrix mc I - J (2x2, closed-form inverses)
@@ -77,23 +92,37 @@ def radau_step(system, t, y, f0, h, p, S, J, K, ynew, ytmp, scale, rtol):  # noq
     c10 = complex(-J[1, 0], 0.0)
     c11 = mc - J[1, 1]
     detc = c00 * c11 - c01 * c10
-    Z = np.zeros((3, n))
-    W = np.zeros((3, n))
-    F = np.empty((3, n))
+    # the start of the iteration: Z_i = u(s_i) - u(s_0) on the stored polynomial u, s = (time - t_b) / h_b
+    tb = K[16, 0]
+    hb = K[16, 1]
+    guess = hb > 0.0 and (t == tb or t == tb + hb)
+    s0 = (t - tb) / hb if guess else 0.0
+    u0 = 0.0
+    for j in range(n):
+        u0 = ((K[15, j] * s0 + K[14, j]) * s0 + K[13, j]) * s0 if guess else 0.0
+        for i in range(3):
+            si = (t + RC[i] * h - tb) / hb if guess else 0.0
+            K[i, j] = ((K[15, j] * si + K[14, j]) * si + K[13, j]) * si - u0 if guess else 0.0
+        for i in range(3):
+            K[3 + i, j] = RTI[i, 0] * K[0, j] + RTI[i, 1] * K[1, j] + RTI[i, 2] * K[2, j]
     tol = max(10.0 * 2.220446049250313e-16 / rtol, min(0.03, math.sqrt(rtol)))
+    # from a guess, the last contraction factor rate / (1 - rate), relaxed toward 1 (RADAU5's FACCON):
+    # a first increment below tol / faccon ends the iteration, which also keeps an increment at the
+    # rounding level (a guess already converged) from reading as divergence (rate >= 1)
+    faccon = max(K[17, 0], 2.220446049250313e-16) ** 0.8 if guess and K[17, 0] > 0.0 else 1.0
     old = -1.0
     converged = False
     for it in range(NEWTON_MAXITER):
         for i in range(3):
             for j in range(n):
-                ytmp[j] = y[j] + Z[i, j]
-            rhs(system, t + RC[i] * h, ytmp, p, S, F, i)
-        fr0 = RTI[0, 0] * F[0, 0] + RTI[0, 1] * F[1, 0] + RTI[0, 2] * F[2, 0] - mr * W[0, 0]
-        fr1 = RTI[0, 0] * F[0, 1] + RTI[0, 1] * F[1, 1] + RTI[0, 2] * F[2, 1] - mr * W[0, 1]
-        fc0 = complex(RTI[1, 0] * F[0, 0] + RTI[1, 1] * F[1, 0] + RTI[1, 2] * F[2, 0],
-                      RTI[2, 0] * F[0, 0] + RTI[2, 1] * F[1, 0] + RTI[2, 2] * F[2, 0]) - mc * complex(W[1, 0], W[2, 0])
-        fc1 = complex(RTI[1, 0] * F[0, 1] + RTI[1, 1] * F[1, 1] + RTI[1, 2] * F[2, 1],
-                      RTI[2, 0] * F[0, 1] + RTI[2, 1] * F[1, 1] + RTI[2, 2] * F[2, 1]) - mc * complex(W[1, 1], W[2, 1])
+                ytmp[j] = y[j] + K[i, j]
+            rhs(system, t + RC[i] * h, ytmp, p, S, K, 6 + i)
+        fr0 = RTI[0, 0] * K[6, 0] + RTI[0, 1] * K[7, 0] + RTI[0, 2] * K[8, 0] - mr * K[3, 0]
+        fr1 = RTI[0, 0] * K[6, 1] + RTI[0, 1] * K[7, 1] + RTI[0, 2] * K[8, 1] - mr * K[3, 1]
+        fc0 = complex(RTI[1, 0] * K[6, 0] + RTI[1, 1] * K[7, 0] + RTI[1, 2] * K[8, 0],
+                      RTI[2, 0] * K[6, 0] + RTI[2, 1] * K[7, 0] + RTI[2, 2] * K[8, 0]) - mc * complex(K[4, 0], K[5, 0])
+        fc1 = complex(RTI[1, 0] * K[6, 1] + RTI[1, 1] * K[7, 1] + RTI[1, 2] * K[8, 1],
+                      RTI[2, 0] * K[6, 1] + RTI[2, 1] * K[7, 1] + RTI[2, 2] * K[8, 1]) - mc * complex(K[4, 1], K[5, 1])
         dr0 = (a11 * fr0 - a01 * fr1) / detr
         dr1 = (a00 * fr1 - a10 * fr0) / detr
         dc0 = (c11 * fc0 - c01 * fc1) / detc
@@ -103,30 +132,47 @@ def radau_step(system, t, y, f0, h, p, S, J, K, ynew, ytmp, scale, rtol):  # noq
         nrm = math.sqrt(((dr0 / scale[0]) ** 2 + (dr1 / scale[1]) ** 2 + (dc0.real / scale[0]) ** 2
                          + (dc1.real / scale[1]) ** 2 + (dc0.imag / scale[0]) ** 2 + (dc1.imag / scale[1]) ** 2)
                         / 6.0)
-        rate = nrm / old if old > 0.0 else -1.0
-        if rate >= 1.0 or (rate > 0.0 and rate ** (NEWTON_MAXITER - it) / (1.0 - rate) * nrm > tol):
-            break
-        W[0, 0] += dr0
-        W[0, 1] += dr1
-        W[1, 0] += dc0.real
-        W[1, 1] += dc1.real
-        W[2, 0] += dc0.imag
-        W[2, 1] += dc1.imag
+        if it > 0:
+            rate = nrm / old
+            if rate >= 1.0 or rate ** (NEWTON_MAXITER - it) / (1.0 - rate) * nrm > tol:
+                break
+            faccon = rate / (1.0 - rate)
+        K[3, 0] += dr0
+        K[3, 1] += dr1
+        K[4, 0] += dc0.real
+        K[4, 1] += dc1.real
+        K[5, 0] += dc0.imag
+        K[5, 1] += dc1.imag
         for i in range(3):
             for j in range(n):
-                Z[i, j] = RT[i, 0] * W[0, j] + RT[i, 1] * W[1, j] + RT[i, 2] * W[2, j]
-        if nrm == 0.0 or (rate > 0.0 and rate / (1.0 - rate) * nrm < tol):
+                K[i, j] = RT[i, 0] * K[3, j] + RT[i, 1] * K[4, j] + RT[i, 2] * K[5, j]
+        if faccon * nrm < tol:
             converged = True
             break
-        old = nrm
+        old = max(nrm, 1e-300)
     if not converged:
-        return 1e10
+        return NEWTON_FAILED
+    # this step's collocation polynomial, the next step's start (scipy's Q = Z^T P)
     for j in range(n):
-        ynew[j] = y[j] + Z[2, j]
+        for q in range(3):
+            K[13 + q, j] = K[0, j] * RP[0, q] + K[1, j] * RP[1, q] + K[2, j] * RP[2, q]
+        ynew[j] = y[j] + K[2, j]
+    K[16, 0] = t
+    K[16, 1] = h
+    K[17, 0] = faccon
     # embedded error, filtered through (mr I - J)^-1
-    e0 = f0[0] + (RE[0] * Z[0, 0] + RE[1] * Z[1, 0] + RE[2] * Z[2, 0]) / h
-    e1 = f0[1] + (RE[0] * Z[0, 1] + RE[1] * Z[1, 1] + RE[2] * Z[2, 1]) / h
+    e0 = f0[0] + (RE[0] * K[0, 0] + RE[1] * K[1, 0] + RE[2] * K[2, 0]) / h
+    e1 = f0[1] + (RE[0] * K[0, 1] + RE[1] * K[1, 1] + RE[2] * K[2, 1]) / h
     er0 = (a11 * e0 - a01 * e1) / detr
     er1 = (a00 * e1 - a10 * e0) / detr
     rhs(system, t + h, ynew, p, S, K, np.int64(12))
     return math.sqrt(((er0 / scale[0]) ** 2 + (er1 / scale[1]) ** 2) / 2.0)
+
+
+@njit(cache=True, inline="always")
+def radau_memory(K, K2):  # noqa: ANN001
+    """Copy the step memory of :func:`radau_step` (K rows 13-17) from ``K`` to ``K2``: a re-step from
+    the same start (dense output, event location) then starts Newton on the accepted step's polynomial."""
+    for r in range(13, 18):
+        for j in range(K.shape[1]):
+            K2[r, j] = K[r, j]
