@@ -8,6 +8,7 @@ frame, torques in N m). ``import rrbody.planar``, ``from rrbody import planar`` 
 ``import rrbody`` alone does not.
 """
 
-from rrbody.physics.planar import Footprints, Part, box, circle, ellipse, is_part, point, polygon
+from rrbody.physics import planar as _source
+from rrbody.physics.planar import *  # noqa: F403  (every name of its __all__, so the two never drift apart)
 
-__all__ = ["circle", "ellipse", "box", "polygon", "point", "Footprints", "Part", "is_part"]
+__all__ = list(_source.__all__)

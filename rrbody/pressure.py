@@ -6,8 +6,7 @@ from the centre of gravity). ``import rrbody.pressure``, ``from rrbody import pr
 attribute ``rrbody.pressure`` all give this module.
 """
 
-from rrbody.model.pressure import (PRESSURE_KINDS, Pressure, annulus, as_pressure, field, hertz, parse_pressure,
-                                   points, pressure_from_description, ring, uniform)
+from rrbody.model import pressure as _source
+from rrbody.model.pressure import *  # noqa: F403  (every name of its __all__, so the two never drift apart)
 
-__all__ = ["Pressure", "uniform", "ring", "annulus", "hertz", "points", "field", "parse_pressure", "as_pressure",
-           "pressure_from_description", "PRESSURE_KINDS"]
+__all__ = list(_source.__all__)
