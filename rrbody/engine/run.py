@@ -1,6 +1,7 @@
 """The run loop for rrbody's scenes in pymunk: trajectories (:func:`simulate_engine`) and flip times
 (:func:`engine_flip_time`) with the ODE path's definitions: events come from the one event detector
-(:func:`rrbody.integrate.events.on_step`, called once per engine step), a free body's rest from the
+(:func:`rrbody.integrate.events.on_step`, called once per engine step, for a driven body from the
+compiled per-step tracker :func:`rrbody.engine.track.track_step`), a free body's rest from the
 plugin's rest rule. Units: SI (s, rad, m)."""
 
 from __future__ import annotations
@@ -12,10 +13,13 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.engine.builder import attach
+from rrbody.engine.bodymem import address, layout
+from rrbody.engine.builder import EngineHandle, attach
 from rrbody.engine.settings import EngineSettings, check_dt, coarse_meta, make_settings
+from rrbody.engine.track import (ANG_IN, K_OUT, MAX_PIV, PHI_PREV, PHID_PREV, REACHED_END, REST_IN, T_END, new_track,
+                                track_step)
 from rrbody.integrate.events import (E_HAVEMIN, E_NMIN, E_PHIMIN, E_T1, E_TMIN, E_TSTOP, FLIP_SETTLED, GO_ON,
-                                     RR_DECIDED, STOP_FLIP, STOP_REST, STOP_RR, STOP_T_END, new_event_state, on_step)
+                                     RR_DECIDED, STOP_FLIP, STOP_REST, STOP_RR, STOP_T_END, new_event_state)
 from rrbody.model.checks import check, check_positive
 from rrbody.model.scene import Scene
 
@@ -65,34 +69,14 @@ def _run(scene: Scene, settings: EngineSettings, *, t_end: float, stop: str, dt_
         raise ValueError(f"stop must be one of {', '.join(repr(k) for k in _STOPS)}, got {stop!r}")
     space = pymunk.Space()
     h = attach(space, scene, settings=settings)
-    dt = settings.dt
-    omega = scene.omega
     driven = h.driver is not None
     n_grid = int(math.floor(t_end / dt_out + 1e-9)) + 1 if (dt_out > 0.0 and math.isfinite(t_end)) else 0
     # the trajectory ends on t_end itself when the grid k * dt_out misses it (as the ODE path does)
     n_out = n_grid + int(n_grid > 0 and t_end - (n_grid - 1) * dt_out > 1e-9 * dt_out)
     out = np.empty((n_out, 3 if driven else 7))
-    k_out = 0
-
-    def sample() -> tuple[float, ...]:
-        b = h.body
-        if driven:
-            return (h.phi, h.phi_dot)
-        x = b.position
-        return (x.x, x.y, b.angle, *h.velocity())
-
-    t_prev = 0.0
-    s_prev = sample()
-    if n_out:
-        out[0, 0] = 0.0
-        out[0, 1:] = s_prev
-        k_out = 1
     # the one event detector: t = 0 is a minimum candidate if phi rises from the start
     ev = new_event_state(scene.phi0, scene.initial_phi_dot) if driven else new_event_state(scene.phi0, 0.0)
     minima = np.empty((max_minima, 2))
-    rule = _STOPS[stop] if driven else STOP_T_END
-    max_piv = 0.0
-    status = "reached t_end"
     bar = None
     if progress:
         from tqdm import tqdm
@@ -100,45 +84,19 @@ def _run(scene: Scene, settings: EngineSettings, *, t_end: float, stop: str, dt_
         bar = tqdm(total=t_end if math.isfinite(t_end) else None, desc="engine", unit="s(sim)", leave=False,
                    dynamic_ncols=True)
     wall0 = time.perf_counter()
-    step = h.plane.step  # friction for the body, then space.step
-    n = 0
     try:
-        while True:
-            if h.t >= t_end - (0.5 * dt if k_out >= n_out else 1e-12 * dt):  # a pending t_end sample: one step on
-                break
-            if n >= max_steps:
-                status = "max_steps reached"
-                break
-            step(dt)
-            n += 1
-            t = h.t
-            s = sample()
+        if driven:
+            fs = new_track(beta=h._beta, anchor=h.anchor, d=scene.drive.d, omega=scene.omega,
+                           dt=settings.dt, dt_out=dt_out, n_grid=n_grid, n_out=n_out, t_end=t_end, rule=_STOPS[stop],
+                           settle_turns=settle_turns, settle_periods=settle_periods, phi0=h.phi, phid0=h.phi_dot)
             if n_out:
-                while k_out < n_out and (k_out * dt_out if k_out < n_grid else t_end) <= t + 1e-12 * dt:
-                    to = k_out * dt_out if k_out < n_grid else t_end
-                    w = (to - t_prev) / (t - t_prev)
-                    out[k_out, 0] = to
-                    for j in range(len(s)):
-                        out[k_out, j + 1] = s_prev[j] + w * (s[j] - s_prev[j])
-                    k_out += 1
-            if driven:
-                if n % 64 == 0:
-                    max_piv = max(max_piv, h.pivot_error())
-                code = on_step(ev, minima, t_prev, s_prev[0], s_prev[1], t, s[0], s[1], omega, rule,
-                               settle_turns, settle_periods)
-                if code != GO_ON:
-                    status = _STATUS[code]
-                    break
-            elif math.isnan(ev[E_TSTOP]):
-                t_rest = h.t_rest
-                if t_rest is not None:
-                    ev[E_TSTOP] = t_rest
-                    if stop == "rest":
-                        status = "at rest"
-                        break
-            t_prev, s_prev = t, s
-            if bar is not None and n % 4096 == 0:
-                bar.update(t - bar.n)
+                out[0] = 0.0, fs[PHI_PREV], fs[PHID_PREV]
+                fs[K_OUT] = 1
+            n, status = _driven_loop(h, fs, ev, minima, out, max_steps, bar)
+            k_out, max_piv = int(fs[K_OUT]), float(fs[MAX_PIV])
+        else:
+            n, status, k_out = _free_loop(h, ev, out, t_end, dt_out, n_grid, stop, max_steps, bar)
+            max_piv = 0.0
     finally:
         if bar is not None:
             bar.close()
@@ -148,6 +106,90 @@ def _run(scene: Scene, settings: EngineSettings, *, t_end: float, stop: str, dt_
                       has_min=bool(ev[E_HAVEMIN]), T1=float(ev[E_T1]), minima=minima[:min(n_min, max_minima)].copy(),
                       n_minima=n_min, out=out[:k_out], n_steps=n, wall=wall, max_pivot_error=max_piv,
                       t_stop=None if math.isnan(ev[E_TSTOP]) else float(ev[E_TSTOP]))
+
+
+def _driven_loop(h: EngineHandle, fs: np.ndarray, ev: np.ndarray, minima: np.ndarray, out: np.ndarray,
+                 max_steps: int, bar: Any) -> tuple[int, str]:
+    """Step a driven body until the tracker (:func:`rrbody.engine.track.track_step`: samples, events,
+    pivot error, horizon) or ``max_steps`` stops it; returns (steps, status). Per step: the plugin's
+    step and one compiled call."""
+    dt = h.settings.dt
+    plane = h.plane
+    step = plane.step  # friction for the body, then space.step
+    t0 = h._t0
+    offs = layout()
+    addr = address(h.body._body) if offs is not None else 0
+    offs = np.zeros(10, dtype=np.int64) if offs is None else offs
+    j = plane._slots[h.body]
+    bodies = plane._bodies  # the plugin's rows: fixed while nothing is added to this run's own space
+    body = h.body
+    if 0.0 >= fs[T_END] - (0.5 * dt if fs[K_OUT] >= out.shape[0] else 1e-12 * dt):  # as track_step's test
+        return 0, "reached t_end"
+    n = 0
+    while n < max_steps:
+        step(dt)
+        n += 1
+        if not addr:  # a pymunk whose body layout is unknown: its getters
+            p, v = body.position, body.velocity
+            w = body.angular_velocity
+            fs[ANG_IN:REST_IN + 1] = body.angle, w, p.x, p.y, float(v.x == 0.0 and v.y == 0.0 and w == 0.0)
+        code = track_step(plane.t - t0, addr, offs, j, bodies, fs, ev, minima, out)
+        if code != GO_ON:
+            return n, ("reached t_end" if code == REACHED_END else _STATUS[code])
+        if bar is not None and n % 4096 == 0:
+            bar.update(plane.t - t0 - bar.n)
+    return n, "max_steps reached"
+
+
+def _free_loop(h: EngineHandle, ev: np.ndarray, out: np.ndarray, t_end: float, dt_out: float, n_grid: int,
+               stop: str, max_steps: int, bar: Any) -> tuple[int, str, int]:
+    """Step a free body to ``t_end``, its rest (``stop`` "rest") or ``max_steps``, sampling (x, y, angle,
+    vx, vy, spin) onto the output grid; returns (steps, status, output rows written)."""
+    dt = h.settings.dt
+    n_out = out.shape[0]
+
+    def sample() -> tuple[float, ...]:
+        x = h.body.position
+        return (x.x, x.y, h.body.angle, *h.velocity())
+
+    t_prev = 0.0
+    s_prev = sample()
+    k_out = 0
+    if n_out:
+        out[0, 0] = 0.0
+        out[0, 1:] = s_prev
+        k_out = 1
+    step = h.plane.step  # friction for the body, then space.step
+    n = 0
+    status = "reached t_end"
+    while True:
+        if h.t >= t_end - (0.5 * dt if k_out >= n_out else 1e-12 * dt):  # a pending t_end sample: one step on
+            break
+        if n >= max_steps:
+            status = "max_steps reached"
+            break
+        step(dt)
+        n += 1
+        t = h.t
+        s = sample()
+        while k_out < n_out and (k_out * dt_out if k_out < n_grid else t_end) <= t + 1e-12 * dt:
+            to = k_out * dt_out if k_out < n_grid else t_end
+            w = (to - t_prev) / (t - t_prev)
+            out[k_out, 0] = to
+            for i in range(len(s)):
+                out[k_out, i + 1] = s_prev[i] + w * (s[i] - s_prev[i])
+            k_out += 1
+        if math.isnan(ev[E_TSTOP]):
+            t_rest = h.t_rest
+            if t_rest is not None:
+                ev[E_TSTOP] = t_rest
+                if stop == "rest":
+                    status = "at rest"
+                    break
+        t_prev, s_prev = t, s
+        if bar is not None and n % 4096 == 0:
+            bar.update(t - bar.n)
+    return n, status, k_out
 
 
 def simulate_engine(scene: Scene, *, t_max: float, dt_out: float, progress: bool = False, dt: float | None = None,

@@ -36,7 +36,7 @@ _co = _load_scipy_tableau()
 from rrbody.physics import params as P
 from rrbody.physics.dynamics import driven_tangent, rhs_near
 
-__all__ = ["TABLEAU", "rk_step", "error_norm", "trial_step", "ORDER"]
+__all__ = ["TABLEAU", "rk_step", "error_norm", "trial_step", "ORDER", "hlamb"]
 
 N_STAGES: int = _co.N_STAGES
 ORDER: int = 8
@@ -198,3 +198,16 @@ def step_factor(err: float, rejected: bool) -> float:
             fac = min(1.0, fac)
         return fac
     return max(MIN_FACTOR, SAFETY * err**ERROR_EXPONENT)
+
+
+@njit(cache=True, inline="always")
+def hlamb(K, h, ynew, ystage):  # noqa: ANN001
+    """h |lambda| from DOP853's last two evaluations, both at t + h (Hairer's stiffness test)."""
+    num = 0.0
+    den = 0.0
+    for j in range(ynew.shape[0]):
+        num += (K[12, j] - K[11, j]) ** 2
+        den += (ynew[j] - ystage[j]) ** 2
+    if den <= 0.0:
+        return 0.0
+    return h * math.sqrt(num / den)

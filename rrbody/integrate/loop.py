@@ -42,12 +42,12 @@ from typing import Any
 import numpy as np
 from numba import literally, njit
 
-from rrbody.integrate.dop853 import TABLEAU, step_factor, trial_step
+from rrbody.integrate.dop853 import TABLEAU, hlamb, step_factor, trial_step
 from rrbody.integrate.events import (E_HAVEMIN, E_PHIMIN, E_SECDIR, E_SECTION, E_T1, E_THETA0, E_TMIN, E_TSTOP, STOP_REST, crossings,
                                      record_minimum, rest_admissible, rest_reached, rest_step_limit, section_crossings, section_gap,
                                      stop_reached)
-from rrbody.integrate.radau import K_ROWS, NEWTON_FAILED, radau_memory, radau_step
-from rrbody.integrate.rodas import ros_step, spectral_radius
+from rrbody.integrate.radau import K_ROWS, radau_memory, radau_step
+from rrbody.integrate.rodas import ros_step, spectral_radius, stiff_factor
 from rrbody.physics import params as P
 from rrbody.physics.dynamics import SYSTEM_DRIVEN, jacobian
 from rrbody.physics.effects import compiled_code
@@ -100,31 +100,6 @@ def _step(meth, system, t, y, f, h, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, 
     if meth == 2:
         return radau_step(system, t, y, f, h, p, S, J, K, ynew, ytmp, scale, rtol)
     return ros_step(system, t, y, f, h, p, S, J, fx, K, ynew, ytmp, scale) / boost
-
-
-@njit(cache=True, inline="always")
-def _ros_factor(err, rejected, meth=1):  # noqa: ANN001
-    """Stiff step factor: err^(-1/4) with safety 0.9, within [1/5, 6] (Hairer's FAC1, FAC2); 1/2 after
-    a Radau step whose Newton iteration failed (RADAU5's: its error norm says nothing of the step)."""
-    if meth == 2 and err >= NEWTON_FAILED:
-        return 0.5
-    fac = 6.0 if err == 0.0 else min(6.0, max(0.2, 0.9 * err ** -0.25))
-    if rejected:
-        fac = min(1.0, fac)
-    return fac
-
-
-@njit(cache=True, inline="always")
-def _hlamb(K, h, ynew, ystage):  # noqa: ANN001
-    """h |lambda| from DOP853's last two evaluations, both at t + h (Hairer's stiffness test)."""
-    num = 0.0
-    den = 0.0
-    for j in range(ynew.shape[0]):
-        num += (K[12, j] - K[11, j]) ** 2
-        den += (ynew[j] - ystage[j]) ** 2
-    if den <= 0.0:
-        return 0.0
-    return h * math.sqrt(num / den)
 
 
 @njit(cache=True)
@@ -280,7 +255,7 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
                 h = hh * step_factor(err, rejected)
                 # a rejected step at the stability limit is stiffness evidence too: at the impulsive
                 # start the controller alternates rejections and acceptances there
-                if mode == 0 and _hlamb(K, hh, ynew, ytmp) > STIFF_HLAMB:
+                if mode == 0 and hlamb(K, hh, ynew, ytmp) > STIFF_HLAMB:
                     nstiff += 1
                     if nstiff >= STIFF_COUNT:
                         meth = stiff
@@ -289,7 +264,7 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
                         nonstiff = 0.0
                         jacobian(system, t, y, p, S, f, J, fx)
             else:
-                h = hh * _ros_factor(err, rejected, meth)
+                h = hh * stiff_factor(err, rejected, meth)
             rejected = True
             nrej += 1
             continue
@@ -300,7 +275,7 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
             yscale = max(yscale, abs(ynew[track]))
         switch = False
         if mode == 0 and meth == 0:  # stiffness test, before ytmp is reused below
-            if _hlamb(K, hh, ynew, ytmp) > STIFF_HLAMB:
+            if hlamb(K, hh, ynew, ytmp) > STIFF_HLAMB:
                 nonstiff = 0.0
                 nstiff += 1
                 switch = nstiff >= STIFF_COUNT
@@ -362,7 +337,7 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
             h = hh * step_factor(err, rejected)
         else:
             nros += 1
-            h = hh * _ros_factor(err, rejected)
+            h = hh * stiff_factor(err, rejected)
             jacobian(system, t, y, p, S, f, J, fx)
             if mode == 0:
                 if min(h, hmax) * spectral_radius(J) < NONSTIFF_HRHO:

@@ -26,9 +26,10 @@ import math
 import numpy as np
 from numba import literally, njit
 
+from rrbody.integrate.radau import NEWTON_FAILED
 from rrbody.physics.dynamics import rhs
 
-__all__ = ["ros_step", "ROS_ORDER", "solve_w", "spectral_radius"]
+__all__ = ["ros_step", "ROS_ORDER", "solve_w", "spectral_radius", "stiff_factor"]
 
 #: order of the embedded error estimate is 3, so the step scales with err^(-1/4)
 ROS_ORDER: int = 4
@@ -183,3 +184,14 @@ def spectral_radius(J):  # noqa: ANN001
         best = max(best, acc)
     return best
 
+
+@njit(cache=True, inline="always")
+def stiff_factor(err, rejected, meth=1):  # noqa: ANN001
+    """Stiff step factor: err^(-1/4) with safety 0.9, within [1/5, 6] (Hairer's FAC1, FAC2); 1/2 after
+    a Radau step whose Newton iteration failed (RADAU5's: its error norm says nothing of the step)."""
+    if meth == 2 and err >= NEWTON_FAILED:
+        return 0.5
+    fac = 6.0 if err == 0.0 else min(6.0, max(0.2, 0.9 * err ** -0.25))
+    if rejected:
+        fac = min(1.0, fac)
+    return fac
