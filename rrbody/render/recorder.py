@@ -51,7 +51,7 @@ from rrbody.model.checks import check_int, check_positive, check_real
 from rrbody.model.io import atomic_path, check_writable
 from rrbody.render.movie_figure import check_movie, check_size
 from rrbody.render.recorder_picture import (CIRCLE_POINTS, NEUTRAL, PA, PX, PY, REVERSE, VW, VX, VY, WIDTH_MOTION,
-                                            WIDTH_POSE, WITH, Picture, shape_outlines, to_world)
+                                            WIDTH_POSE, WITH, Picture, fit_view, shape_outlines, to_world)
 
 __all__ = ["Recorder", "shape_outlines", "CIRCLE_POINTS", "REVERSE", "WITH", "NEUTRAL"]
 
@@ -332,9 +332,8 @@ class Recorder:
 
     # ---- pictures --------------------------------------------------------------------------------
     def _view(self, box: Sequence[float] | None, aspect: float, frames: np.ndarray | None = None) -> tuple[float, ...]:
-        """(xmin, xmax, ymin, ymax) in m: ``box`` as given, or fitted to every filmed body over the
-        frames (its centre of gravity +- its reach) and padded 4 %; either widened about its centre
-        to the picture's aspect (``aspect`` = width / height), so that a metre is as long across as up."""
+        """(xmin, xmax, ymin, ymax) in m: ``box`` as given (checked here), or fitted to every filmed
+        body's whole outline over the frames with a margin (:func:`fit_view`), widened to ``aspect``."""
         if box is not None:
             try:
                 x0, x1, y0, y1 = (float(v) for v in box)
@@ -343,16 +342,8 @@ class Recorder:
             if not all(math.isfinite(v) for v in (x0, x1, y0, y1)) or not (x0 < x1 and y0 < y1):
                 raise ValueError(f"box must be (xmin, xmax, ymin, ymax) in m, finite with xmin < xmax and "
                                  f"ymin < ymax, got {box!r}")
-            w, h = x1 - x0, y1 - y0
-        else:
-            c = self.centres() if frames is None else self.centres()[frames]
-            r = self._reach[None, :]
-            x0, x1 = float((c[:, :, 0] - r).min()), float((c[:, :, 0] + r).max())
-            y0, y1 = float((c[:, :, 1] - r).min()), float((c[:, :, 1] + r).max())
-            w, h = 1.04 * max(x1 - x0, 1e-9), 1.04 * max(y1 - y0, 1e-9)
-        cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
-        w, h = max(w, h * aspect), max(h, w / aspect)
-        return cx - w / 2, cx + w / 2, cy - h / 2, cy + h / 2
+            return fit_view(np.empty((0, 0, 2)), np.empty(0), aspect, (x0, x1, y0, y1))
+        return fit_view(self.centres() if frames is None else self.centres()[frames], self._reach, aspect)
 
     def _check_look(self, color: Any, arrows: Iterable[str], trails: Any) -> tuple[Any, tuple[str, ...], np.ndarray]:
         arrows = tuple(arrows)

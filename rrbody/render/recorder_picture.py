@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["shape_outlines", "CIRCLE_POINTS", "REVERSE", "WITH", "NEUTRAL", "Picture", "to_world", "WIDTH_POSE",
+__all__ = ["shape_outlines", "fit_view", "MARGIN", "CIRCLE_POINTS", "REVERSE", "WITH", "NEUTRAL", "Picture", "to_world", "WIDTH_POSE",
            "WIDTH_MOTION", "PX", "PY", "PA", "VX", "VY", "VW", "FX", "FY", "FT"]
 
 #: points on a circle's rim in its outline (a regular polygon: its centroid is the circle's centre)
@@ -17,6 +17,9 @@ CIRCLE_POINTS = 48
 #: colour by spin: turning against the orbit (reverse rotation), with it, neither
 REVERSE, WITH, NEUTRAL = "#d62728", "#1f77b4", "#9a9a9a"
 WIDTH_POSE, WIDTH_MOTION = 3, 9  # numbers per body and frame
+#: the blank border a fitted view keeps round the bodies' whole paths, on each side, as a fraction of
+#: the paths' larger extent: clear of the panel's frame line, and of most of the time label and scale bar
+MARGIN = 0.08
 PX, PY, PA, VX, VY, VW, FX, FY, FT = range(9)
 
 # ---- outlines ------------------------------------------------------------------------------------
@@ -61,6 +64,32 @@ def shape_outlines(body: Any) -> list[np.ndarray]:
             a, b = np.array(tuple(s.a)), np.array(tuple(s.b))
             out.append(_capsule(a, b, s.radius) if s.radius > 0.0 else np.vstack([a, b]))
     return out
+
+
+def fit_view(centres: np.ndarray, reach: np.ndarray, aspect: float,
+             box: tuple[float, float, float, float] | None = None) -> tuple[float, float, float, float]:
+    """(xmin, xmax, ymin, ymax) in m of a picture ``aspect`` (width / height) wide per unit of height.
+
+    ``box`` given: that box (checked by the caller). Otherwise fitted to the bodies' whole motion:
+    every body's centre of gravity ``centres`` (frames, bodies, 2; m, world frame) plus or minus its
+    ``reach`` (bodies; m, the farthest point of its outline from its centre of gravity), so each
+    outline lies inside at every frame and every angle, then :data:`MARGIN` of the larger extent
+    added on each side. Either way the box is widened about its centre to the picture's aspect, so
+    that a metre is as long across as up.
+    """
+    if box is not None:
+        x0, x1, y0, y1 = box
+        w, h = x1 - x0, y1 - y0
+    else:
+        r = np.asarray(reach, dtype=float)[None, :]
+        x0, x1 = float((centres[:, :, 0] - r).min()), float((centres[:, :, 0] + r).max())
+        y0, y1 = float((centres[:, :, 1] - r).min()), float((centres[:, :, 1] + r).max())
+        # a body at rest in one place still gets a picture its own size, not a point
+        pad = MARGIN * max(x1 - x0, y1 - y0, 1e-9)
+        w, h = x1 - x0 + 2.0 * pad, y1 - y0 + 2.0 * pad
+    cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+    w, h = max(w, h * aspect), max(h, w / aspect)
+    return cx - w / 2, cx + w / 2, cy - h / 2, cy + h / 2
 
 
 def to_world(o: np.ndarray, x: float, y: float, ang: float) -> np.ndarray:
