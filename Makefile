@@ -17,12 +17,13 @@ DOCS_EXTRAS := docs,movie
 # with the empty variable E inside, so that only the quoted figures hold them
 E :=
 unq = $(filter-out <!--q$(E):%,$(subst -->,--> ,$(subst <!--/q$(E)-->,,$(1))))
-T_VENV := <!--q:setup.demo.venv-->?<!--/q-->
-T_REQS := <!--q:setup.demo.build-reqs-->?<!--/q-->
-T_DEMO_PKGS := <!--q:setup.demo.install-->?<!--/q-->
+T_VENV := <!--q:setup.demo.venv-->18 s<!--/q-->
+T_REQS := <!--q:setup.demo.build-reqs-->23 s<!--/q-->
+T_DEMO_PKGS := <!--q:setup.demo.install-->9 s<!--/q-->
 T_TEST_PKGS := <!--q:setup.test.install-->?<!--/q-->
-T_KERNELS := <!--q:setup.demo.kernels-->?<!--/q-->
-T_MOVIE := <!--q:setup.demo.demo-->?<!--/q-->
+T_KERNELS := <!--q:setup.demo.kernels-->607 s<!--/q-->
+T_LOAD := <!--q:setup.demo.load-->5.5-6.4<!--/q-->
+T_MOVIE := <!--q:setup.demo.demo-->115 s<!--/q-->
 T_LOWEST := <!--q:setup.test.lowest-venv-->?<!--/q-->
 T_SUITE := <!--q:setup.test.suite-->?<!--/q-->
 T_SUITE_LOWEST := <!--q:setup.test.suite-lowest-->?<!--/q-->
@@ -82,7 +83,7 @@ $(VENV)/.installed-docs: pyproject.toml | $(VENV)/.build-reqs
 KERNEL_SOURCES := $(shell find rrbody/model rrbody/physics rrbody/integrate rrbody/engine -name '*.py') \
 	rrbody/_cache.py rrbody/_version.py rrbody/cli/prebuild.py rrbody/cli/workload.py
 $(VENV)/.kernels: $(KERNEL_SOURCES) | $(VENV)/.build-reqs
-	@echo "==> kernels: compiling rrbody's kernels with numba (about $(call unq,$(T_KERNELS)) on 2 cores in the recorded run; once per version of the sources)"
+	@echo "==> kernels: compiling rrbody's kernels with numba (about $(call unq,$(T_KERNELS)) in the recorded run, on 2 cores shared with load $(call unq,$(T_LOAD)); once per version of the sources)"
 	$(BIN)/python -m rrbody.cli.prebuild --into rrbody/_kernels
 	touch $@
 

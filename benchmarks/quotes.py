@@ -21,7 +21,8 @@ Quote names:
   a table with a blank line either side;
 - ``setup.TARGET.KEY``: ``make TARGET``'s record in ``setup.json`` (``python -m benchmarks.setup_times``:
   a clean clone, step by step): KEY a step the Makefile announces (``kernels``, ``suite``, ...), or
-  ``total``, ``set-up`` (every step but the suite's and the demo's own), ``date``, ``passed`` (the
+  ``total``, ``set-up`` (every step but the suite's and the demo's own), ``date``, ``load`` (the load
+  average before and after), ``passed`` (the
   main suite's tests), ``slowest.FILE`` (the longest of tests/FILE.py's tests in pytest's list of the
   slowest); ``?`` while that target has no record;
 - the named quotes of :data:`NAMED` (figures read from one file each, documented there).
@@ -275,6 +276,9 @@ def _setup(results: Path, target: str, key: str) -> str:
     steps = rec["steps_s"]
     if key == "date":
         return rec["date_utc"][:10]
+    if key == "load":  # the 1-minute load averages before and after: how shared the 2 cores were
+        lo, hi = sorted((rec["load_avg_before"][0], rec["load_avg_after"][0]))
+        return f"{lo:.1f}-{hi:.1f}" if f"{lo:.1f}" != f"{hi:.1f}" else f"{lo:.1f}"
     if key == "passed":
         return str(rec["tests_passed"]["suite"])
     if key.startswith("slowest."):  # the longest listed test of one file: slowest.test_readme
