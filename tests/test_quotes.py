@@ -180,3 +180,20 @@ def test_the_readme_s_mujoco_sentence_is_its_table_s(tmp_path: Path) -> None:
     low = quote("mujoco.own-cylinder").split(" to ")[0]
     assert f"<!--q:mujoco.own-cylinder-->{low}" in readme
     assert "<!--q:mujoco.own-cylinder-->0.30 to " in rewrite(readme, results)
+
+
+def test_the_set_up_recorder_times_each_announced_step() -> None:
+    """benchmarks.setup_times reads make's timestamped lines: a step lasts from its ``==>`` line to the
+    next; the tests each suite passed and the slowest tests pytest listed are kept."""
+    from benchmarks.setup_times import parse_steps
+
+    lines = [(0.5, "python3 -m venv .venv"), (1.0, "==> venv: creating .venv"), (4.0, "==> kernels: compiling"),
+             (9.0, "rrbody: compiling [1/6] the stepping loop under dry friction done (5 s)"),
+             (30.0, "==> suite: running the test suite"), (31.0, "35.12s call     tests/test_readme.py::test_x"),
+             (32.0, "1.50s setup    tests/test_install.py::test_y"),
+             (90.0, "===== 1012 passed, 3 skipped in 59.0s ====="), (91.0, "==> suite-lowest: running part"),
+             (120.0, "40 passed in 28.2s")]
+    steps, passed, slowest = parse_steps(lines, 121.0)
+    assert steps == {"start": 1.0, "venv": 3.0, "kernels": 26.0, "suite": 61.0, "suite-lowest": 30.0}
+    assert passed == {"suite": 1012, "suite-lowest": 40}
+    assert slowest == {"call tests/test_readme.py::test_x": 35.12, "setup tests/test_install.py::test_y": 1.5}
