@@ -51,8 +51,7 @@ ROOT = Path(__file__).resolve().parent.parent
 #: one quoted span: the name, then the quoted text (possibly several lines, for tables); every name
 #: has a dot (``head.startup.1``), so a page may show the syntax itself, ``<!--q:NAME-->...<!--/q-->``
 MARKER = re.compile(r"<!--q:(?P<name>[A-Za-z0-9_\-]+\.[A-Za-z0-9_.\-]+)-->(?P<body>.*?)<!--/q-->", re.DOTALL)
-#: the syntax shown, not a quote
-PLACEHOLDER = "<!--q:NAME-->"
+PLACEHOLDER = "<!--q:NAME-->"  # the syntax shown, not a quote
 
 
 class QuoteError(ValueError):
