@@ -10,6 +10,24 @@ DOCS_EXTRAS := docs,movie
 
 .PHONY: demo test bench scenes docs docs-check clean venv venv-lowest
 
+# Each long step first says what it does and how long it took in the recorded run of a clean clone
+# (`==> STEP: ...`; python -m benchmarks.setup_times records every step's time from these lines into
+# benchmarks/results/setup.json, and python -m benchmarks.quotes writes the figures below from it).
+# unq: a quoted figure without its two markers (the text between them); the markers are spelt here
+# with the empty variable E inside, so that only the quoted figures hold them
+E :=
+unq = $(filter-out <!--q$(E):%,$(subst -->,--> ,$(subst <!--/q$(E)-->,,$(1))))
+T_VENV := <!--q:setup.demo.venv-->18 s<!--/q-->
+T_REQS := <!--q:setup.demo.build-reqs-->23 s<!--/q-->
+T_DEMO_PKGS := <!--q:setup.demo.install-->9 s<!--/q-->
+T_TEST_PKGS := <!--q:setup.test.install-->?<!--/q-->
+T_KERNELS := <!--q:setup.demo.kernels-->607 s<!--/q-->
+T_LOAD := <!--q:setup.demo.load-->5.5-6.4<!--/q-->
+T_MOVIE := <!--q:setup.demo.demo-->115 s<!--/q-->
+T_LOWEST := <!--q:setup.test.lowest-venv-->?<!--/q-->
+T_SUITE := <!--q:setup.test.suite-->?<!--/q-->
+T_SUITE_LOWEST := <!--q:setup.test.suite-lowest-->?<!--/q-->
+
 # The venv's packages are installed by uv (from PyPI, like pip; the test venv's packages in 17 s
 # against pip's 35-39 s), itself installed into the venv by the venv's pip: a fresh machine needs
 # nothing but python3. Its version is pinned here, and only here (tests/test_install.py uses this
@@ -20,8 +38,9 @@ UV := $(BIN)/uv
 # set, no process would ever write them, and each would compile numpy, scipy and numba from source)
 UV_PIP = $(UV) pip install --quiet --compile-bytecode --python $(BIN)/python
 
-# the venv, with uv in it and pip (`.venv/bin/pip install -e '.[engine]'`, README) up to date
+# the venv, with uv in it and pip (`.venv/bin/pip install -e '.[mujoco]'`, README) up to date
 $(UV):
+	@echo "==> venv: creating $(VENV) with uv in it (about $(call unq,$(T_VENV)) in the recorded run)"
 	$(PY) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check 'uv==$(UV_VERSION)'
 	$(UV_PIP) --upgrade pip
@@ -32,37 +51,47 @@ $(UV):
 BUILD_REQS = $(BIN)/python -c "import subprocess, sys, tomllib; \
 	reqs = tomllib.load(open('pyproject.toml', 'rb'))['build-system']['requires']; \
 	subprocess.check_call(['$(UV)', 'pip', 'install', '--quiet', '--compile-bytecode', '--python', sys.executable, *reqs])"
-INSTALL = $(UV_PIP) --no-build-isolation -e
+# The install compiles no kernel (RRBODY_BUILD_KERNELS=0): through uv or pip a build's output is
+# hidden, and the compilation is the longest step; the .venv/.kernels step below runs the same build
+# (rrbody.cli.prebuild) where its progress shows. `pip install .` outside the Makefile still compiles
+# them at install (setup.py).
+INSTALL = RRBODY_BUILD_KERNELS=0 $(UV_PIP) --no-build-isolation -e
+
+$(VENV)/.build-reqs: pyproject.toml | $(UV)
+	@echo "==> build-reqs: installing numpy, scipy, numba, pymunk and the other build requirements (about $(call unq,$(T_REQS)) in the recorded run)"
+	$(BUILD_REQS)
+	touch $@
 
 # one stamp per set of extras: reinstalled only when pyproject.toml changes
-$(VENV)/.installed-demo: pyproject.toml | $(UV)
-	$(BUILD_REQS)
+$(VENV)/.installed-demo: pyproject.toml | $(VENV)/.build-reqs
+	@echo "==> install: installing rrbody and the [$(DEMO_EXTRAS)] extra's packages (about $(call unq,$(T_DEMO_PKGS)) in the recorded run)"
 	$(INSTALL) '.[$(DEMO_EXTRAS)]'
 	touch $@
 
-$(VENV)/.installed-test: pyproject.toml | $(UV)
-	$(BUILD_REQS)
+$(VENV)/.installed-test: pyproject.toml | $(VENV)/.build-reqs
+	@echo "==> install: installing rrbody and the packages of the extras $(TEST_EXTRAS) (about $(call unq,$(T_TEST_PKGS)) in the recorded run)"
 	$(INSTALL) '.[$(TEST_EXTRAS)]'
 	touch $@
 
-$(VENV)/.installed-docs: pyproject.toml | $(UV)
-	$(BUILD_REQS)
+$(VENV)/.installed-docs: pyproject.toml | $(VENV)/.build-reqs
 	$(INSTALL) '.[$(DOCS_EXTRAS)]'
 	touch $@
 
-# the kernels compiled at install (setup.py) are those of the sources at install time; after an edit
-# the suite's own targets compile them again (a few seconds when nothing changed: rrbody.cli.prebuild)
+# the kernels, compiled once per version of their sources (rrbody.cli.prebuild: a line as each job
+# ends); after an edit the targets that run rrbody compile them again (a few seconds when nothing changed)
 # (rrbody._cache.KERNEL_LAYERS: the files the kernels are compiled from; the prebuild's own list of work)
 KERNEL_SOURCES := $(shell find rrbody/model rrbody/physics rrbody/integrate rrbody/engine -name '*.py') \
 	rrbody/_cache.py rrbody/_version.py rrbody/cli/prebuild.py rrbody/cli/workload.py
-$(VENV)/.kernels: $(KERNEL_SOURCES) | $(VENV)/.installed-test
+$(VENV)/.kernels: $(KERNEL_SOURCES) | $(VENV)/.build-reqs
+	@echo "==> kernels: compiling rrbody's kernels with numba (about $(call unq,$(T_KERNELS)) in the recorded run, on 2 cores shared with load $(call unq,$(T_LOAD)); once per version of the sources)"
 	$(BIN)/python -m rrbody.cli.prebuild --into rrbody/_kernels
 	touch $@
 
 venv: $(VENV)/.installed-test
 
 ## make demo: set up (core + movie extra), then run the main job: Movie S1 -> movies/movie_s1.mp4
-demo: $(VENV)/.installed-demo
+demo: $(VENV)/.installed-demo $(VENV)/.kernels
+	@echo "==> demo: computing Movie S1's run and rendering it to movies/movie_s1.mp4 (about $(call unq,$(T_MOVIE)) in the recorded run)"
 	$(BIN)/rrbody demo
 
 # the oldest versions pyproject allows: uv's lowest-direct resolution of the core, the engine (pymunk
@@ -80,6 +109,7 @@ LOWEST_RUN = PYTHONPATH=$(CURDIR) RRBODY_CACHE_DIR=$(CURDIR)/$(LOWEST)/cache RRB
 	$(LOWEST)/bin/python
 
 $(LOWEST)/.installed: pyproject.toml | $(UV)
+	@echo "==> lowest-venv: installing the oldest versions pyproject allows into $(LOWEST) (about $(call unq,$(T_LOWEST)) in the recorded run)"
 	$(UV) venv --quiet --allow-existing --python $(BIN)/python $(LOWEST)
 	$(UV) pip install --quiet --compile-bytecode --python $(LOWEST)/bin/python --resolution lowest-direct \
 		-r pyproject.toml $(addprefix --extra ,$(LOWEST_EXTRAS))
@@ -93,7 +123,9 @@ venv-lowest: $(LOWEST)/.installed
 # worker, which builds each table once; pytest-xdist hands those groups out first, then every other
 # test one at a time in the suite's order (tests/conftest.py: the slow ones first)
 test: $(VENV)/.installed-test $(VENV)/.kernels $(LOWEST)/.installed
+	@echo "==> suite: running the test suite on 2 workers (about $(call unq,$(T_SUITE)) in the recorded run)"
 	$(BIN)/python -m pytest -n 2 --dist loadgroup --durations=15 tests
+	@echo "==> suite-lowest: running part of it on the oldest versions (about $(call unq,$(T_SUITE_LOWEST)) in the recorded run; compiles its kernels)"
 	$(LOWEST_RUN) -m pytest -n 2 -q -p no:cacheprovider -k 'not rerun and not film_it' $(LOWEST_TESTS)
 
 
@@ -103,7 +135,7 @@ bench: $(VENV)/.installed-test $(VENV)/.kernels
 	$(BIN)/python -m benchmarks.quotes
 
 ## make scenes: every paper figure and the report -> results/
-scenes: $(VENV)/.installed-test
+scenes: $(VENV)/.installed-test $(VENV)/.kernels
 	$(BIN)/rrbody scene all
 
 ## make docs: the documentation site -> docs/_build/html (from the committed results/; warnings are errors)

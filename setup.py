@@ -3,8 +3,11 @@
 Everything else about the package is declared in pyproject.toml. After setuptools has laid out the
 package (a wheel's build folder, or the checkout itself for an editable install), this runs
 ``python -m rrbody.cli.prebuild --into <package>/_kernels`` from the source tree, so the first command a
-user runs loads compiled kernels instead of compiling them for 20-30 s. ``RRBODY_BUILD_KERNELS=0``
-skips it (the kernels are then compiled on first use, into the user's cache folder, as numba does).
+user runs loads compiled kernels instead of compiling them for tens of seconds (docs/compile.md, "What
+it costs": the recorded times). ``RRBODY_BUILD_KERNELS=0`` skips it (the kernels are then compiled on
+first use, into the user's cache folder, as numba does). The Makefile installs with it and then runs
+the same prebuild as a step of its own: through uv or pip a build's output is hidden, and the
+prebuild's line per job is the only sign of progress for a minute or more.
 A failed kernel build fails a wheel build (`pip install .`); in an editable install setuptools turns
 it into a warning, and the Makefile's ``.venv/.kernels`` step, which runs the same build, then fails.
 """

@@ -5,7 +5,7 @@ wall time. A *cold* run gets a new, empty ``RRBODY_CACHE_DIR``: it finds the ker
 the package was installed (``rrbody/_kernels``, docs/compile.md) and copies them into that folder;
 the *warm* run that follows repeats the same command on the filled folder. The scenarios are
 interleaved (cold, warm, next scenario, ...) and the whole round repeated; best of the repeats each.
-Beside them, once per scenario (each costs 15-30 s), the *compile* column: the same command cold
+Beside them, once per scenario (each costs tens of seconds), the *compile* column: the same command cold
 from a copy of the package's sources without its install-time kernels (an install with
 ``RRBODY_BUILD_KERNELS=0``, or a checkout just edited), where numba compiles every kernel the
 command uses. Scenarios (the cold-start targets, "the first answer in seconds"):

@@ -19,7 +19,16 @@ Quote names:
   notes), ``table.plugin`` (``engine_plugin.csv``), ``table.rhs`` (``core_rhs.csv``), ``table.mujoco``
   and ``table.mujoco-cost`` (``mujoco.csv``, ``mujoco_cost.csv``): block quotes,
   a table with a blank line either side;
+- ``setup.TARGET.KEY``: ``make TARGET``'s record in ``setup.json`` (``python -m benchmarks.setup_times``:
+  a clean clone, step by step): KEY a step the Makefile announces (``kernels``, ``suite``, ...), or
+  ``total``, ``set-up`` (every step but the suite's and the demo's own), ``date``, ``load`` (the load
+  average before and after), ``passed`` (the
+  main suite's tests), ``slowest.FILE`` (the longest of tests/FILE.py's tests in pytest's list of the
+  slowest); ``?`` while that target has no record;
 - the named quotes of :data:`NAMED` (figures read from one file each, documented there).
+
+Besides README.md and docs/*.md, the CHANGELOG's entries and the Makefile's step lines quote figures
+(:func:`quoted_files`).
 """
 
 from __future__ import annotations
@@ -35,12 +44,14 @@ from pathlib import Path
 from .common import Target, fmt, md_table, write_text
 from .run import DEFAULT_OUT, STUDIES
 
-__all__ = ["MARKER", "NAMED", "QuoteError", "quote", "rewrite", "quoted_files", "stale_spans", "main"]
+__all__ = ["MARKER", "PLACEHOLDER", "NAMED", "QuoteError", "quote", "rewrite", "quoted_files", "stale_spans", "main"]
 
 ROOT = Path(__file__).resolve().parent.parent
 
-#: one quoted span: the name, then the quoted text (possibly several lines, for tables)
-MARKER = re.compile(r"<!--q:(?P<name>[A-Za-z0-9_.\-]+)-->(?P<body>.*?)<!--/q-->", re.DOTALL)
+#: one quoted span: the name, then the quoted text (possibly several lines, for tables); every name
+#: has a dot (``head.startup.1``), so a page may show the syntax itself, ``<!--q:NAME-->...<!--/q-->``
+MARKER = re.compile(r"<!--q:(?P<name>[A-Za-z0-9_\-]+\.[A-Za-z0-9_.\-]+)-->(?P<body>.*?)<!--/q-->", re.DOTALL)
+PLACEHOLDER = "<!--q:NAME-->"  # the syntax shown, not a quote
 
 
 class QuoteError(ValueError):
@@ -48,8 +59,9 @@ class QuoteError(ValueError):
 
 
 def quoted_files(root: Path = ROOT) -> list[Path]:
-    """The pages whose figures must come from the results: README.md and docs/*.md."""
-    return [root / "README.md", *sorted((root / "docs").glob("*.md"))]
+    """The files whose figures must come from the results: README.md, docs/*.md, CHANGELOG.md and
+    the Makefile (the time each set-up step announces)."""
+    return [root / "README.md", *sorted((root / "docs").glob("*.md")), root / "CHANGELOG.md", root / "Makefile"]
 
 
 # ----------------------------------------------------------------------------------- readers
@@ -218,6 +230,74 @@ def _step_ns(results: Path) -> str:
     return f"{ours:.0f} vs {lean:.0f} ns"
 
 
+def _summary_minutes(results: Path) -> str:
+    """The studies' wall times added up (each ``*_targets.json``): what ``make bench`` costs."""
+    total = sum(json.loads((results / f"{s}_targets.json").read_text(encoding="utf-8"))["wall_s"]
+                for s in STUDIES if (results / f"{s}_targets.json").exists())
+    return f"{total / 60:.0f} minutes"
+
+
+def _coldstart_compile(results: Path) -> str:
+    """The range of the cold-start study's compile column: a first call without install-time kernels."""
+    walls = [float(r["compile_s"]) for r in _rows(results, "coldstart.csv")]
+    return f"{min(walls):.0f}-{max(walls):.0f} s"
+
+
+def _study_date(study: str) -> Callable[[Path], str]:
+    """When one study last ran (its own section's machine line; ``--only`` re-runs one study)."""
+    return lambda results: _find(r"(\d{4}-\d\d-\d\d \d\d:\d\d UTC)",
+                                 (results / f"{study}_summary.md").read_text(encoding="utf-8"), f"{study} date")
+
+
+def _mujoco(own: bool, bodies: tuple[str, ...], digits: int) -> Callable[[Path], str]:
+    """The range of spin-down / exact over mujoco.csv's rows of MuJoCo's own friction (``own``) or the
+    adapter's, for ``bodies``: "1.35 to 1.83", or one figure when the range is one."""
+    def read(results: Path) -> str:
+        vals = [float(r["spin-down / exact"]) for r in _rows(results, "mujoco.csv")
+                if r["friction"].startswith("MuJoCo") == own and r["body"] in bodies]
+        if not vals:
+            raise QuoteError(f"mujoco.csv has no rows for {bodies}")
+        lo, hi = f"{min(vals):.{digits}f}", f"{max(vals):.{digits}f}"
+        return lo if lo == hi else f"{lo} to {hi}"
+    return read
+
+
+#: the steps of a target that are its purpose, not its set-up (``setup.TARGET.set-up`` leaves them out)
+_NOT_SET_UP = ("suite", "suite-lowest", "demo")
+
+
+def _setup(results: Path, target: str, key: str) -> str:
+    """One figure of ``make TARGET``'s record in setup.json (``?`` while the target has none)."""
+    path = results / "setup.json"
+    rec = json.loads(path.read_text(encoding="utf-8")).get("targets", {}).get(target) if path.exists() else None
+    if rec is None:
+        return "?"
+    steps = rec["steps_s"]
+    if key == "date":
+        return rec["date_utc"][:10]
+    if key == "load":  # the 1-minute load averages before and after: how shared the 2 cores were
+        lo, hi = sorted((rec["load_avg_before"][0], rec["load_avg_after"][0]))
+        return f"{lo:.1f}-{hi:.1f}" if f"{lo:.1f}" != f"{hi:.1f}" else f"{lo:.1f}"
+    if key == "passed":
+        return str(rec["tests_passed"]["suite"])
+    if key.startswith("slowest."):  # the longest listed test of one file: slowest.test_readme
+        node = f"tests/{key.partition('.')[2]}.py::"
+        times = [v for k, v in rec.get("slowest_tests_s", {}).items() if k.split(" ", 1)[1].startswith(node)]
+        if not times:
+            raise QuoteError(f"make {target}'s record lists no slow test of {node[:-2]}")
+        return f"{max(times):.0f} s"
+    if key == "total":
+        s = rec["total_s"]
+    elif key == "set-up":
+        s = sum(v for k, v in steps.items() if k not in _NOT_SET_UP)
+    elif key in steps:
+        s = steps[key]
+    else:
+        raise QuoteError(f"make {target}'s record has no step {key!r} (steps: {', '.join(steps)}; or total, "
+                         f"set-up, date, passed)")
+    return f"{s:.0f} s"
+
+
 #: name -> figure, each read from one recorded file
 NAMED: dict[str, Callable[[Path], str]] = {
     "summary.date": _summary_date,                                   # SUMMARY.md: when make bench ran
@@ -236,6 +316,15 @@ NAMED: dict[str, Callable[[Path], str]] = {
     "core.disk-icr": _core3(r"icr (\S+x)"),
     "stiff.old": lambda r: _stiff(r, True),                          # core_stiff.csv
     "stiff.auto": lambda r: _stiff(r, False),
+    "summary.minutes": _summary_minutes,                             # every *_targets.json
+    "coldstart.compile": _coldstart_compile,                         # coldstart.csv
+    "coldstart.date": _study_date("coldstart"),                      # coldstart_summary.md
+    # mujoco.csv: MuJoCo's own friction on a smooth disk (a prism) and a plate; on its cylinder geom
+    # (which hops); the adapter on those and on the cylinder
+    "mujoco.own-smooth": _mujoco(True, ("disk (prism)", "plate (box)"), 2),
+    "mujoco.own-cylinder": _mujoco(True, ("disk (cylinder)",), 2),
+    "mujoco.adapter-smooth": _mujoco(False, ("disk (prism)", "plate (box)"), 4),
+    "mujoco.adapter-cylinder": _mujoco(False, ("disk (cylinder)",), 2),
 }
 
 _TABLES: dict[str, Callable[[Path], str]] = {
@@ -263,11 +352,13 @@ def quote(name: str, results: Path = DEFAULT_OUT) -> str:
     if name in _TABLES:
         return "\n\n" + _TABLES[name](results) + "\n\n"  # blank lines: the table is its own block
     kind, _, rest = name.partition(".")
+    if kind == "setup" and rest.partition(".")[0] in ("demo", "test") and rest.partition(".")[2]:
+        return _setup(results, *rest.split(".", 1))
     study, _, n = rest.partition(".")
     if kind in _OF_TARGET and study in STUDIES:
         return _OF_TARGET[kind](_target(results, study, n))
     raise QuoteError(f"unknown quote {name!r}: use target|head|paren|verdict.STUDY.N (STUDY one of "
-                     f"{', '.join(STUDIES)}), {', '.join(_TABLES)} or one of {', '.join(NAMED)}")
+                     f"{', '.join(STUDIES)}), setup.demo|test.KEY, {', '.join(_TABLES)} or one of {', '.join(NAMED)}")
 
 
 def rewrite(text: str, results: Path = DEFAULT_OUT) -> str:
@@ -282,7 +373,7 @@ def stale_spans(path: Path, results: Path = DEFAULT_OUT) -> list[tuple[str, str,
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Rewrite (or ``--check``) the quoted figures of README.md and docs/*.md."""
+    """Rewrite (or ``--check``) the quoted figures of :func:`quoted_files`."""
     ap = argparse.ArgumentParser(prog="python -m benchmarks.quotes", description=__doc__.split("\n\n")[0])
     ap.add_argument("--check", action="store_true", help="change nothing; list stale spans, exit 1 if any")
     ap.add_argument("--results", type=Path, default=DEFAULT_OUT, help="the recorded results (default: %(default)s)")

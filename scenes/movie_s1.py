@@ -37,7 +37,9 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     out_dir.mkdir(parents=True, exist_ok=True)
     movies = out_dir.parent.parent / "movies"  # movies/ is the sibling of results/ (the runner's layout)
     movies.mkdir(parents=True, exist_ok=True)
-    # 1. the scene and its flip time (the red/blue split)
+    # 1. the scene and its flip time (the red/blue split); each long step says what it does on stderr
+    # (stdout keeps the one result line)
+    print("Movie S1: computing the flip time and the run ...", file=sys.stderr, flush=True)
     scene = rod_mass_scene(H, K, OMEGA, PHI0)
     flip = flip_time(scene)
     if flip.t_f is None:
@@ -48,7 +50,10 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     traj.save(out_dir / "movie_s1_trajectory.csv", force=force)
     # 3. the movie and a poster of its last frame
     # (the flip is held for HOLD s of playback under a banner; the trail fades over 4 driving periods)
-    path = render_movie(traj, movies / "movie_s1.mp4", force=force, progress=sys.stderr.isatty(), fps=FPS,
+    # progress on a terminal and in a log alike (a bar, or a line per tenth of the frames)
+    print(f"Movie S1: t_f = {flip.t_f:.4f} s; rendering 0..{t_end} s at x{SPEED}, {FPS} fps, 1280x720 ...",
+          file=sys.stderr, flush=True)
+    path = render_movie(traj, movies / "movie_s1.mp4", force=force, progress=True, fps=FPS,
                         speed=SPEED, flip=flip, hold=HOLD, arrows=True)
     render_poster(traj, out_dir / "movie_s1_poster.png", force=force, flip=flip)
     print(f"Movie S1: t_f = {flip.t_f:.4f} s, 0..{t_end} s at x{SPEED} -> {path} "

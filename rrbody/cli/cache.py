@@ -46,7 +46,7 @@ def cmd_cache(args: argparse.Namespace) -> int:
         from rrbody.cli.prebuild import build
 
         if not args.json:
-            print("rrbody: compiling every kernel (about a minute on 2 cores) ...", flush=True)
+            print("rrbody: compiling every kernel into the cache folder ...", flush=True)
         where = build(None, quiet=args.json)
         if args.json:
             print(json.dumps({"path": str(where), "bytes": _size(where)}))

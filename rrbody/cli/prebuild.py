@@ -37,25 +37,35 @@ __all__ = ["N_LOOPS", "build", "main"]
 N_LOOPS = 4
 
 
-def _jobs() -> list[list[str]]:
-    """The first pass's jobs, each a process of its own (:mod:`rrbody.cli.workload`): the plugin's
-    kernels and the stand-alone right-hand sides (the longest job, ~40 s: first, so that the other
-    worker compiles the loops beside it; last, it left one worker idle, measured 73 -> 62 s), and the
-    four that compile a stepping loop. The rest of the workload mostly loads those (0.7 s a process,
-    nearly all of it start-up): it runs in the one process of the second pass."""
+def _jobs() -> list[tuple[str, list[str]]]:
+    """The first pass's jobs, (what it compiles, its command), each a process of its own
+    (:mod:`rrbody.cli.workload`): the plugin's kernels and the stand-alone right-hand sides (the
+    longest job: first, so that the other worker compiles the loops beside it; last, it left one worker
+    idle, measured 73 -> 62 s), and the four that compile a stepping loop. The rest of the workload
+    mostly loads those (0.7 s a process, nearly all of it start-up): it runs in the one process of the
+    second pass."""
     run = [sys.executable, "-m", "rrbody.cli.workload"]
-    return [[*run, "--extras"], *([*run, "--job", str(i)] for i in range(N_LOOPS))]
+    # the order of rrbody.cli.workload.COMMANDS' first N_LOOPS commands
+    loops = ("the stepping loop under dry friction", "the free bodies' stepping loop",
+             "the stepping loop under viscous friction", "the stepping loop without friction")
+    return [("the plugin's kernels and the right-hand sides", [*run, "--extras"]),
+            *((loops[i], [*run, "--job", str(i)]) for i in range(N_LOOPS))]
 
 
-def _run_jobs(jobs: list[list[str]], env: dict[str, str], cwd: str, workers: int, bar: bool = False) -> None:
+def _run_jobs(jobs: list[list[str]], env: dict[str, str] | None, cwd: str, workers: int, *,
+              names: list[str] | None = None, what: str | None = None, first: int = 0, of: int | None = None,
+              t0: float | None = None) -> None:
     """Run the jobs, ``workers`` at a time; the first failure is raised with its command and error.
-    ``bar``: a progress bar (jobs done) on stderr."""
+    ``what``: a line on stderr as each job ends, ``rrbody: WHAT [k/of] NAME done (T s)``, k counted
+    from ``first``, T the time since ``t0`` (a plain line, terminal or log: the build's only output
+    for a minute or two, and a bar redrawn in place would be lost in a log)."""
     import threading
     from concurrent.futures import ThreadPoolExecutor, as_completed
 
-    from tqdm import tqdm
-
     failed = threading.Event()  # set before the failure is reported: no job starts after it
+    names = names if names is not None else [" ".join(cmd[2:]) for cmd in jobs]
+    of = len(jobs) if of is None else of
+    t0 = time.perf_counter() if t0 is None else t0
 
     def one(cmd: list[str]) -> None:
         if failed.is_set():
@@ -67,12 +77,13 @@ def _run_jobs(jobs: list[list[str]], env: dict[str, str], cwd: str, workers: int
             raise RuntimeError(f"prebuild: '{' '.join(cmd[2:])}' exited {p.returncode}: {tail[0]}")
 
     pool = ThreadPoolExecutor(max_workers=workers)
-    futures = [pool.submit(one, cmd) for cmd in jobs]
+    futures = {pool.submit(one, cmd): name for cmd, name in zip(jobs, names)}
     try:
-        with tqdm(total=len(jobs), desc="compiling kernels", unit="job", disable=not bar, leave=False) as progress:
-            for fut in as_completed(futures):
-                fut.result()
-                progress.update()
+        for done, fut in enumerate(as_completed(futures), first + 1):
+            fut.result()
+            if what is not None:
+                print(f"rrbody: {what} [{done}/{of}] {futures[fut]} done ({time.perf_counter() - t0:.0f} s)",
+                      file=sys.stderr, flush=True)
     except BaseException:
         failed.set()  # a failure (or Ctrl-C) stops the jobs not yet started
         for fut in futures:
@@ -120,9 +131,17 @@ def build(into: Path | None = None, *, jobs: int = 2, quiet: bool = False, force
     env["MPLBACKEND"] = "Agg"
     try:
         with tempfile.TemporaryDirectory(prefix="rrbody-prebuild-") as cwd:  # any file a job writes
-            bar = not quiet and sys.stderr.isatty()
-            _run_jobs(_jobs(), env, cwd, jobs, bar)
-            _run_jobs([[sys.executable, "-m", "rrbody.cli.workload", "--all"]], env, cwd, 1, bar)
+            first = _jobs()
+            what = None if quiet else "compiling"
+            if not quiet:
+                print(f"rrbody: compiling every kernel: {len(first)} jobs, {jobs} at a time, then the whole "
+                      f"workload once more in one process (a line as each ends)", file=sys.stderr,
+                      flush=True)
+            _run_jobs([cmd for _, cmd in first], env, cwd, jobs, names=[n for n, _ in first], what=what,
+                      of=len(first) + 1, t0=t0)
+            _run_jobs([[sys.executable, "-m", "rrbody.cli.workload", "--all"]], env, cwd, 1,
+                      names=["the whole workload in one process"], what=what, first=len(first),
+                      of=len(first) + 1, t0=t0)
         src = work / "kernels" / name
         if not src.is_dir():
             raise RuntimeError(f"prebuild: no kernels were written to {src} (were the sources edited during the build?)")

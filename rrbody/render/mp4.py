@@ -137,12 +137,11 @@ def write_frames(final: Path, frames: Iterable[Any], n: int, *, size: tuple[int,
                  progress: bool, name: str = "movie") -> Path:
     """Encode ``n`` RGBA frames (``size`` pixels, each a buffer of height x width x 4 bytes) to the MP4
     ``final`` (already checked by ``check_writable``) at ``fps``: written to a temporary sibling and
-    renamed into place, with a progress bar if ``progress``. Returns ``final``."""
-    bar = None
-    if progress:
-        from tqdm import tqdm
+    renamed into place, with progress on stderr if ``progress`` (a bar on a terminal, a line per tenth
+    of the frames elsewhere: :class:`~rrbody.render.movie_progress.FrameProgress`). Returns ``final``."""
+    from rrbody.render.movie_progress import FrameProgress
 
-        bar = tqdm(total=n, unit="frame", desc=f"movie {final.name}", leave=False)
+    bar = FrameProgress(n, f"{name} {final.name}") if progress else None
     try:
         with atomic_path(final, force=force, name=name) as tmp:
             writer = _open_writer(tmp, size, fps)
