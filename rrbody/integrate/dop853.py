@@ -33,6 +33,7 @@ def _load_scipy_tableau():  # noqa: ANN202
 
 _co = _load_scipy_tableau()
 
+from rrbody._cache import no_refcount
 from rrbody.physics import params as P
 from rrbody.physics.dynamics import driven_tangent, rhs_near
 
@@ -104,7 +105,7 @@ def rk_step(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp):  # noqa: ANN001 
         tangent_stages(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp)
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, **no_refcount())
 def tangent_stages(system, t, y, f0, h, p, S, A, B, C, K, ynew, ytmp):  # noqa: ANN001
     """The stages of the tangent vectors (components 2.. of a driven state, effect tangent), after
     :func:`rk_step` has stepped the body: their equations are linear along the body's trajectory, so
@@ -166,7 +167,7 @@ def error_norm(system, K, h, scale, E3, E5):  # noqa: ANN001
     return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * n)
 
 
-@njit(cache=True, _nrt=False, forceinline=True, error_model="numpy")
+@njit(cache=True, forceinline=True, error_model="numpy", **no_refcount())
 def trial_step(system, t, y, f0, h, p, S, A, B, C, E3, E5, K, ynew, ytmp, scale):  # noqa: ANN001
     """One DOP853 trial step (:func:`rk_step`) and its error norm (:func:`error_norm`) for the
     stepping loop. Three compile options, each measured on the fast driven case (about 0.45 us a

@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 from numba import literally, njit
 
+from rrbody._cache import no_refcount
 from rrbody.physics import params as P
 from rrbody.physics.effects import DRIVEN, active, compiled_code, drive_circular, tangent, tilt
 from rrbody.physics.effects.areas import POINT, body_frame_wrench, body_wrench
@@ -63,7 +64,7 @@ def _driven_point(law, t, y, p, d, s0, c0):  # noqa: ANN001 (numba)
     return y[1], torque * p[P.INV_IP]
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, **no_refcount())
 def _driven_extended(law, area, t, phi, phid, p, S, d, s0, c0):  # noqa: ANN001 (numba)
     """(phi', phi'') of an extended body, or of a point mass on a tilted plane (one sampled element
     at its CM: :func:`rrbody.physics.bind.area_model`): one sine and cosine of the drive phase per evaluation, as
@@ -106,13 +107,13 @@ def _free_body(law, area, t, y, p, S):  # noqa: ANN001 (numba)
     return fx, fy, (tau / p[P.ICM] if p[P.ICM] > 0.0 else 0.0) + aw
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, **no_refcount())
 def _free(law, area, t, y, p, S):  # noqa: ANN001 (numba)
     """:func:`_free_body` of an extended body, a call of its own (as :func:`_driven_extended`)."""
     return _free_body(law, area, t, y, p, S)
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, **no_refcount())
 def driven_tangent(law, area, t, y, p, S, out, row):  # noqa: ANN001 (numba)
     """The tangent vectors' derivatives (:mod:`rrbody.physics.effects.tangent`) at the base state
     y[:2]: analytic for a point mass (its Jacobian's terms, as in :func:`jacobian`), central
@@ -141,7 +142,7 @@ def driven_tangent(law, area, t, y, p, S, out, row):  # noqa: ANN001 (numba)
     tangent.advance(y, out, row, a, b)
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, **no_refcount())
 def rhs_near(code, t, y, p, S, out, row, d, s0, c0):  # noqa: ANN001
     """out[row, :] = y' for the equations of the compiled code ``code`` and the area method of ``p`` (module docstring), where a
     driven body's drive phase psi = phi - omega t is psi0 + d with (sin, cos)(psi0) = (s0, c0): a
@@ -191,10 +192,10 @@ def _twin(fn: Any, name: str) -> Any:
 #: stiff methods, the first step, the Jacobian). With one compiled function for all, LLVM stopped
 #: inlining it into the DOP853 step, which became 8 % slower (measured: 359 -> 391 ns a step);
 #: with literal constant rows, as before, numba compiled it three times per law, not twice.
-_rhs_other = njit(cache=True, _nrt=False)(_twin(rhs_near.py_func, "rhs_other"))
+_rhs_other = njit(cache=True, **no_refcount())(_twin(rhs_near.py_func, "rhs_other"))
 
 
-@njit(cache=True, _nrt=False)
+@njit(cache=True, **no_refcount())
 def rhs(code, t, y, p, S, out, row):  # noqa: ANN001
     """out[row, :] = y' at (t, y): :func:`rhs_near` without a base angle (the library's sin and cos).
     Callers pass a constant ``row`` as ``np.int64(...)``: numba compiles a callee again for each
