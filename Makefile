@@ -104,7 +104,7 @@ demo: $(VENV)/.installed-demo $(VENV)/.kernels
 LOWEST := .venv-lowest
 LOWEST_EXTRAS := test engine mujoco movie
 LOWEST_TESTS := tests/test_flip.py tests/test_plugin_io.py tests/test_takeovers.py tests/test_plugin.py \
-	tests/test_recorder.py tests/test_mujoco.py
+	tests/test_recorder.py tests/test_mujoco.py tests/test_tableaus.py
 LOWEST_RUN = PYTHONPATH=$(CURDIR) RRBODY_CACHE_DIR=$(CURDIR)/$(LOWEST)/cache RRBODY_NO_SEED=1 MPLBACKEND=Agg \
 	$(LOWEST)/bin/python
 

@@ -209,3 +209,24 @@ def test_numba_refuses_kernels_another_numba_cached(tmp_path: Path) -> None:
         pickle.dump(version + ".other", f, protocol=-1)
         f.write(rest)
     assert caching.IndexDataCacheFile(str(tmp_path), "kernel-probe", "stamp").load("key") is None
+
+
+def test_cython_blas_preload_falls_back() -> None:
+    """rrbody.cli.lean.preload_cython_blas loads scipy's ``cython_blas`` without ``scipy.linalg``; where
+    it is not where expected it does nothing, and numba's own import (the whole of scipy.linalg) gives
+    the same module a flip time needs. Each in a fresh process: the module can be loaded once."""
+    import subprocess
+    import sys
+
+    probe = ("import sys, os, scipy{patch}; from rrbody.cli.lean import preload_cython_blas; preload_cython_blas(); "
+             "print('scipy.linalg.cython_blas' in sys.modules, 'scipy.linalg' in sys.modules); "
+             "from rrbody import flip_time, rod_mass_scene; "
+             "print(repr(flip_time(rod_mass_scene(H=0.2, k=0.05, omega=0.6)).t_f))")
+    runs = {}
+    for name, patch in (("preload", ""), ("fallback", "; scipy.__path__[:] = [os.devnull]")):
+        out = subprocess.run([sys.executable, "-c", probe.format(patch=patch)], capture_output=True, text=True)
+        assert out.returncode == 0, out.stderr
+        runs[name] = out.stdout.split("\n")
+    assert runs["preload"][0] == "True False"  # loaded alone, scipy.linalg not imported
+    assert runs["fallback"][0] == "False False"  # nothing loaded: numba imports it when it needs it
+    assert runs["preload"][1] == runs["fallback"][1]  # the same flip time, to the bit

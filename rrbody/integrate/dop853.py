@@ -1,7 +1,7 @@
 """Compiled Dormand-Prince 8(5,3) step with scipy's own Butcher tableau.
 
-The tableau comes from :mod:`scipy.integrate._ivp.dop853_coefficients` (not retyped here); the
-loop is compiled with numba because a Python-level ``solve_ivp`` pays ~50 us of interpreter
+The tableau is Hairer's (:mod:`rrbody.integrate.tableaus`, copied digit for digit from scipy's and tested
+against it); the loop is compiled with numba because a Python-level ``solve_ivp`` pays ~50 us of interpreter
 overhead per step, which dominates for these 2- to 6-dimensional systems. The error norm and the
 step-size controller follow scipy's ``DOP853`` (Hairer's combined 5th/3rd-order estimate).
 """
@@ -13,33 +13,15 @@ import math
 import numpy as np
 from numba import literally, njit
 
-def _load_scipy_tableau():  # noqa: ANN202
-    """scipy's DOP853 coefficient module, loaded by file so that ``scipy.integrate`` (0.3 s of
-    imports) is not pulled in just for these constants."""
-    import importlib.util
-    from pathlib import Path
-
-    spec = importlib.util.find_spec("scipy")
-    if spec is None or spec.origin is None:
-        raise ImportError("scipy is required")
-    path = Path(spec.origin).parent / "integrate" / "_ivp" / "dop853_coefficients.py"
-    mspec = importlib.util.spec_from_file_location("_rrbody_dop853_coefficients", path)
-    if mspec is None or mspec.loader is None:
-        raise ImportError(f"cannot load scipy's DOP853 coefficients from {path}")
-    mod = importlib.util.module_from_spec(mspec)
-    mspec.loader.exec_module(mod)
-    return mod
-
-
-_co = _load_scipy_tableau()
 
 from rrbody._cache import no_refcount
+from rrbody.integrate.tableaus import DOP853_A, DOP853_B, DOP853_C, DOP853_E3, DOP853_E5, DOP853_STAGES
 from rrbody.physics import params as P
 from rrbody.physics.dynamics import driven_tangent, rhs_near
 
 __all__ = ["TABLEAU", "rk_step", "error_norm", "trial_step", "ORDER", "hlamb"]
 
-N_STAGES: int = _co.N_STAGES
+N_STAGES: int = DOP853_STAGES
 ORDER: int = 8
 ERROR_EXPONENT: float = -1.0 / 8.0  # error estimator order 7
 SAFETY: float = 0.9
@@ -47,13 +29,7 @@ MIN_FACTOR: float = 0.2
 MAX_FACTOR: float = 10.0
 
 # A (12x12), B (12), C (12), E3 (13), E5 (13) as contiguous float64 arrays for numba.
-TABLEAU: tuple[np.ndarray, ...] = (
-    np.ascontiguousarray(_co.A[:N_STAGES, :N_STAGES], dtype=np.float64),
-    np.ascontiguousarray(_co.B, dtype=np.float64),
-    np.ascontiguousarray(_co.C[:N_STAGES], dtype=np.float64),
-    np.ascontiguousarray(_co.E3, dtype=np.float64),
-    np.ascontiguousarray(_co.E5, dtype=np.float64),
-)
+TABLEAU: tuple[np.ndarray, ...] = (DOP853_A, DOP853_B, DOP853_C, DOP853_E3, DOP853_E5)
 
 
 @njit(cache=True, inline="always")

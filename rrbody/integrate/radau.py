@@ -6,8 +6,8 @@ the dragged-mass phase, where RODAS4's steps shrink 20x per 100x of tolerance). 
 collocation equations by simplified Newton iteration with the transformation of Hairer and Wanner
 (*Solving ODEs II*, section IV.8) that splits them into one real and one complex n x n system with
 the Jacobian at the step start; the error estimate is the embedded one of RADAU5, filtered through
-(I/(h gamma) - J)^-1. The constants are those of scipy's ``Radau`` (``scipy.integrate._ivp.radau``),
-loaded from its source so that they are not retyped.
+(I/(h gamma) - J)^-1. The constants are those of scipy's ``Radau``, copied into :mod:`rrbody.integrate.tableaus` (and
+tested against scipy's).
 """
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ import math
 import numpy as np
 from numba import literally, njit
 
+from rrbody.integrate.tableaus import RADAU_C, RADAU_E, RADAU_MU_COMPLEX, RADAU_MU_REAL, RADAU_P, RADAU_T, RADAU_TI
 from rrbody.physics.dynamics import rhs
 
 __all__ = ["radau_step", "RADAU_TABLE", "NEWTON_MAXITER", "NEWTON_FAILED", "K_ROWS"]
@@ -28,30 +29,10 @@ NEWTON_FAILED: float = 1e10
 K_ROWS: int = 18
 
 
-def _load() -> tuple[np.ndarray, ...]:
-    """(C, E, T, TI, [MU_REAL, MU_COMPLEX.real, MU_COMPLEX.imag], P) from scipy's radau module (P: its
-    dense-output coefficients, Z(s) = sum_q (Z^T P)_q s^(q+1))."""
-    import importlib.util
-    from pathlib import Path
-
-    spec = importlib.util.find_spec("scipy")
-    if spec is None or spec.origin is None:
-        raise ImportError("scipy is required")
-    path = Path(spec.origin).parent / "integrate" / "_ivp" / "radau.py"
-    src = path.read_text()
-    # only the constant block (the module's imports would pull in scipy.linalg)
-    start = src.index("S6 = 6 ** 0.5")
-    end = src.index("NEWTON_MAXITER")
-    ns: dict[str, object] = {"np": np}
-    exec(compile(src[start:end], str(path), "exec"), ns)  # noqa: S102 - scipy's own constants
-    mu_c = complex(ns["MU_COMPLEX"])  # type: ignore[arg-type]
-    return (np.ascontiguousarray(ns["C"], dtype=np.float64), np.ascontiguousarray(ns["E"], dtype=np.float64),
-            np.ascontiguousarray(ns["T"], dtype=np.float64), np.ascontiguousarray(ns["TI"], dtype=np.float64),
-            np.array([float(ns["MU_REAL"]), mu_c.real, mu_c.imag]),  # type: ignore[arg-type]
-            np.ascontiguousarray(ns["P"], dtype=np.float64))
-
-
-RADAU_TABLE: tuple[np.ndarray, ...] = _load()
+RADAU_TABLE: tuple[np.ndarray, ...] = (
+    RADAU_C, RADAU_E, RADAU_T, RADAU_TI, np.array([RADAU_MU_REAL, RADAU_MU_COMPLEX.real, RADAU_MU_COMPLEX.imag]), RADAU_P)
+"""(C, E, T, TI, [MU_REAL, MU_COMPLEX.real, MU_COMPLEX.imag], P): the Radau IIA constants
+(:mod:`rrbody.integrate.tableaus`), P the dense-output coefficients, Z(s) = sum_q (Z^T P)_q s^(q+1)."""
 # global arrays are compile-time constants for numba
 _RC, _RE, _RT, _RTI, _RMU, _RP = RADAU_TABLE
 
