@@ -143,8 +143,8 @@ def _effect_share(pf: object, reps: int = 7, block: int = 20) -> tuple[float, fl
     (every body's mu g zeroed): with friction, a body without its propulsion is stopped by the rest rule
     where it slid on, a different step; without it, the two calls differ by the active load alone
     (checked: the same count of stopped bodies, none)."""
-    from rrbody.engine import kernel as K
-    from rrbody.engine.active import NO_ACTIVE
+    from rrbody.contact import kernel as K
+    from rrbody.contact.active import NO_ACTIVE
 
     base, rows, noise, kernel = _frozen_call(pf)
     act = pf._act  # type: ignore[attr-defined]
@@ -181,7 +181,7 @@ def _breakdown(pf: object, reps: int = 15, block: int = 20) -> dict[str, float]:
     (their instantaneous centre on or next to an edge of the L)."""
     import numpy as np
 
-    from rrbody.engine import kernel as K
+    from rrbody.contact import kernel as K
     from rrbody.physics.footprint_table import table_covers
     from rrbody.physics.effects.drive_circular import sincos_reduced
 

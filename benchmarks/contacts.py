@@ -127,7 +127,7 @@ def _scene(n: int, kind: str = "uniform", *, mu: float = MU, mu_static: float | 
         bodies.append(b)
     pressure = _pressure(kind)
     if static_off:
-        from rrbody.engine import kernel as K
+        from rrbody.contact import kernel as K
         from rrbody.engine.shapes import body_footprint
 
         for b in bodies:

@@ -84,7 +84,7 @@ def remove_damaged(path: Path) -> None:
 
 #: the sub-packages the kernels are compiled from: those that define kernels (physics, integrate, engine)
 #: and the one below them (model); an edit in analysis, render or cli (no kernel there) compiles nothing
-KERNEL_LAYERS = ("model", "physics", "integrate", "engine")
+KERNEL_LAYERS = ("model", "physics", "integrate", "contact", "engine", "mujoco_adapter")
 #: modules at the package root that the kernel layers import
 KERNEL_ROOT_FILES = ("_cache.py", "_version.py")
 

@@ -23,7 +23,7 @@ import pymunk
 import pytest
 from scipy.integrate import quad
 
-from rrbody.engine import kernel as K
+from rrbody.contact import kernel as K
 from rrbody.engine.compat import on_begin
 from rrbody.engine.shapes import body_footprint
 from rrbody.model.pressure import uniform

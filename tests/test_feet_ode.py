@@ -12,7 +12,7 @@ Tolerances and where they come from:
   the driven one, whose feet pass near rest and cost DOP853 its smoothness there);
 - the plugin and the engine path: their convergence to the ODE path, measured at halving dt: second
   order for the driven body and for a free body before it pivots; FIRST order at worst through a
-  pivot (the plugin holds the foot exactly at rest, rrbody.engine.feet, but the pivot's start, its
+  pivot (the plugin holds the foot exactly at rest, rrbody.contact.feet, but the pivot's start, its
   release and the stop fall on step boundaries: err <= 0.05 dt and <= 0.15 dt on the two cases below,
   the measured maxima 0.040 dt and 0.12 dt);
 - exact references (constant deceleration while pinned): to 1e-12 relative, DOP853 integrating a
@@ -196,7 +196,7 @@ def test_a_light_pivot_foot_breaks_away_when_its_reaction_leaves_the_static_disc
 
 
 def test_plugin_holds_a_pivot_foot_with_static_friction_as_the_ode_path_does() -> None:
-    """The light-foot case above in the plugin (rrbody.engine.feet): foot A held from the start, released
+    """The light-foot case above in the plugin (rrbody.contact.feet): foot A held from the start, released
     where its reaction leaves the static disc, foot B held later until the stop, every event within
     two steps of the ODE path's and the final pose within 0.15 dt (at worst first order: the events
     fall on step boundaries; measured 0.009-0.12 dt). With mu_static = mu both paths release A

@@ -278,8 +278,8 @@ def test_bad_input() -> None:
 
 def test_compiles_without_refcounting(tables: dict) -> None:
     """The plugin calls the kernel from kernels compiled without numba's reference counting
-    (rrbody.engine.lean.NO_REFCOUNT): it must allocate nothing, so it compiles there too and gives the same."""
-    from rrbody.engine.lean import NO_REFCOUNT
+    (rrbody.contact.lean.NO_REFCOUNT): it must allocate nothing, so it compiles there too and gives the same."""
+    from rrbody.contact.lean import NO_REFCOUNT
 
     shapes, geo, T = tables["L"]
 

@@ -258,11 +258,11 @@ def test_rrbody_scenes_on_the_engine_path_take_the_tilt() -> None:
 def test_a_load_static_friction_cannot_hold_is_refused_without_the_limit_set_test() -> None:
     """The kernel skips the limit-set test (and its deferral to the second loop) for a load whose force
     is above mu_s g per unit mass (``_may_hold`` False); the skip is sound only if the test itself then
-    says "not held" (:func:`rrbody.engine.kernel._held`). Loads within 1e-13 .. 1e-6 (relative) of
+    says "not held" (:func:`rrbody.contact.kernel._held`). Loads within 1e-13 .. 1e-6 (relative) of
     the bound on either side, in every direction and at every angle, with torques up to the static
     torque limit: wherever ``_may_hold`` refuses, ``_held`` refuses too, and it refuses loads above
     1 + 1e-9 (the margin, 1e-12 on the square, covers the rotation's rounding, a few ulps)."""
-    from rrbody.engine import kernel as K
+    from rrbody.contact import kernel as K
 
     space, pf, b = _plane(tilt=0.0, mu=0.3, mu_static=0.5)
     j = 0
@@ -291,7 +291,7 @@ def test_an_active_body_pushing_a_wall_beyond_static_friction_is_never_tested() 
     the wall, the rest rule wants to stop it every step, and static friction could never hold its
     load; the limit-set test never runs (its remembered load stays unset), and the box stays pressed
     to the wall. (It starts moving: a body at rest is tested, to see whether it breaks away.)"""
-    from rrbody.engine import kernel as K
+    from rrbody.contact import kernel as K
     from rrbody.plugin import Active
 
     space, pf, b = _plane(tilt=0.0, mu=0.3, mu_static=0.4, v=(0.05, 0.0))

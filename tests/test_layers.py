@@ -1,8 +1,10 @@
 """Import contract: rrbody's sub-packages form layers and every import runs downward.
 
-Layers, bottom to top: model -> physics -> integrate -> engine -> analysis -> render -> cli. A module
-may import from its own layer or a lower one, never from a higher one (a back edge), and the module
-graph has no cycle. Imports inside functions count too: a lazy import is still a dependency. The
+Layers, bottom to top: model -> physics -> integrate -> contact -> {engine, mujoco_adapter} -> analysis
+-> render -> cli. ``contact`` is the plane step both engine adapters call and imports no engine; the two
+adapters (pymunk's ``engine`` and ``mujoco_adapter``) share a level and never import each other, and no
+package imports two engines. A module may import from its own layer or a lower one, never from a higher
+one (a back edge), and the module graph has no cycle. Imports inside functions count too: a lazy import is still a dependency. The
 package root ``rrbody/__init__.py`` (with ``rrbody/plugin.py``, the plugin's entry point, ``rrbody/mujoco.py``, the MuJoCo adapter's, and
 ``rrbody/pressure.py`` and ``rrbody/planar.py``, the contacts' and the batched wrench's) is the curated public
 API above every layer; below it only
@@ -17,10 +19,15 @@ from pathlib import Path
 import pytest
 
 PKG = Path(__file__).resolve().parents[1] / "rrbody"
-LAYERS = ("model", "physics", "integrate", "engine", "analysis", "render", "cli")
+#: the levels, bottom to top; the packages of one level may not import each other (the two engine adapters)
+LEVELS: tuple[tuple[str, ...], ...] = (("model",), ("physics",), ("integrate",), ("contact",), ("engine", "mujoco_adapter"),
+                                       ("analysis",), ("render",), ("cli",))
+LAYERS = tuple(name for level in LEVELS for name in level)
+#: the third-party engines, and the packages that may import each (no other may, and none both)
+ENGINES = {"pymunk": {"engine"}, "mujoco": {"mujoco_adapter"}}
 #: modules at the package root and the layer they count as
-ROOT_MODULES = {"rrbody._version": -1, "rrbody._cache": -1, "rrbody": len(LAYERS), "rrbody.plugin": len(LAYERS),
-                "rrbody.mujoco": len(LAYERS), "rrbody.pressure": len(LAYERS), "rrbody.planar": len(LAYERS)}
+ROOT_MODULES = {"rrbody._version": -1, "rrbody._cache": -1, "rrbody": len(LEVELS), "rrbody.plugin": len(LEVELS),
+                "rrbody.mujoco": len(LEVELS), "rrbody.pressure": len(LEVELS), "rrbody.planar": len(LEVELS)}
 
 
 def _module_name(path: Path) -> str:
@@ -37,7 +44,13 @@ def _layer(module: str) -> int:
     parts = module.split(".")
     if len(parts) < 2 or parts[1] not in LAYERS:
         raise AssertionError(f"{module} is in no layer: put it in one of rrbody.{{{','.join(LAYERS)}}}")
-    return LAYERS.index(parts[1])
+    return next(i for i, level in enumerate(LEVELS) if parts[1] in level)
+
+
+def _package(module: str) -> str:
+    """The sub-package of a module below the root (``engine`` for rrbody.engine.plugin), or ''."""
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 and parts[1] in LAYERS else ""
 
 
 def _imports(path: Path, module: str) -> set[str]:
@@ -87,6 +100,72 @@ def test_imports_run_downward(module: str) -> None:
     own = _layer(module)
     back = sorted(t for t in GRAPH[module] if _layer(t) > own)
     assert not back, f"{module} (layer {own}) imports from higher layers: {back}"
+
+
+def test_the_packages_of_one_level_do_not_import_each_other() -> None:
+    """The two engine adapters share a level: neither may import the other (the plane step they share
+    is below them, in rrbody.contact)."""
+    crossing = sorted(f"{m} -> {t}" for m, targets in GRAPH.items() for t in targets
+                      if _package(m) and _package(t) and _package(m) != _package(t) and _layer(m) == _layer(t))
+    assert not crossing, crossing
+
+
+def _third_party(path: Path) -> set[str]:
+    """The top-level names of the packages outside rrbody that ``path`` imports (at any depth, or through
+    rrbody.model.extras.require("NAME", ...))."""
+    found: set[str] = set()
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            found.update(a.name.split(".")[0] for a in node.names)
+        elif isinstance(node, ast.ImportFrom) and not node.level and node.module:
+            found.add(node.module.split(".")[0])
+        elif (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "require"
+              and node.args and isinstance(node.args[0], ast.Constant)):
+            found.add(str(node.args[0].value).split(".")[0])
+    found.discard("rrbody")
+    return found
+
+
+def _engines(module: str) -> set[str]:
+    """The engines (pymunk, MuJoCo) a module imports itself."""
+    path = PKG.parent / Path(*module.split("."))
+    path = path / "__init__.py" if path.is_dir() else path.with_suffix(".py")
+    return _third_party(path) & set(ENGINES)
+
+
+def test_the_plane_step_imports_no_engine() -> None:
+    """rrbody.contact, the step both adapters call, imports neither pymunk nor MuJoCo, itself or through
+    any rrbody module it imports (the whole downward closure)."""
+    seen: set[str] = set()
+    todo = [m for m in GRAPH if _package(m) == "contact"]
+    while todo:
+        m = todo.pop()
+        if m not in seen:
+            seen.add(m)
+            todo.extend(GRAPH.get(m, ()))
+    wrong = sorted(f"{m} imports {e}" for m in seen for e in _engines(m))
+    assert not wrong, wrong
+
+
+def test_no_package_imports_two_engines() -> None:
+    """Each sub-package imports at most one engine, and each engine's adapter package is the one that
+    steps it: pymunk in rrbody.engine, MuJoCo in rrbody.mujoco_adapter (others may read one engine's
+    objects, as the recorder reads pymunk's shapes, never both)."""
+    by_package: dict[str, set[str]] = {}
+    for m in GRAPH:
+        if _package(m):
+            by_package.setdefault(_package(m), set()).update(_engines(m))
+    both = {p: sorted(e) for p, e in by_package.items() if len(e) > 1}
+    assert not both, both
+    for engine, homes in ENGINES.items():
+        for home in homes:
+            assert by_package.get(home) == {engine}, (home, by_package.get(home))
+
+
+def test_the_engine_scan_finds_an_import(tmp_path: Path) -> None:
+    f = tmp_path / "m.py"
+    f.write_text("def g():\n    import pymunk.batch\n    m = require('mujoco', purpose='x')\n")
+    assert _third_party(f) == {"pymunk", "mujoco"}
 
 
 def test_no_import_cycle() -> None:

@@ -1,13 +1,13 @@
 """The plugin kernel's lean sweep against its reference: every body stepped by the limit-set loop's step.
 
-:func:`rrbody.engine.kernel.plane_step` steps most bodies in a sweep compiled without reference counting
-(:func:`rrbody.engine.kernel._sweep`: three passes), and hands to its limit-set loop
-(:func:`rrbody.engine.kernel._one`, whose test of a load allocates) only the bodies that need static
+:func:`rrbody.contact.kernel.plane_step` steps most bodies in a sweep compiled without reference counting
+(:func:`rrbody.contact.kernel._sweep`: three passes), and hands to its limit-set loop
+(:func:`rrbody.contact.kernel._one`, whose test of a load allocates) only the bodies that need static
 friction's limit-set test: at rest, about to stop under a load static friction may hold, or on a held
 foot whose spin runs out. Stepping every body with ``_one`` instead is the reference: it must give the
 same forces, the same stop count and the same state, bit for bit. The only columns allowed to differ
 are the memo of the last limit-set test (HX, HY, HT, HA, HELD), which the reference fills for loads the
-sweep knows static friction cannot hold (:func:`rrbody.engine.kernel._may_hold`) and so never tests.
+sweep knows static friction cannot hold (:func:`rrbody.contact.kernel._may_hold`) and so never tests.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from numba import njit
 
 pymunk = pytest.importorskip("pymunk")
 
-from rrbody.engine import kernel as K  # noqa: E402
+from rrbody.contact import kernel as K  # noqa: E402
 from rrbody.plugin import Active, PlaneFriction  # noqa: E402
 
 #: three point feet on a circle of radius 0.06 m, equal loads (the contacts benchmark's)

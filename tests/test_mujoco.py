@@ -15,7 +15,7 @@ import pytest
 mujoco = pytest.importorskip("mujoco")
 
 from rrbody import planar  # noqa: E402
-from rrbody.engine import kernel as K  # noqa: E402
+from rrbody.contact import kernel as K  # noqa: E402
 from rrbody.mujoco import PlaneFriction  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -17,7 +17,7 @@ import pymunk
 import pytest
 
 from rrbody.engine import PlaneFriction
-from rrbody.engine import kernel as K
+from rrbody.contact import kernel as K
 from rrbody.engine.batchio import ROUTES, BatchIO, batch_reads, body_uid
 from rrbody.engine.bodymem import FX, FY, TORQUE, layout
 from rrbody.engine.structio import StructIO

@@ -177,9 +177,9 @@ def test_kernels_compile_without_numbas_private_option(monkeypatch: pytest.Monke
 
 
 def test_fast_entry_falls_back_to_the_dispatcher() -> None:
-    """rrbody.engine.lean.fast_entry reads numba's compiled entry point (dispatcher.overloads, not
+    """rrbody.contact.lean.fast_entry reads numba's compiled entry point (dispatcher.overloads, not
     documented); a dispatcher without it is called itself, with the same result."""
-    from rrbody.engine.lean import fast_entry
+    from rrbody.contact.lean import fast_entry
 
     class Plain:
         """A callable without numba's dispatcher attributes."""

@@ -118,9 +118,9 @@ def _planar_workload() -> None:
     types the adapter passes (MuJoCo's own: float64 and int32), so they compile without MuJoCo installed."""
     import numpy as np
 
-    from rrbody.engine import kernel as K
-    from rrbody.engine import mjkernel as MK
-    from rrbody.engine.active import NO_ACTIVE
+    from rrbody.contact import kernel as K
+    from rrbody.mujoco_adapter import kernel as MK
+    from rrbody.contact.active import NO_ACTIVE
     from rrbody.physics.batch import stack
     from rrbody.model.pressure import uniform
     from rrbody.physics import planar

@@ -1,9 +1,14 @@
-"""Engine layer: area friction from a horizontal plane for pymunk bodies, and rrbody's scenes in pymunk.
+"""The pymunk engine path: rrbody's plane step (:mod:`rrbody.contact`) for pymunk bodies, and rrbody's
+scenes run in pymunk (``--method engine``; the ``engine`` extra).
 
-- :class:`PlaneFriction` (``rrbody.engine.plugin``): the plugin for any pymunk program;
+- :class:`PlaneFriction` (``rrbody.engine.plugin``): the plugin for any pymunk program (users import it
+  from :mod:`rrbody.plugin`); its bodies' shapes as footprints (``shapes``) and its reads and writes of
+  pymunk's memory (``bodymem``, ``structio``, ``batchio``, ``capture``; ``compat`` for pymunk 6 and 7);
 - :func:`attach` (``rrbody.engine.builder``): rrbody's own scenes built on it;
-- :func:`simulate_engine`, :func:`engine_flip_time` (``rrbody.engine.run``): the run loop;
+- :func:`simulate_engine`, :func:`engine_flip_time` (``rrbody.engine.run``, ``track``): the run loop;
 - :class:`EngineSettings` and the dt rules (``rrbody.engine.settings``). Needs pymunk.
+
+This package imports no MuJoCo and nothing of :mod:`rrbody.mujoco_adapter` (``tests/test_layers.py``).
 """
 
 from rrbody._cache import use_for_kernels

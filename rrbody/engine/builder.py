@@ -32,7 +32,7 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.engine import kernel as K
+from rrbody.contact import kernel as K
 from rrbody.engine.plugin import PlaneFriction
 from rrbody.engine.settings import EngineSettings, check_dt
 from rrbody.physics.footprint import apply_pressure, body_parts, combine, sampled_part
@@ -148,7 +148,7 @@ class EngineHandle:
         # the rest rule is for free bodies: a driven body's joint decides its velocity
         self.plane._add(self.body, law=law, coeff=coeff, footprint=fp, snap=scene.drive is None, history=history,
                         v_eps=1e-12 * scene.velocity_scale(), staggered=self._staggered, static=static)
-        if scene.active is not None:  # a free body's propulsion and its medium (rrbody.engine.active)
+        if scene.active is not None:  # a free body's propulsion and its medium (rrbody.contact.active)
             self.plane.activate(self.body, scene.active)
             self.plane.seed(scene.seed)  # its noise: the scene's seed, as on the ODE path
         if self.driver is not None:
@@ -200,7 +200,7 @@ class EngineHandle:
     def _drive(self, dt: float) -> None:
         """Before each step: put the driver where the step's position update lands it exactly on
         P(t_{n+1}), with the velocity the joint solver should give P (computed in the plugin's compiled
-        step, :func:`rrbody.engine.kernel._driver`)."""
+        step, :func:`rrbody.contact.kernel._driver`)."""
         px, py, vx, vy = self.plane._bodies[self.plane._slots[self.body], K.DPX:K.DVY + 1].tolist()
         self._set_v(self._drv_ptr, (vx, vy))
         self._set_p(self._drv_ptr, (px, py))

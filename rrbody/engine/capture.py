@@ -12,7 +12,7 @@ the bodies it films, and their state is six numbers in each body's C struct, whi
 removed from the space reads a null ``space`` field, which :func:`capture_direct` reports instead of
 reading on.
 
-The kernels are compiled without numba's reference counting (:mod:`rrbody.engine.lean`): with it,
+The kernels are compiled without numba's reference counting (:mod:`rrbody.contact.lean`): with it,
 each body's call of the shared :func:`_motion` counted its two arrays, and a capture of 1,000
 bodies took 21 us instead of 2 (measured)."""
 
@@ -22,8 +22,8 @@ import numpy as np
 from numba import njit
 
 from rrbody.engine.bodymem import ANGLE, SPACE, SPIN, VX, VY, X, Y, f64_at, i64_at, layout
-from rrbody.engine.kernel import FFT, FFX, FFY, GAP, PVX, PVY, PW, STAG, STOP
-from rrbody.engine.lean import NO_REFCOUNT
+from rrbody.contact.kernel import FFT, FFX, FFY, GAP, PVX, PVY, PW, STAG, STOP
+from rrbody.contact.lean import NO_REFCOUNT
 
 __all__ = ["capture_rows", "capture_direct", "layout"]
 

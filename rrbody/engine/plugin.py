@@ -25,14 +25,14 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.engine import kernel as K
-from rrbody.engine.active import NO_ACTIVE, ActiveSet
+from rrbody.contact import kernel as K
+from rrbody.contact.active import NO_ACTIVE, ActiveSet
 from rrbody.engine.batchio import BatchIO, body_uid
 from rrbody.engine.bodymem import layout
-from rrbody.engine.feet import feet_step
-from rrbody.engine.footprints import Footprints
-from rrbody.engine.lean import fast_entry
-from rrbody.engine.rows import Rows
+from rrbody.contact.feet import feet_step
+from rrbody.contact.footprints import Footprints
+from rrbody.contact.lean import fast_entry
+from rrbody.contact.rows import Rows
 from rrbody.engine.shapes import body_footprint
 from rrbody.engine.structio import StructIO
 from rrbody.model.active import Active
@@ -202,7 +202,7 @@ class PlaneFriction:
             m, moment / m, law, coeff, reach, 1.0 if snap else 0.0, v_eps, gx, gy, jj, 1.0 if staggered else 0.0
         row[[K.MUS, K.GTX, K.GTY]] = (coeff if law == K.LAW_DRY else 0.0) if static is None else static, *self._g_plane
         row[K.HELD] = -1.0  # no load tested yet
-        # two or more point feet: a foot at rest is held by static friction (rrbody.engine.feet)
+        # two or more point feet: a foot at rest is held by static friction (rrbody.contact.feet)
         row[K.FEET] = 1.0 if shapes.shape[0] > 1 and bool(np.all(shapes[:, C.KIND] == C.POINT)) else 0.0
         if law == K.LAW_DRY:  # (the viscous law is linear: exact and cheap without a table)
             row[K.TKIND], row[K.TAB] = self._feet.friction_table(shapes, geo, tabulate)
@@ -355,7 +355,7 @@ class PlaneFriction:
         self._tc = (t - self.t) - y
         self.t = t
 
-    # ---- active bodies (rrbody.engine.active) -------------------------------------------------
+    # ---- active bodies (rrbody.contact.active) -------------------------------------------------
     def activate(self, body: Any, active: Active | None) -> None:
         """Make plugin body ``body`` self-propelled as ``active`` says (:class:`rrbody.plugin.Active`: a
         force fixed in the body frame at a body point, a medium's drag, Langevin noise; docs/active.md),
@@ -393,7 +393,7 @@ class PlaneFriction:
             self._cache = np.zeros((3, max(n, 2 * self._cache.shape[1])), dtype=np.int64)  # ROW_ID 0: all stale
 
     def _refuse(self, got: np.ndarray) -> None:
-        """Raise the ValueError for what :func:`rrbody.engine.kernel.plane_check` found (error path only)."""
+        """Raise the ValueError for what :func:`rrbody.contact.kernel.plane_check` found (error path only)."""
         n_bad, i = int(self._cache[K.STATUS, K.BAD]), int(self._cache[K.STATUS, K.FIRST_BAD])
         if n_bad:
             a, vx, vy, w = got[i, :4].tolist()

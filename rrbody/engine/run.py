@@ -60,7 +60,7 @@ def _run(scene: Scene, settings: EngineSettings, *, t_end: float, stop: str, dt_
     per step with (t, phi, phi') at both ends of the step, phi' being the handle's second-order
     velocity (the mean of the two half-step spins): local minima of phi and T_1 are located on the cubic
     Hermite interpolant of (phi, phi') over the step, and the settle and RR stop rules are the ODE
-    path's. A free body's rest is the plugin's rest rule (:mod:`rrbody.engine.kernel`); its time goes
+    path's. A free body's rest is the plugin's rest rule (:mod:`rrbody.contact.kernel`); its time goes
     into the same event slot (E_TSTOP) the ODE path's free bodies use.
     """
     import pymunk

@@ -4,7 +4,7 @@
 writes every body's force back (about 15 us each way per 1,000 bodies, measured). :class:`StructIO`
 reads and writes only the plugin's bodies, in the plugin's row order, at the offsets
 :func:`rrbody.engine.bodymem.layout` found and checked: two compiled loops of a few loads or stores
-per body. It hands :func:`rrbody.engine.kernel.plane_step` the same columns ``BatchIO`` does (angle,
+per body. It hands :func:`rrbody.contact.kernel.plane_step` the same columns ``BatchIO`` does (angle,
 vx, vy, spin, fx, fy, torque), so the kernel and its checks are the same on both routes.
 
 What it leaves to ``BatchIO`` (the plugin decides per step, :meth:`PlaneFriction.step`):
@@ -26,7 +26,7 @@ from numba import njit
 
 from rrbody.engine.bodymem import (ANGLE, FX, FY, SPACE, SPIN, TORQUE, VX, VY, address, addresses, f64_at, i64_at,
                                    layout, set_f64)
-from rrbody.engine.lean import NO_REFCOUNT
+from rrbody.contact.lean import NO_REFCOUNT
 
 __all__ = ["StructIO", "gather", "scatter"]
 

@@ -41,12 +41,12 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.engine import kernel as K
+from rrbody.contact import kernel as K
 from rrbody.engine.batchio import BatchIO, body_uid
 from rrbody.engine.bodymem import address, addresses
 from rrbody.engine.capture import capture_direct, capture_rows, layout
-from rrbody.engine.lean import fast_entry
-from rrbody.engine.rows import Rows
+from rrbody.contact.lean import fast_entry
+from rrbody.contact.rows import Rows
 from rrbody.model.checks import check_int, check_positive, check_real
 from rrbody.model.io import atomic_path, check_writable
 from rrbody.render.movie_figure import check_movie, check_size

@@ -3,7 +3,7 @@
 The model is :mod:`rrbody.model.active` (:class:`rrbody.model.active.Active`). This module holds
 what both paths compile: the layout of the plugin's ``active`` array (one row per plugin body, a
 row of zeros for a body that is not active) and the per-body load :func:`load` that
-:func:`rrbody.engine.kernel.plane_step` adds to each body's force where a tilt's pull is added,
+:func:`rrbody.contact.kernel.plane_step` adds to each body's force where a tilt's pull is added,
 before friction is evaluated (so the limiter, the rest rule and static friction see it as a load);
 and, for one free body on the ODE path, :func:`ode_terms`, the same deterministic terms for its
 right-hand side (:mod:`rrbody.physics.dynamics`; parameters in ``p``, :mod:`rrbody.physics.params`), and
@@ -75,7 +75,7 @@ def load(j, ca, sa, ex, ey, ew, mass, ipm, dt, active, noise):  # noqa: ANN001 (
     frame) and N m about the centre of gravity. ``ca``, ``sa`` are the cosine and sine of the angle
     the step evaluates its loads at (the angle at the step's start plus w dt, where friction is
     evaluated), (ex, ey, ew) the velocity (m/s, world) and spin (rad/s) friction is evaluated at (the
-    staggered scheme's extrapolation, :func:`rrbody.engine.kernel._extrapolated`), where the drag acts;
+    staggered scheme's extrapolation, :func:`rrbody.contact.kernel._extrapolated`), where the drag acts;
     ``noise`` holds this step's standard normal numbers, the body's from column NZ of its row on."""
     fbx = active[j, FBX]
     fby = active[j, FBY]

@@ -1,5 +1,5 @@
 """numba options and entry points for the plugin's calls. Its per-body kernels are called once per
-body and step from :func:`rrbody.engine.kernel.plane_step`, with the plugin's arrays as arguments,
+body and step from :func:`rrbody.contact.kernel.plane_step`, with the plugin's arrays as arguments,
 and compiled without numba's reference counting (:func:`rrbody._cache.no_refcount` says why).
 """
 

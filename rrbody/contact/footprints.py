@@ -1,5 +1,5 @@
 """Where :class:`rrbody.engine.plugin.PlaneFriction` keeps its bodies' footprints and wrench tables:
-the kernel's ``shapes``, ``geo`` and ``tables`` arrays (:mod:`rrbody.engine.columns`), growable, with
+the kernel's ``shapes``, ``geo`` and ``tables`` arrays (:mod:`rrbody.contact.columns`), growable, with
 a body's rows placed, dropped and compacted in amortised O(1), and each wrench table stored once.
 
 A footprint is a body's parts (rows of :mod:`rrbody.physics.contact`, geometry in the body frame from
@@ -18,8 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.engine import columns as K
-from rrbody.engine.rows import Rows
+from rrbody.contact import columns as K
+from rrbody.contact.rows import Rows
 from rrbody.physics import contact as C
 from rrbody.physics.footprint_table import build_footprint_table
 from rrbody.physics.icr_table import build_radial_table, build_table

@@ -1,4 +1,4 @@
-"""The plugin kernel's arrays (:mod:`rrbody.engine.kernel`): their layouts and the names of their columns.
+"""The plugin kernel's arrays (:mod:`rrbody.contact.kernel`): their layouts and the names of their columns.
 
 Array layouts (columns)
 -----------------------
@@ -20,8 +20,8 @@ HY, HT (per unit mass, world frame) at the angle HA, HELD = 1.0 (the next step w
 and angle needs no new test); FFX, FFY, FFT: the friction the last step applied (N, world frame, and
 N m about the centre of gravity; static friction and the rest rule's stopping impulse included), for
 readers such as the recorder; FEET (1.0: a body on two or more point feet, whose foot static friction
-holds at rest: :mod:`rrbody.engine.feet`), PIN (1 + the index of the foot held since the last step, 0:
-none), DEFR (1.0 while :func:`rrbody.engine.kernel.plane_step` has deferred the body to its limit-set loop), TKIND, TAB:
+holds at rest: :mod:`rrbody.contact.feet`), PIN (1 + the index of the foot held since the last step, 0:
+none), DEFR (1.0 while :func:`rrbody.contact.kernel.plane_step` has deferred the body to its limit-set loop), TKIND, TAB:
 how its dry friction is evaluated (TABLE_NONE: :func:`rrbody.physics.contact.footprint_wrench`, exact;
 TABLE_CIRCLE: one disk, the wrench table of :mod:`rrbody.physics.icr_table`; TABLE_FOOTPRINT: the
 footprint's own table, :mod:`rrbody.physics.footprint_table`) and where its table starts in ``tables``.
@@ -29,7 +29,7 @@ footprint's own table, :mod:`rrbody.physics.footprint_table`) and where its tabl
 ``shapes`` (float, per footprint part) and ``geo``: the footprint rows of :mod:`rrbody.physics.contact`.
 ``lookup``: row 0 the plugin bodies' ids (int64 view of pymunk's uintptr ids) sorted, row 1 their rows.
 ``cache`` (int64, rows ROWMAP, ROW_ID, STATUS): the plugin row of each row of the space's bulk read,
-the id it was found for, and what the last check found (see :func:`rrbody.engine.kernel.plane_check`).
+the id it was found for, and what the last check found (see :func:`rrbody.contact.kernel.plane_check`).
 """
 
 from __future__ import annotations

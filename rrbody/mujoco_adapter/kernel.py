@@ -1,4 +1,4 @@
-"""The compiled reads and writes of the MuJoCo adapter (:mod:`rrbody.engine.mujoco`): MuJoCo's state in,
+"""The compiled reads and writes of the MuJoCo adapter (:mod:`rrbody.mujoco_adapter.plane`): MuJoCo's state in,
 the plugin kernel's ``got`` rows out (:func:`gather`), and the kernel's friction back into MuJoCo
 (:func:`scatter`, :func:`set_planar`). No MuJoCo import here: they take MuJoCo's arrays (numpy views).
 
@@ -16,7 +16,7 @@ import math
 import numpy as np
 from numba import njit
 
-from rrbody.engine import kernel as K
+from rrbody.contact import kernel as K
 
 __all__ = ["gather", "scatter", "unapply", "set_planar", "RESIDUE"]
 

@@ -1,4 +1,4 @@
-"""The MuJoCo adapter's reading of a model (:mod:`rrbody.engine.mujoco`): names and ids, and the footprint
+"""The MuJoCo adapter's reading of a model (:mod:`rrbody.mujoco_adapter.plane`): names and ids, and the footprint
 of a body from its geoms resting on the plane (a box on a face: a rectangle; a cylinder on a flat end: a
 disk; a sphere: a point), as parts of :mod:`rrbody.physics.footprint`, in the plane's axes from the body's
 centre of gravity (m). Read once, when the adapter is built.

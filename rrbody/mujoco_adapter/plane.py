@@ -16,7 +16,7 @@ geom, so every contact with that plane keeps only its normal row (MuJoCo's docum
 geom of higher priority sets the contact's condim); the plane's tangential friction (sliding,
 torsional and rolling) is gone. Each step rrbody reads the bodies' in-plane motion and the normal
 force of their plane contacts from MuJoCo's last step, computes the exact Coulomb wrench of each
-footprint (the kernel of the pymunk plugin, :func:`rrbody.engine.kernel.plane_step`, with its limiter,
+footprint (the kernel of the pymunk plugin, :func:`rrbody.contact.kernel.plane_step`, with its limiter,
 rest rule and static friction) and adds it to ``data.xfrc_applied`` for the step (it is taken out
 again after it: your own ``xfrc_applied`` stays yours). Every body that rests on this plane should
 be added: one that is not slides on it without friction.
@@ -40,11 +40,11 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.engine import kernel as K
-from rrbody.engine import mjkernel as MK
-from rrbody.engine.active import NO_ACTIVE
-from rrbody.engine.lean import fast_entry
-from rrbody.engine.mjgeoms import gap, name_of as _name, lookup as _lookup, parts_of
+from rrbody.contact import kernel as K
+from rrbody.mujoco_adapter import kernel as MK
+from rrbody.contact.active import NO_ACTIVE
+from rrbody.contact.lean import fast_entry
+from rrbody.mujoco_adapter.geoms import gap, name_of as _name, lookup as _lookup, parts_of
 from rrbody.model.checks import check_int, check_nonnegative, check_positive
 from rrbody.model.extras import require
 from rrbody.model.pressure import Pressure, as_pressure
@@ -254,7 +254,7 @@ class PlaneFriction:
             self._entries["gather"](*args)
 
     def _call(self, name: str, *args: Any) -> Any:
-        """``rrbody.engine.mjkernel.<name>(*args)`` through its compiled entry point (found on the first call)."""
+        """``rrbody.mujoco_adapter.kernel.<name>(*args)`` through its compiled entry point (found on the first call)."""
         entry = self._entries.get(name)
         if entry is None:
             self._entries[name], result = fast_entry(getattr(MK, name) if name != "plane_step" else K.plane_step,

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.engine import columns as K
+from rrbody.contact import columns as K
 from rrbody.model.active import MAX_SEED, Active
 from rrbody.model.checks import check_int
 from rrbody.physics.effects import active as A

@@ -4,8 +4,8 @@ Everything here is numba-compiled and works on flat arrays the plugin owns, so a
 compiled call whatever the number of bodies (no per-body Python). Units: SI; per unit mass the
 force is m/s^2 and the torque m^2/s^2.
 
-The arrays' layouts and the column names are :mod:`rrbody.engine.columns` (imported here, as
-``kernel.MASS`` etc.); a body's friction and its limiter are :mod:`rrbody.engine.accel`.
+The arrays' layouts and the column names are :mod:`rrbody.contact.columns` (imported here, as
+``kernel.MASS`` etc.); a body's friction and its limiter are :mod:`rrbody.contact.accel`.
 """
 
 from __future__ import annotations
@@ -16,11 +16,11 @@ import numpy as np
 from numba import njit
 
 # (kernel.body_accel and kernel.limited: the plugin's readers)
-from rrbody.engine.accel import (accel_at, body_accel, limited, limited_at, prefetch_at,  # noqa: F401
+from rrbody.contact.accel import (accel_at, body_accel, limited, limited_at, prefetch_at,  # noqa: F401
                                  reads_footprint_table)
-from rrbody.engine.columns import *  # noqa: F403 (the columns, here and as kernel.MASS etc. for every reader)
-from rrbody.engine.feet import feet_step
-from rrbody.engine.lean import NO_REFCOUNT
+from rrbody.contact.columns import *  # noqa: F403 (the columns, here and as kernel.MASS etc. for every reader)
+from rrbody.contact.feet import feet_step
+from rrbody.contact.lean import NO_REFCOUNT
 from rrbody.physics.effects import active as act
 from rrbody.physics.effects.drive_circular import sincos_reduced
 from rrbody.physics.limit import at_rest
@@ -245,7 +245,7 @@ def _no_break(i: int, j: int, alpha: float, bodies: np.ndarray, shapes: np.ndarr
 
 #: columns of :func:`_sweep`'s work array (a row per row of the read): the angle friction is evaluated at
 #: (rad), its cosine and sine, the velocity (m/s, world) and spin (rad/s) it is evaluated at, and the
-#: friction there (per unit mass, world: :func:`rrbody.engine.accel.accel_at`)
+#: friction there (per unit mass, world: :func:`rrbody.contact.accel.accel_at`)
 _W_ALPHA, _W_CA, _W_SA, _W_EX, _W_EY, _W_EW, _W_AX, _W_AY, _W_AW = range(9)
 #: footprint-table bodies whose coefficients the friction pass asks for ahead of their evaluation
 AHEAD = 4
@@ -361,7 +361,7 @@ def _may_hold(j: int, bodies: np.ndarray, fx: float, fy: float) -> bool:
 def _modes(i: int, j: int, got: np.ndarray, bodies: np.ndarray) -> tuple[bool, float, bool, bool]:
     """Body j's (row i of the read) standing in this step: whether static friction acts on it
     (:func:`_static`), its rest-rule flag STOP, whether it is at rest (velocity and spin read exactly
-    zero) and whether it turns on a held foot (:mod:`rrbody.engine.feet`; after a stop the rest rule
+    zero) and whether it turns on a held foot (:mod:`rrbody.contact.feet`; after a stop the rest rule
     zeroes the residue first)."""
     static = _static(j, bodies)
     was = bodies[j, STOP]

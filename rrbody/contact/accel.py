@@ -1,6 +1,6 @@
-"""A plugin body's friction and its limiter (:mod:`rrbody.engine.kernel`'s per-body evaluation): the
+"""A plugin body's friction and its limiter (:mod:`rrbody.contact.kernel`'s per-body evaluation): the
 wrench of its footprint (exact, or from a wrench table), per unit mass in the world frame, and the
-factor that keeps an impulse of it from overshooting. Units: SI; columns :mod:`rrbody.engine.columns`.
+factor that keeps an impulse of it from overshooting. Units: SI; columns :mod:`rrbody.contact.columns`.
 """
 
 from __future__ import annotations
@@ -8,9 +8,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from rrbody.engine.columns import (COEFF, IPM, LAW, LAW_VISCOUS, S0, S1, TAB, TABLE_CIRCLE, TABLE_FOOTPRINT, TKIND,
+from rrbody.contact.columns import (COEFF, IPM, LAW, LAW_VISCOUS, S0, S1, TAB, TABLE_CIRCLE, TABLE_FOOTPRINT, TKIND,
                                    VEPS, VGX, VGY, VJ)
-from rrbody.engine.lean import NO_REFCOUNT
+from rrbody.contact.lean import NO_REFCOUNT
 from rrbody.physics import contact as C
 from rrbody.physics.contact import footprint_wrench
 from rrbody.physics.effects.drive_circular import sincos_reduced

@@ -25,7 +25,7 @@ velocity update (pymunk's symplectic Euler: v' = v + dt a, then the pose moves w
   velocity level, as the ODE path's :func:`rrbody.physics.effects.pivot_foot.release` at the
   acceleration level): u' (1 + (dt c_k w_i / |u'|) K) = b, one scalar root |u'| in (0, |b|).
 
-The caller (:func:`rrbody.engine.kernel.plane_step`) keeps which foot is held between steps, hands
+The caller (:func:`rrbody.contact.kernel.plane_step`) keeps which foot is held between steps, hands
 the spin's stop to its rest rule (a held body whose spin would pass zero in the step), and uses this
 only for dry bodies the rest rule governs, on two or more feet.
 
@@ -40,7 +40,7 @@ import math
 import numpy as np
 from numba import njit
 
-from rrbody.engine.lean import NO_REFCOUNT
+from rrbody.contact.lean import NO_REFCOUNT
 from rrbody.physics import contact as C
 from rrbody.physics.effects import law_dry
 
