@@ -258,7 +258,7 @@ def test_rrbody_scenes_on_the_engine_path_take_the_tilt() -> None:
 def test_a_load_static_friction_cannot_hold_is_refused_without_the_limit_set_test() -> None:
     """The kernel skips the limit-set test (and its deferral to the second loop) for a load whose force
     is above mu_s g per unit mass (``_may_hold`` False); the skip is sound only if the test itself then
-    says "not held" (:func:`rrbody.contact.kernel._held`). Loads within 1e-13 .. 1e-6 (relative) of
+    says "not held" (:func:`rrbody.contact.rest.held`). Loads within 1e-13 .. 1e-6 (relative) of
     the bound on either side, in every direction and at every angle, with torques up to the static
     torque limit: wherever ``_may_hold`` refuses, ``_held`` refuses too, and it refuses loads above
     1 + 1e-9 (the margin, 1e-12 on the square, covers the rotation's rounding, a few ulps)."""
@@ -277,10 +277,10 @@ def test_a_load_static_friction_cannot_hold_is_refused_without_the_limit_set_tes
         f = m * mus * (1.0 + rel)
         out[0] = f * math.cos(phi), f * math.sin(phi), m * mus * 0.2 * rng.uniform(-1, 1)
         B[j, K.HELD] = -1.0  # no remembered answer: the test runs
-        may = K._may_hold(j, B, out[0, 0], out[0, 1])
+        may = K.R.may_hold(j, B, out[0, 0], out[0, 1])
         if not may:
             refused += 1
-            assert not K._held(0, j, alpha, B, pf._k_shapes, pf._k_geo, out)
+            assert not K.R.held(0, j, alpha, B, pf._k_shapes, pf._k_geo, out)
         if rel > 1e-9:
             assert not may
     assert refused > 1000  # (about half the loads are above the bound: the check is not vacuous)

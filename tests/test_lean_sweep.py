@@ -2,12 +2,12 @@
 
 :func:`rrbody.contact.kernel.plane_step` steps most bodies in a sweep compiled without reference counting
 (:func:`rrbody.contact.kernel._sweep`: three passes), and hands to its limit-set loop
-(:func:`rrbody.contact.kernel._one`, whose test of a load allocates) only the bodies that need static
+(:func:`rrbody.contact.body.step_one`, whose test of a load allocates) only the bodies that need static
 friction's limit-set test: at rest, about to stop under a load static friction may hold, or on a held
 foot whose spin runs out. Stepping every body with ``_one`` instead is the reference: it must give the
 same forces, the same stop count and the same state, bit for bit. The only columns allowed to differ
 are the memo of the last limit-set test (HX, HY, HT, HA, HELD), which the reference fills for loads the
-sweep knows static friction cannot hold (:func:`rrbody.contact.kernel._may_hold`) and so never tests.
+sweep knows static friction cannot hold (:func:`rrbody.contact.rest.may_hold`) and so never tests.
 """
 
 from __future__ import annotations
@@ -43,7 +43,7 @@ def _every_body_by_the_limit_set_step(got, ids, lookup, cache, bodies, shapes, g
         out[i, 2] = got[i, 6]
         j = cache[K.ROWMAP, i]
         if j >= 0:
-            n_stop += K._one(i, j, got, bodies, shapes, geo, tables, t, dt, out, active, noise)
+            n_stop += K.B.step_one(i, j, got, bodies, shapes, geo, tables, t, dt, out, active, noise)
     return n_stop
 
 

@@ -200,7 +200,7 @@ class EngineHandle:
     def _drive(self, dt: float) -> None:
         """Before each step: put the driver where the step's position update lands it exactly on
         P(t_{n+1}), with the velocity the joint solver should give P (computed in the plugin's compiled
-        step, :func:`rrbody.contact.kernel._driver`)."""
+        step, :func:`rrbody.contact.body.driver`)."""
         px, py, vx, vy = self.plane._bodies[self.plane._slots[self.body], K.DPX:K.DVY + 1].tolist()
         self._set_v(self._drv_ptr, (vx, vy))
         self._set_p(self._drv_ptr, (px, py))

@@ -75,7 +75,7 @@ def load(j, ca, sa, ex, ey, ew, mass, ipm, dt, active, noise):  # noqa: ANN001 (
     frame) and N m about the centre of gravity. ``ca``, ``sa`` are the cosine and sine of the angle
     the step evaluates its loads at (the angle at the step's start plus w dt, where friction is
     evaluated), (ex, ey, ew) the velocity (m/s, world) and spin (rad/s) friction is evaluated at (the
-    staggered scheme's extrapolation, :func:`rrbody.contact.kernel._extrapolated`), where the drag acts;
+    staggered scheme's extrapolation, :func:`rrbody.contact.body.extrapolated`), where the drag acts;
     ``noise`` holds this step's standard normal numbers, the body's from column NZ of its row on."""
     fbx = active[j, FBX]
     fby = active[j, FBY]
