@@ -42,6 +42,7 @@ MAX_M_PANELS: int = 128
 #: average over aspect ratios 0.1 - 0.9 among 8, 9 and 10 (measured when it was chosen).
 NTRI: int = 8
 
+
 def _sub_panels(o: int) -> int:
     """Sub-panels of octave o: the log term's size there, 2^-o (1 + o ln 2), times the Chebyshev
     decay rho^-NT of the sub-panel nearest x = 0 (rho = d + sqrt(d^2 - 1), d = 2 k + 1), kept < 1e-12."""
