@@ -38,7 +38,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
         print(f"[sweeps] skipped: rrbody.analysis.sweep not importable ({why})", flush=True)
         return StudyResult(NAME, TITLE, skipped=f"rrbody.analysis.sweep not importable ({why})")
     from rrbody.analysis import flip as analysis
-    from rrbody.analysis.sweep import Sweep, run_sweep
+    from rrbody.analysis.sweep import run_sweep
+    from rrbody.analysis.sweep_spec import Sweep
 
     t0 = time.perf_counter()
     # the target workload itself (worker start-up, ~1 s of imports and numba cache, included)

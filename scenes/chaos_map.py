@@ -23,8 +23,8 @@ OPTIONS: dict[str, Any] = {"periods": 200, "transient": 20, "rr_samples": 32}
 
 
 def sweep(tilts: tuple[float, ...] = TILTS, omegas: tuple[float, ...] = OMEGAS) -> Any:
-    """The map's :class:`rrbody.analysis.sweep.Sweep` (smaller grids for tests and quick benchmarks)."""
-    from rrbody.analysis.sweep import Sweep
+    """The map's :class:`rrbody.analysis.sweep_spec.Sweep` (smaller grids for tests and quick benchmarks)."""
+    from rrbody.analysis.sweep_spec import Sweep
 
     return Sweep(base={"H": H, "k": None, "friction": "none"}, axes={"tilt": tilts, "omega": omegas},
                  quantity="chaos", options=dict(OPTIONS))

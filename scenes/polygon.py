@@ -30,7 +30,8 @@ import numpy as np
 from rrbody.analysis.flip import critical_h, critical_h_of
 from rrbody.analysis.report import write_summary
 from rrbody.analysis.simulate import simulate
-from rrbody.analysis.sweep import Sweep, run_fresh_or_resume
+from rrbody.analysis.sweep import run_fresh_or_resume
+from rrbody.analysis.sweep_spec import Sweep
 from rrbody.model.scene import Scene, scene_from_params
 from rrbody.physics.polygon import box_spin_torque
 from rrbody.render.figures import save_figure

@@ -17,7 +17,8 @@ from rrbody.render.figures import save_figure
 from rrbody.analysis.report import write_summary, write_table
 from rrbody.model.scene import rod_mass_scene
 from rrbody.analysis.simulate import simulate
-from rrbody.analysis.sweep import Sweep, run_fresh_or_resume
+from rrbody.analysis.sweep import run_fresh_or_resume
+from rrbody.analysis.sweep_spec import Sweep
 
 H, OMEGA = 0.25, 100.0  # paper caption (main panel)
 KS = (7.5, 12.5, 17.5)  # s^-2

@@ -13,7 +13,8 @@ import numpy as np
 
 from rrbody.render.figures import save_figure
 from rrbody.analysis.report import write_summary, write_table
-from rrbody.analysis.sweep import Sweep, run_fresh_or_resume
+from rrbody.analysis.sweep import run_fresh_or_resume
+from rrbody.analysis.sweep_spec import Sweep
 
 K = 1.5  # s^-2, paper caption
 H_GRID = np.linspace(0.05, 0.75, 29)

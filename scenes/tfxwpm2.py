@@ -16,7 +16,8 @@ import numpy as np
 from rrbody.analysis.fits import fit_power_law
 from rrbody.render.figures import save_figure
 from rrbody.analysis.report import paper_small_omega_C, small_omega_C, write_summary, write_table
-from rrbody.analysis.sweep import Sweep, run_fresh_or_resume
+from rrbody.analysis.sweep import run_fresh_or_resume
+from rrbody.analysis.sweep_spec import Sweep
 
 K, H = 7.5, 0.25  # s^-2, paper caption
 G_OVER_D = 25.0  # s^-2: k = 25 mu in the mu panels

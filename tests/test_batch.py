@@ -93,8 +93,9 @@ def test_stdin_is_streamed_line_by_line(tmp_path: Path) -> None:
 def test_flip_time_imports_only_what_it_uses(tmp_path: Path) -> None:
     code = ("import sys\nfrom rrbody.cli.main import main\n"
             "assert main(['flip-time', '--H', '0.2', '--k', '0.05', '--omega', '0.6', '--json']) == 0\n"
-            "bad = [m for m in ('scipy.linalg', 'rrbody.analysis.sweep', 'rrbody.analysis.pool', 'rrbody.engine', "
-            "'matplotlib', 'pymunk', 'xarray', 'distributed', 'rrbody.render.mp4') if m in sys.modules]\n"
+            "bad = [m for m in ('scipy.linalg', 'rrbody.analysis.sweep', 'rrbody.analysis.sweep_spec', "
+            "'rrbody.analysis.pool', 'rrbody.engine', 'matplotlib', 'pymunk', 'xarray', 'distributed', "
+            "'rrbody.render.mp4') if m in sys.modules]\n"
             "print(bad, file=sys.stderr)\nassert not bad\n")
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env(), cwd=tmp_path,
                        timeout=120)

@@ -12,7 +12,8 @@ import pytest
 
 from rrbody.analysis.chaos import auto_method, lyapunov
 from rrbody.analysis.chaos_map import CHAOS_COLUMNS, chaos_point
-from rrbody.analysis.sweep import Sweep, SweepInterrupted, load_sweep, run_sweep
+from rrbody.analysis.sweep import SweepInterrupted, load_sweep, run_sweep
+from rrbody.analysis.sweep_spec import Sweep
 from rrbody.model.scene import scene_from_params
 
 OPTS = {"periods": 12, "transient": 3, "rr_samples": 16}

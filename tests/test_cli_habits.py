@@ -92,7 +92,7 @@ def test_every_option_has_help_and_numeric_ones_unit_and_range() -> None:
 
 
 def test_cli_quantities_match_the_sweep_engine() -> None:
-    from rrbody.analysis.sweep import QUANTITIES
+    from rrbody.analysis.sweep_spec import QUANTITIES
     from rrbody.cli.sweep import QUANTITY_NAMES
 
     assert QUANTITY_NAMES == tuple(QUANTITIES)

@@ -97,7 +97,8 @@ def test_chaos_options_fail_before_any_work(tmp_path: Path) -> None:
 
 def test_chaos_sweep_and_its_plot(tmp_path: Path) -> None:
     """The command's table is the library's, bit for bit, and --plot writes the map."""
-    from rrbody.analysis.sweep import Sweep, load_sweep, run_sweep
+    from rrbody.analysis.sweep import load_sweep, run_sweep
+    from rrbody.analysis.sweep_spec import Sweep
 
     opts = ["--t-max", "15", "--transient", "1.5"]
     (r,) = run_here([[*CHAOS, *opts, "--out", str(tmp_path / "c.csv"), "--plot", str(tmp_path / "c.png"),

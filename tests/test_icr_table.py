@@ -24,7 +24,8 @@ from rrbody.physics.bind import kernel_params
 from rrbody.physics.icr import icr_wrench
 from rrbody.physics.effects.areas import TABLE, body_wrench
 from rrbody.physics.effects.laws import DRY
-from rrbody.physics.icr_table import _HEADER, NM, NT, OCTAVES, build_table
+from rrbody.physics.icr_fit import NM, NT, OCTAVES
+from rrbody.physics.icr_table import _HEADER, build_table
 from rrbody.physics.icr_table import _horner2 as _full_inline
 from rrbody.physics.icr_table import _horner_tri as _tri_inline
 

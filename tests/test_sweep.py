@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 import rrbody.analysis.sweep as sw
-from rrbody.analysis.sweep import Sweep, SweepInterrupted, checkpoint_path, load_sweep, read_meta, run_sweep
+from rrbody.analysis.sweep import SweepInterrupted, checkpoint_path, load_sweep, read_meta, run_sweep
+from rrbody.analysis.sweep_spec import Sweep
 
 
 def small_sweep(k: float = 7.5) -> Sweep:

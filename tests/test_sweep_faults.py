@@ -31,7 +31,8 @@ import pytest
 
 import rrbody.analysis.sweep as sw
 import rrbody.analysis.sweep_store as store
-from rrbody.analysis.sweep import Sweep, SweepFault, checkpoint_path, load_sweep, read_meta, run_sweep
+from rrbody.analysis.sweep import SweepFault, checkpoint_path, load_sweep, read_meta, run_sweep
+from rrbody.analysis.sweep_spec import Sweep
 
 from .clirun import RRBODY, alive, assert_bad_input, children, env, run_here, run_many
 

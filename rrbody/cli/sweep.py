@@ -28,7 +28,7 @@ from rrbody.cli.options import SCENE_OPTIONS, add_accuracy_options, add_scene_op
 
 __all__ = ["add_parser", "cmd_sweep", "QUANTITY_NAMES"]
 
-#: the sweep engine's quantities (tests check this equals rrbody.analysis.sweep.QUANTITIES)
+#: the sweep engine's quantities (tests check this equals rrbody.analysis.sweep_spec.QUANTITIES)
 QUANTITY_NAMES = ("flip_time", "critical_h", "rr", "rest", "chaos")
 #: options of --quantity chaos only (option -> the quantity's option name)
 _CHAOS_OPTIONS = {"--transient": "transient", "--estimate": "estimate", "--d0": "d0", "--plot": None}
@@ -274,7 +274,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if args.tol is not None and args.quantity == "critical_h":
         options["tol"] = args.tol
     _check_out(args)
-    from rrbody.analysis.sweep import Sweep, SweepFault, SweepStopped, run_sweep
+    from rrbody.analysis.sweep import SweepFault, SweepStopped, run_sweep
+    from rrbody.analysis.sweep_spec import Sweep
     from rrbody.model.checks import MissingParameters
 
     extended = args.body != "rod"

@@ -252,7 +252,7 @@ def on_step(ev, minima, t0, phi0, phid0, t1, phi1, phid1, omega, stop, settle_tu
     ends (bisection to rounding on its slope, resp. on theta), so their accuracy is that of the
     path's own states (O(dt^2) for the engine's second-order scheme, whose phi' is the mean of the two
     half-step spins; the interpolant itself is exact to O(h^4)); the ODE loop instead locates them by
-    re-stepping, :mod:`rrbody.integrate.loop`. Returns GO_ON, FLIP_SETTLED or RR_DECIDED for
+    re-stepping, :mod:`rrbody.integrate.refine`. Returns GO_ON, FLIP_SETTLED or RR_DECIDED for
     ``stop`` (STOP_T_END, STOP_FLIP, STOP_RR); the run's report is then :func:`classify_flip` of
     ev[E_PHIMIN], ev[E_TMIN], ev[E_HAVEMIN] != 0 and ev[E_T1].
     """

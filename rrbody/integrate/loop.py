@@ -13,7 +13,8 @@ event detector of :mod:`rrbody.integrate.events`:
   spectral radius of J stays below ``NONSTIFF_HRHO``); ``mode`` 1, 2, 3 force DOP853, RODAS4, Radau;
 - events of a driven body (local minima of phi, T_1) are located to the method's accuracy by Newton
   iteration on the step size from the start of the step that brackets them (each iterate is a fresh
-  step, so an event inherits the order of the solution rather than that of an interpolant);
+  step, so an event inherits the order of the solution rather than that of an interpolant;
+  :mod:`rrbody.integrate.refine`);
 - a Poincare section of a driven body (``ev[E_SECTION]`` = theta_s, rad; NaN: none): every crossing
   of theta = phi - omega t + pi = theta_s (mod 2 pi) in the direction ``ev[E_SECDIR]`` (1: theta'
   > 0, -1: theta' < 0) is located like T_1 and written to
@@ -46,8 +47,9 @@ from rrbody.integrate.dop853 import TABLEAU, hlamb, step_factor, trial_step
 from rrbody.integrate.events import (E_HAVEMIN, E_PHIMIN, E_SECDIR, E_SECTION, E_T1, E_THETA0, E_TMIN, E_TSTOP, STOP_REST, crossings,
                                      record_minimum, rest_admissible, rest_reached, rest_step_limit, section_crossings, section_gap,
                                      stop_reached)
-from rrbody.integrate.radau import K_ROWS, radau_memory, radau_step
-from rrbody.integrate.rodas import ros_step, spectral_radius, stiff_factor
+from rrbody.integrate.radau import K_ROWS, radau_memory
+from rrbody.integrate.refine import method_step, refine_event
+from rrbody.integrate.rodas import spectral_radius, stiff_factor
 from rrbody.physics import params as P
 from rrbody.physics.dynamics import SYSTEM_DRIVEN, jacobian
 from rrbody.physics.effects import compiled_code
@@ -86,60 +88,6 @@ def new_loop_state(h0: float, mode: int, yscale: float = 0.0) -> np.ndarray:
     st[L_METH] = _FIRST_METHOD[mode]
     st[L_YSCALE] = yscale
     return st
-
-
-@njit(cache=True, inline="always")
-def _step(meth, system, t, y, f, h, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost, rtol):  # noqa: ANN001
-    """One trial step of the current method (0 DOP853, 1 RODAS4, 2 Radau IIA); returns its error
-    norm (RODAS4's divided by ``boost``: its tolerance is raised to the floor STIFF_RTOL_FLOOR).
-
-    Both fill ``ynew`` and K[12] = f(t + h, ynew). DOP853 leaves the state of its last stage (at
-    t + h) in ``ytmp``, which the stiffness detector reads. Inlined into the loop."""
-    if meth == 0:
-        return trial_step(system, t, y, f, h, p, S, A, B, C, E3, E5, K, ynew, ytmp, scale)
-    if meth == 2:
-        return radau_step(system, t, y, f, h, p, S, J, K, ynew, ytmp, scale, rtol)
-    return ros_step(system, t, y, f, h, p, S, J, fx, K, ynew, ytmp, scale) / boost
-
-
-@njit(cache=True)
-def _refine(meth, system, t, y, f, h0, hmax, which, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
-            omega, target, rtol):  # noqa: ANN001
-    """Newton on h in (0, hmax] for the event `which` (1: phi' = 0; 2: theta = target); every
-    iterate is a fresh step of the current method from the step start. Returns the event's step
-    size and phi (rad) and phi' (rad/s) there.
-
-    Each step at h gives the event function g and its slope g', hence the Newton update
-    d = -g / g' and, from the curvature g'', the error of the updated iterate h + d, about
-    |g'' / (2 g')| d^2. The iteration stops once that error, or d itself, is below rtol * hmax (or
-    a few ulps of t): the event time is then known to the accuracy the step itself has. It returns
-    the updated iterate h + d without a further step, with phi carried there by its Taylor
-    polynomial, phi(h) + phi'(h) d + phi''(h) d^2 / 2 (for a minimum, phi(h) - g^2 / (2 g'); exact
-    to O(d^3)). The g'' of a minimum is the third derivative of phi, estimated from phi'' at the
-    two ends of the step (f and K2[12]); that of T_1 is phi'' itself."""
-    literally(system)
-    h = min(max(h0, 0.0), hmax)
-    htol = max(rtol * hmax, 4e-16 * (abs(t) + abs(hmax)) + 1e-300)
-    for _ in range(12):
-        _step(meth, system, t, y, f, h, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5, 1.0, rtol)
-        if which == 1:
-            g = y2[1]
-            dg = K2[12, 1]
-            ddg = (dg - f[1]) / h if h > 0.0 else 0.0
-        else:
-            g = y2[0] - omega * (t + h) + math.pi - target
-            dg = y2[1] - omega
-            ddg = K2[12, 1]
-        if dg == 0.0:
-            return h, y2[0], y2[1]
-        hn = min(max(h - g / dg, 0.0), hmax)
-        d = hn - h
-        # the curvature is estimated roughly (to first order across the step): a safety factor of 10
-        if abs(d) <= htol or 10.0 * abs(ddg / (2.0 * dg)) * d * d <= htol:
-            return hn, y2[0] + d * (y2[1] + 0.5 * K2[12, 1] * d), y2[1] + d * K2[12, 1]
-        h = hn
-    _step(meth, system, t, y, f, h, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5, 1.0, rtol)
-    return h, y2[0], y2[1]
 
 
 @njit(cache=True)
@@ -241,10 +189,10 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
             break
         if track >= 0:
             scale[track] = rtol * max(yscale, abs(y[track]))
-        if meth == 0:  # direct: trial_step is inlined by LLVM without the reference counts _step's arrays would add
+        if meth == 0:  # direct: trial_step is inlined by LLVM without the reference counts method_step's arrays would add
             err = trial_step(system, t, y, f, hh, p, S, A, B, C, E3, E5, K, ynew, ytmp, scale)
         else:
-            err = _step(meth, system, t, y, f, hh, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost, rtol)
+            err = method_step(meth, system, t, y, f, hh, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost, rtol)
         if not math.isfinite(err):
             err = 1e10
         bad = rest and not rest_admissible(y, ynew, icm, p[P.GTX], p[P.GTY])
@@ -292,7 +240,7 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
                     for j in range(n):
                         out[k, 1 + j] = y[j]
                 else:
-                    _step(meth, system, t, y, f, ho, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5, 1.0, rtol)
+                    method_step(meth, system, t, y, f, ho, p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5, 1.0, rtol)
                     for j in range(n):
                         out[k, 1 + j] = y2[j]
                 st[L_NOUT] += 1
@@ -300,16 +248,16 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
         if driven:
             which, gmin, gt1 = crossings(t1_open, target, t, y[0], y[1], t + hh, ynew[0], ynew[1], omega)
             if which & 1:
-                # the event's number as np.int64: literal constants would compile _refine once per event
-                hm, phim, _ = _refine(meth, system, t, y, f, gmin, hh, np.int64(1), p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3,
-                                      E5, omega, 0.0, rtol)
+                # the event's number as np.int64: literal constants would compile refine_event once per event
+                hm, phim, _ = refine_event(meth, system, t, y, f, gmin, hh, np.int64(1), p, S, J, fx, K2, y2, ytmp, scale,
+                                           A, B, C, E3, E5, omega, 0.0, rtol)
                 record_minimum(ev, minima, t + hm, phim)
                 havemin = True
                 phimin = ev[E_PHIMIN]
                 tmin = ev[E_TMIN]
             if which & 2:
-                hm, _, _ = _refine(meth, system, t, y, f, gt1, hh, np.int64(2), p, S, J, fx, K2, y2, ytmp, scale, A, B, C, E3, E5,
-                                   omega, target, rtol)
+                hm, _, _ = refine_event(meth, system, t, y, f, gt1, hh, np.int64(2), p, S, J, fx, K2, y2, ytmp, scale,
+                                        A, B, C, E3, E5, omega, target, rtol)
                 ev[E_T1] = t + hm
                 t1_open = False
             if section:  # a Poincare section: its crossings in this step, each located as T_1 is
@@ -320,8 +268,8 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
                     surf = theta_s + 2.0 * math.pi * kk
                     g0 = section_gap(y[0], t, omega, surf)
                     g1 = section_gap(ynew[0], t + hh, omega, surf)
-                    hm, phis, phids = _refine(meth, system, t, y, f, hh * g0 / (g0 - g1), hh, np.int64(2), p, S, J, fx, K2, y2,
-                                              ytmp, scale, A, B, C, E3, E5, omega, surf, rtol)
+                    hm, phis, phids = refine_event(meth, system, t, y, f, hh * g0 / (g0 - g1), hh, np.int64(2), p, S, J, fx,
+                                                   K2, y2, ytmp, scale, A, B, C, E3, E5, omega, surf, rtol)
                     k = int(st[L_NOUT])
                     out[k, 0] = t + hm
                     out[k, 1] = phis

@@ -20,7 +20,7 @@ them are located here:
   the other feet's friction and a tilt's pull. After every step the holding reaction is tested; the
   step in which it leaves the static disc is cut at the release by the Illinois method on its
   length (each iterate a fresh integration from the step's start, as the loop locates its own
-  events), and the foot breaks away (:func:`rrbody.physics.effects.pivot_foot.release`: the
+  events; :mod:`rrbody.integrate.refine`), and the foot breaks away (:func:`rrbody.physics.effects.pivot_foot.release`: the
   maximum-dissipation slip direction): the run goes on sliding, the foot's first stretch of
   ``BREAK_TAU`` of the time scale taken with the break-away's accelerations (exact to O(tau^2)),
   the foot no slower than 100 v_eps there so that the friction kernel sees its direction. Spin
@@ -54,6 +54,7 @@ import numpy as np
 
 from rrbody.integrate.events import E_TSTOP, STEP_FRACTION, STOP_T_END, new_event_state, rest_reached, rest_step_limit
 from rrbody.integrate.loop import L_H, L_NEXTOUT, L_NOUT, L_NREJ, L_NSTEP, L_T, advance_for, new_loop_state
+from rrbody.integrate.refine import illinois_on_step
 from rrbody.physics import params as P
 from rrbody.physics.bind import pinned_params
 from rrbody.physics.dynamics import SYSTEM_DRIVEN, SYSTEM_FREE, driven_rhs, free_rhs, system_from_params
@@ -369,36 +370,14 @@ class FeetRun:
 
     def _locate(self, save: tuple[np.ndarray, ...], y2: np.ndarray, f2: np.ndarray, st2: np.ndarray,
                 ev2: np.ndarray, g: Callable[[np.ndarray], float], step: Callable[[float, float, int], int]) -> None:
-        """The step from the state ``save`` took g from <= 0 to > 0: the Illinois method on its length,
-        each iterate a fresh integration from the step's start: it ends where g is zero to 1e-13 of
-        mu_s g, or at the released end (g > 0) of a bracket a few ulps of t wide."""
+        """The step from the state ``save`` took g from <= 0 to > 0: cut it at the release
+        (:func:`rrbody.integrate.refine.illinois_on_step`, each iterate a fresh integration from the
+        step's start), to 1e-13 of mu_s g or a bracket a few ulps of t wide."""
         t0 = save[2][L_T]
-        a, b = 0.0, st2[L_T] - t0
-        ga, gb = g(save[0]), g(y2)
-        side = 0
-        at = b
-        for _ in range(60):
-            if b - a <= 4e-16 * (abs(t0) + b) or gb - ga == 0.0:
-                break
-            h = b - gb * (b - a) / (gb - ga)
-            if not a < h < b:
-                h = 0.5 * (a + b)
+
+        def redo(h: float) -> float:
             y2[:], f2[:], st2[:], ev2[:] = save
             step(t0 + h, math.inf, 1000)
-            at = h
-            gh = g(y2)
-            if gh > 0.0:
-                b, gb = h, gh
-                if side == 1:
-                    ga *= 0.5
-                side = 1
-            else:
-                a, ga = h, gh
-                if side == -1:
-                    gb *= 0.5
-                side = -1
-            if abs(gh) <= 1e-13 * max(self.cs, 1e-300):
-                return  # at the release to rounding: end here (on either side of it)
-        if at != b:
-            y2[:], f2[:], st2[:], ev2[:] = save
-            step(t0 + b, math.inf, 1000)
+            return g(y2)
+
+        illinois_on_step(st2[L_T] - t0, g(save[0]), g(y2), redo, t0, 1e-13 * max(self.cs, 1e-300))

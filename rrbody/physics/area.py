@@ -22,8 +22,9 @@ import math
 import numpy as np
 
 from rrbody.model.checks import check_int, check_positive, check_real
-from rrbody.physics.icr import ECC_ETA, NODE_COUNTS
+from rrbody.physics.icr import ECC_ETA
 from rrbody.physics.icr import icr_wrench as _icr_kernel
+from rrbody.physics.icr_panels import NODE_COUNTS
 from rrbody.model.bodies import Body, Disk, Ellipse
 from rrbody.model.friction import LAW_CODES
 

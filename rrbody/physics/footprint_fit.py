@@ -14,7 +14,7 @@ from numba import njit
 
 from rrbody.physics import contact as C
 from rrbody.physics.contact import footprint_wrench
-from rrbody.physics.icr_table import cheb
+from rrbody.physics.icr_fit import cheb
 
 __all__ = ["fit_cells", "table_reach", "deadband_factor", "edge_lines", "cell_line", "singular_part", "pack", "N",
            "BLOCK", "N64", "ROWS", "F32_FROM", "TAIL_TOL", "VALID_TOL", "ROUND_TOL", "VALID_PTS"]
@@ -53,7 +53,7 @@ def _values(shapes, geo, s0, s1, V):  # noqa: ANN001 (numba)
     return out
 
 
-_Z, _V, _M = cheb(N)  # (icr_table's: points, values -> Chebyshev, Chebyshev -> monomials)
+_Z, _V, _M = cheb(N)  # (icr_fit's: points, values -> Chebyshev, Chebyshev -> monomials)
 _ZV = np.linspace(-1.0, 1.0, VALID_PTS)
 _XV = _ZV[:, None] ** np.arange(N)[None, :]  # (VALID_PTS, N) monomials at the validation points
 #: total degree i + j of the term zx^i zy^j; the kept terms (total degree <= N - 1, row-major: the

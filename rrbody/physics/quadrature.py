@@ -1,4 +1,5 @@
-"""Gauss-Legendre rules for the instantaneous-centre quadrature (:mod:`rrbody.physics.icr`).
+"""Gauss-Legendre rules for the instantaneous-centre quadrature (:mod:`rrbody.physics.icr`; its panels:
+:mod:`rrbody.physics.icr_panels`, which loads these rules).
 
 The kernels need the packed rules as compile-time constants when their module is imported; building
 them up to 512 nodes costs ~0.1 s, so they are stored next to numba's cache on first use and loaded
