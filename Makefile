@@ -27,6 +27,7 @@ T_MOVIE := <!--q:setup.demo.demo-->115 s<!--/q-->
 T_LOWEST := <!--q:setup.test.lowest-venv-->?<!--/q-->
 T_SUITE := <!--q:setup.test.suite-->?<!--/q-->
 T_SUITE_LOWEST := <!--q:setup.test.suite-lowest-->?<!--/q-->
+T_SUITE_PUBLIC := <!--q:setup.test.suite-public-->?<!--/q-->
 
 # The venv's packages are installed by uv (from PyPI, like pip; the test venv's packages in 17 s
 # against pip's 35-39 s), itself installed into the venv by the venv's pip: a fresh machine needs
@@ -108,6 +109,12 @@ LOWEST_TESTS := tests/test_flip.py tests/test_plugin_io.py tests/test_takeovers.
 LOWEST_RUN = PYTHONPATH=$(CURDIR) RRBODY_CACHE_DIR=$(CURDIR)/$(LOWEST)/cache RRBODY_NO_SEED=1 MPLBACKEND=Agg \
 	$(LOWEST)/bin/python
 
+# the takeovers of every private fast path at once (rrbody._private: RRBODY_NO_PRIVATE=1; docs/versions.md):
+# the plugin's routes and exact references, the recorder, the drive, the ODE kernels, the MuJoCo adapter
+# (the tests that compare a private path with its takeover are marked `private` and skipped there)
+PUBLIC_TESTS := tests/test_plugin_io.py tests/test_plugin.py tests/test_takeovers.py tests/test_recorder.py \
+	tests/test_flip.py tests/test_mujoco.py tests/test_private_switch.py
+
 $(LOWEST)/.installed: pyproject.toml | $(UV)
 	@echo "==> lowest-venv: installing the oldest versions pyproject allows into $(LOWEST) (about $(call unq,$(T_LOWEST)) in the recorded run)"
 	$(UV) venv --quiet --allow-existing --python $(BIN)/python $(LOWEST)
@@ -118,7 +125,7 @@ $(LOWEST)/.installed: pyproject.toml | $(UV)
 venv-lowest: $(LOWEST)/.installed
 
 ## make test: set up (test, engine, movie, rerun, dask, data, mujoco extras), then the whole test suite (2 workers),
-## then a stated part of it on the oldest versions pyproject allows (.venv-lowest)
+## then a stated part of it on the oldest versions pyproject allows (.venv-lowest), and one with every private fast path off
 # --dist loadgroup: the tests marked xdist_group (a file that builds costly wrench tables) run in one
 # worker, which builds each table once; pytest-xdist hands those groups out first, then every other
 # test one at a time in the suite's order (tests/conftest.py: the slow ones first)
@@ -127,6 +134,8 @@ test: $(VENV)/.installed-test $(VENV)/.kernels $(LOWEST)/.installed
 	$(BIN)/python -m pytest -n 2 --dist loadgroup --durations=15 tests
 	@echo "==> suite-lowest: running part of it on the oldest versions (about $(call unq,$(T_SUITE_LOWEST)) in the recorded run; compiles its kernels)"
 	$(LOWEST_RUN) -m pytest -n 2 -q -p no:cacheprovider -k 'not rerun and not film_it' $(LOWEST_TESTS)
+	@echo "==> suite-public: running part of it with every private fast path off, RRBODY_NO_PRIVATE=1 (about $(call unq,$(T_SUITE_PUBLIC)) in the recorded run; compiles its kernels)"
+	RRBODY_NO_PRIVATE=1 MPLBACKEND=Agg $(BIN)/python -m pytest -n 2 -q -p no:cacheprovider $(PUBLIC_TESTS)
 
 
 ## make bench: work-precision benchmarks -> benchmarks/results/, then every figure the README and docs quote

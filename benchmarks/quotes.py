@@ -263,7 +263,7 @@ def _mujoco(own: bool, bodies: tuple[str, ...], digits: int) -> Callable[[Path],
 
 
 #: the steps of a target that are its purpose, not its set-up (``setup.TARGET.set-up`` leaves them out)
-_NOT_SET_UP = ("suite", "suite-lowest", "demo")
+_NOT_SET_UP = ("suite", "suite-lowest", "suite-public", "demo")
 
 
 def _setup(results: Path, target: str, key: str) -> str:

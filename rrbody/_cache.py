@@ -41,11 +41,12 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from rrbody._private import private_allowed
 from rrbody._version import __version__
 
 __all__ = ["ENV", "BUILD_FILE", "cache_dir", "kernels_dir", "shipped_kernels_dir", "tables_dir", "stored_arrays",
            "locks_dir", "source_hash", "use_for_kernels", "kernel_sources", "KERNEL_LAYERS", "prune_kernels",
-           "seed_kernels", "built_by_numba", "NO_SEED", "no_refcount", "CacheDamaged", "remove_damaged"]
+           "seed_kernels", "built_by_numba", "NO_SEED", "CacheDamaged", "remove_damaged"]
 
 #: the environment variable that moves the cache folder
 ENV = "RRBODY_CACHE_DIR"
@@ -86,7 +87,7 @@ def remove_damaged(path: Path) -> None:
 #: and the one below them (model); an edit in analysis, render or cli (no kernel there) compiles nothing
 KERNEL_LAYERS = ("model", "physics", "integrate", "contact", "engine", "mujoco_adapter")
 #: modules at the package root that the kernel layers import
-KERNEL_ROOT_FILES = ("_cache.py", "_version.py")
+KERNEL_ROOT_FILES = ("_cache.py", "_private.py", "_version.py")
 
 
 def kernel_sources() -> list[Path]:
@@ -99,7 +100,7 @@ def kernel_sources() -> list[Path]:
 @functools.lru_cache(maxsize=1)
 def source_hash() -> str:
     """A short hash of the kernels' sources (path and bytes of every file of ``kernel_sources``): about 2 ms."""
-    h = hashlib.sha256(__version__.encode())
+    h = hashlib.sha256(__version__.encode() + (b"" if private_allowed() else b"+no-private"))
     for f in kernel_sources():
         h.update(f.relative_to(_PKG).as_posix().encode())
         h.update(f.read_bytes())
@@ -284,26 +285,14 @@ def locks_dir() -> Path:
 
 
 @functools.lru_cache(maxsize=1)
-def no_refcount() -> dict[str, Any]:
-    """Keyword arguments for ``njit`` of a kernel that allocates no array and keeps none: numba's
-    reference counting off (its undocumented ``_nrt=False``; dropped, the kernels compile as usual).
-    The count is an atomic increment and decrement per array passed on; without it the plugin's step
-    for 1,000 bodies ran 445 -> 405 us (interleaved A/B, best of 7 runs of 100 steps) and a footprint
-    table's look-up (a float32 view of the table) 70 -> 43 ns. numba is imported only when called."""
-    try:
-        from numba.core.cpu import CPUTargetOptions
-    except ImportError:  # pragma: no cover - depends on the numba version
-        return {}
-    return {"_nrt": False} if hasattr(CPUTargetOptions, "_nrt") else {}
-
-
-@functools.lru_cache(maxsize=1)
 def use_for_kernels() -> None:
     """Make numba cache rrbody's kernels (and only rrbody's) in :func:`kernels_dir`.
 
     numba picks a cache folder per function through a list of *locators*; a locator placed first
     that answers only for functions defined in this package's files sends them here, and leaves
     every other program's numba functions (and ``NUMBA_CACHE_DIR``) as they were. Idempotent."""
+    if not private_allowed():  # RRBODY_NO_PRIVATE: numba's own locators (rrbody._private)
+        return
     from numba.core import caching
 
     impl = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl")

@@ -8,7 +8,8 @@ one (a back edge), and the module graph has no cycle. Imports inside functions c
 package root ``rrbody/__init__.py`` (with ``rrbody/plugin.py``, the plugin's entry point, ``rrbody/mujoco.py``, the MuJoCo adapter's, and
 ``rrbody/pressure.py`` and ``rrbody/planar.py``, the contacts' and the batched wrench's) is the curated public
 API above every layer; below it only
-``rrbody._version`` and ``rrbody._cache`` (where caches live) may be imported from the root.
+``rrbody._version``, ``rrbody._cache`` (where caches live) and ``rrbody._private`` (the switch for private
+internals) may be imported from the root.
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ LAYERS = tuple(name for level in LEVELS for name in level)
 #: the third-party engines, and the packages that may import each (no other may, and none both)
 ENGINES = {"pymunk": {"engine"}, "mujoco": {"mujoco_adapter"}}
 #: modules at the package root and the layer they count as
-ROOT_MODULES = {"rrbody._version": -1, "rrbody._cache": -1, "rrbody": len(LEVELS), "rrbody.plugin": len(LEVELS),
+ROOT_MODULES = {"rrbody._version": -1, "rrbody._cache": -1, "rrbody._private": -1, "rrbody": len(LEVELS), "rrbody.plugin": len(LEVELS),
                 "rrbody.mujoco": len(LEVELS), "rrbody.pressure": len(LEVELS), "rrbody.planar": len(LEVELS)}
 
 

@@ -72,6 +72,7 @@ def _routes() -> list[str]:
     return (["struct"] if layout() is not None else []) + (["lean", "bulk"] if batch_reads() else []) + ["per-body"]
 
 
+@pytest.mark.private
 def test_every_route_steps_bit_for_bit() -> None:
     """Collisions, user forces and torques, a body outside the plugin, one removed and added back
     mid-run, static friction: every route to the bodies gives exactly the same run."""
@@ -98,6 +99,7 @@ def test_every_route_steps_bit_for_bit() -> None:
     assert runs[0][2] > 0 or any(v != (0.0, 0.0) for _, _, v, _ in runs[0][0])  # something moved or stopped
 
 
+@pytest.mark.private
 def test_the_default_route_is_the_fastest_this_pymunk_offers() -> None:
     """BatchIO takes the lean route where pymunk.batch reads and writes forces (pymunk >= 6.11), else
     the per-body one; a pose reader (the recorder's) takes the lean route from pymunk 6.6 on. A route
@@ -121,6 +123,7 @@ def test_the_default_route_is_the_fastest_this_pymunk_offers() -> None:
         assert {i: rows[i] for i in want} == want and len(rows) == 16 + (r != "per-body"), r
 
 
+@pytest.mark.private
 def test_sleeping_space_and_a_removed_body_take_the_bulk_route() -> None:
     """With sleeping enabled a raw store would not wake a body (pymunk's setter does): the bulk route.
     A body that left the space: the bulk read finds it and the step is refused as before."""
@@ -137,6 +140,7 @@ def test_sleeping_space_and_a_removed_body_take_the_bulk_route() -> None:
         pf.step(1e-3)
 
 
+@pytest.mark.private
 def test_layout_reads_and_writes_force_and_torque() -> None:
     """The probed offsets of force and torque: a raw store reads back through pymunk's getters."""
     from rrbody.engine.structio import scatter

@@ -340,6 +340,7 @@ def test_rerun_draws_p_and_its_link_for_a_driven_body(tmp_path: Path) -> None:
     assert entities(rec, plots=[0]) <= set(ents)
 
 
+@pytest.mark.private
 def test_both_read_routes_capture_the_same_frames(monkeypatch: pytest.MonkeyPatch) -> None:
     """The capture reads the filmed bodies from their structs (rrbody.engine.capture) where pymunk's
     layout of them is known, as on the pymunk this suite runs (asserted: else the fast route would go

@@ -18,7 +18,11 @@ __all__ = ["preload_cython_blas"]
 
 def preload_cython_blas() -> None:
     """Put ``scipy.linalg.cython_blas`` in ``sys.modules`` without importing ``scipy.linalg``."""
+    from rrbody._private import private_allowed
+
     name = "scipy.linalg.cython_blas"
+    if not private_allowed():  # RRBODY_NO_PRIVATE: numba imports scipy.linalg itself (rrbody._private)
+        return
     if name in sys.modules or "scipy.linalg" in sys.modules:
         return
     try:

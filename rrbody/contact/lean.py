@@ -1,13 +1,13 @@
 """numba options and entry points for the plugin's calls. Its per-body kernels are called once per
 body and step from :func:`rrbody.contact.kernel.plane_step`, with the plugin's arrays as arguments,
-and compiled without numba's reference counting (:func:`rrbody._cache.no_refcount` says why).
+and compiled without numba's reference counting (:func:`rrbody._private.no_refcount` says why).
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-from rrbody._cache import no_refcount
+from rrbody._private import no_refcount, private_allowed
 
 __all__ = ["NO_REFCOUNT", "fast_entry"]
 
@@ -24,6 +24,8 @@ def fast_entry(dispatcher: Any, *args: Any) -> tuple[Any, Any]:
     many-argument call costs, measured); the arrays passed later must have the same types. Falls
     back to the dispatcher itself if numba's internals differ."""
     result = dispatcher(*args)
+    if not private_allowed():  # RRBODY_NO_PRIVATE: numba's own dispatch (rrbody._private)
+        return dispatcher, result
     try:
         sig = tuple(dispatcher.typeof_pyval(a) for a in args)
         return dispatcher.overloads[sig].entry_point, result

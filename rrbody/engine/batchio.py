@@ -26,6 +26,8 @@ from typing import Any
 
 import numpy as np
 
+from rrbody._private import private_allowed
+
 __all__ = ["BatchIO", "READ_COLUMNS", "POSE_COLUMNS", "ROUTES", "body_uid", "batch_reads"]
 
 #: columns of the array :meth:`BatchIO.read` returns (pymunk.batch writes fields in this order)
@@ -78,7 +80,8 @@ class BatchIO:
         self.lean = False
         batched = batch_reads(poses)
         if route is None:
-            route = ("lean" if lean else "bulk") if batched else "per-body"
+            # (RRBODY_NO_PRIVATE: never the lean route, whose C names pymunk does not document)
+            route = ("lean" if lean and private_allowed() else "bulk") if batched else "per-body"
         elif route != "per-body" and not batched:
             raise ValueError(f"route {route!r} needs a pymunk.batch that reads {'poses' if poses else 'and writes forces'}"
                              f" (pymunk >= {'6.6' if poses else '6.11'}); this is pymunk {_pymunk_version()}: use "

@@ -27,6 +27,8 @@ from numba import njit
 from numba.core import types
 from numba.extending import intrinsic
 
+from rrbody._private import private_allowed
+
 __all__ = ["address", "addresses", "f64_at", "i64_at", "set_f64", "layout", "X", "Y", "ANGLE", "VX", "VY", "SPIN",
            "SPACE", "FX", "FY", "TORQUE"]
 
@@ -157,6 +159,8 @@ def layout() -> np.ndarray | None:
     body's state in pymunk's ``cpBody``, found and checked once per process; None where they cannot
     be trusted."""
     global _layout
+    if not private_allowed():  # RRBODY_NO_PRIVATE: the public reads take over (rrbody._private)
+        return None
     if _layout is False:
         try:
             _layout = _find()

@@ -32,6 +32,7 @@ from typing import Any
 
 import numpy as np
 
+from rrbody._private import private_allowed
 from rrbody.contact import kernel as K
 from rrbody.engine.plugin import PlaneFriction
 from rrbody.engine.settings import EngineSettings, check_dt
@@ -164,6 +165,8 @@ class EngineHandle:
         """Chipmunk's setters for the driver (a pymunk property set costs ~1 us, these ~0.4 us); the
         public properties if this pymunk does not expose them."""
         try:
+            if not private_allowed():  # RRBODY_NO_PRIVATE: the public properties (rrbody._private)
+                raise ImportError
             from pymunk.batch import lib
 
             self._drv_ptr = self.driver._body

@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 from numba import literally, njit
 
-from rrbody._cache import no_refcount
+from rrbody._private import no_refcount
 from rrbody.physics import params as P
 from rrbody.physics.effects import DRIVEN, active, compiled_code, drive_circular, tangent, tilt
 from rrbody.physics.effects.areas import POINT, body_frame_wrench, body_wrench

@@ -58,7 +58,7 @@ from numba import njit
 from numba.core import cgutils, types
 from numba.extending import intrinsic
 
-from rrbody._cache import no_refcount
+from rrbody._private import no_refcount, private_allowed
 from rrbody.physics import contact as C
 from rrbody.physics.contact import footprint_wrench
 from rrbody.physics.footprint_fit import (BLOCK, N, N64, ROWS, cell_line, deadband_factor, edge_lines, fit_cells, pack,
@@ -358,6 +358,11 @@ def footprint_table_wrench(T, t0, shapes, geo, s0, s1, vbx, vby, w, v_eps):  # n
     return sg * f0, sg * f1, sg * T[t0 + 1, 0] * f2
 
 
+#: whether the look-ups ask for their blocks ahead (LLVM's prefetch through numba's private ``cgutils``;
+#: off under ``RRBODY_NO_PRIVATE``, rrbody._private): a compile-time constant of the kernels
+PREFETCH: bool = private_allowed()
+
+
 @intrinsic
 def _prefetch(typingctx, arr, row):  # noqa: ANN001, ANN202 (numba)
     """Ask the CPU to bring the cache line holding ``arr[row, 0]`` (a C-contiguous 2-D array) towards
@@ -387,6 +392,6 @@ def footprint_table_prefetch(T, t0, vbx, vby, w, v_eps):  # noqa: ANN001 (numba)
     for the exact formula): called a few bodies ahead, so that the look-up finds its coefficients
     in the cache instead of waiting for memory."""
     base = _locate(T, t0, vbx, vby, w, v_eps)[0]
-    if base >= 0:
+    if PREFETCH and base >= 0:
         for r in range(0, BLOCK, 2):  # 48 bytes apart: every 64-byte line of the block
             _prefetch(T, base + r)
