@@ -15,6 +15,7 @@ it into a warning, and the Makefile's ``.venv/.kernels`` step, which runs the sa
 from __future__ import annotations
 
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -29,6 +30,11 @@ class BuildWithKernels(build_py):
     """setuptools' build_py, then the kernels into the package's ``_kernels`` folder."""
 
     def run(self) -> None:
+        if not getattr(self, "editable_mode", False):
+            # setuptools leaves files of earlier builds in build/lib: a module moved since would be built into
+            # the wheel beside its new home, and the installed kernels' source hash (rrbody._cache) would
+            # then differ from the one they were compiled for, so none would load
+            shutil.rmtree(Path(self.build_lib) / "rrbody", ignore_errors=True)
         super().run()
         if os.environ.get("RRBODY_BUILD_KERNELS", "1") == "0":
             return
