@@ -81,8 +81,8 @@ $(VENV)/.installed-docs: pyproject.toml | $(VENV)/.build-reqs
 # the kernels, compiled once per version of their sources (rrbody.cli.prebuild: a line as each job
 # ends); after an edit the targets that run rrbody compile them again (a few seconds when nothing changed)
 # (rrbody._cache.KERNEL_LAYERS: the files the kernels are compiled from; the prebuild's own list of work)
-KERNEL_SOURCES := $(shell find rrbody/model rrbody/physics rrbody/integrate rrbody/engine -name '*.py') \
-	rrbody/_cache.py rrbody/_version.py rrbody/cli/prebuild.py rrbody/cli/workload.py
+KERNEL_SOURCES := $(shell find rrbody/model rrbody/physics rrbody/integrate rrbody/contact rrbody/engine rrbody/mujoco_adapter -name '*.py') \
+	rrbody/_cache.py rrbody/_private.py rrbody/_version.py rrbody/cli/prebuild.py rrbody/cli/workload.py
 $(VENV)/.kernels: $(KERNEL_SOURCES) | $(VENV)/.build-reqs
 	@echo "==> kernels: compiling rrbody's kernels with numba (about $(call unq,$(T_KERNELS)) in the recorded run, on 2 cores shared with load $(call unq,$(T_LOAD)); once per version of the sources)"
 	$(BIN)/python -m rrbody.cli.prebuild --into rrbody/_kernels

@@ -233,3 +233,18 @@ def test_the_kernel_scan_finds_a_decorator(tmp_path: Path) -> None:
     f = tmp_path / "k.py"
     f.write_text("import numba\n@numba.njit(cache=True)\ndef f(x):\n    return x\n")
     assert _makes_kernels(f) == ["njit"]
+
+
+def test_the_makefile_rebuilds_the_kernels_on_an_edit_of_any_of_their_sources() -> None:
+    """The Makefile's ``KERNEL_SOURCES`` (what makes ``.venv/.kernels`` stale) names every folder and root
+    file ``rrbody._cache.source_hash`` covers, so a kernel edit is compiled again by ``make test``."""
+    import re
+
+    from rrbody import _cache
+
+    text = (PKG.parent / "Makefile").read_text()
+    block = re.search(r"^KERNEL_SOURCES := (.*?)\n(?!\t)", text, re.S | re.M)
+    assert block, "no KERNEL_SOURCES in the Makefile"
+    names = set(re.findall(r"rrbody/([\w.]+)", block.group(1)))
+    assert set(_cache.KERNEL_LAYERS) <= names, set(_cache.KERNEL_LAYERS) - names
+    assert set(_cache.KERNEL_ROOT_FILES) <= names, set(_cache.KERNEL_ROOT_FILES) - names
