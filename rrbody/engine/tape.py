@@ -104,7 +104,8 @@ class Tape:
         #: memory one frame takes: bodies x width numbers x 8 bytes
         self.bytes_per_frame = len(self.bodies) * self.width * 8
         self._max_frames = int(self.max_mb * 1e6 // self.bytes_per_frame)  # the most frames max_mb allows
-        self._kernel: Any = None  # the capture kernel's compiled entry point (capture_direct or capture_rows), found on the first capture
+        # the capture kernel's compiled entry point (capture_direct or capture_rows), found on the first capture
+        self._kernel: Any = None
         self._store = Rows((len(self.bodies), self.width))  # the frames, and their times (s)
         self._clock = Rows(None)
         if reserve is not None:

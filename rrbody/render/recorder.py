@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import math
 import sys
+from operator import attrgetter
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
@@ -56,6 +57,12 @@ __all__ = ["Recorder", "shape_outlines", "CIRCLE_POINTS", "REVERSE", "WITH", "NE
 
 #: relative size under which the orbit's turning (v x a) counts as none (rounding of a straight path)
 _STRAIGHT = 1e-9
+
+
+def _from_tape(name: str, doc: str) -> Any:
+    """A read-only property of the recorder: its tape's attribute ``name`` (:class:`rrbody.engine.tape.Tape`;
+    the recorder keeps no copy of what the tape holds)."""
+    return property(attrgetter(f"tape.{name}"), doc=doc)
 
 
 class Recorder:
@@ -106,56 +113,23 @@ class Recorder:
         self._static = [o for b in [space.static_body, *[x for x in space.bodies if x.body_type == pymunk.Body.STATIC]]
                         for o in [to_world(p, b.position.x, b.position.y, b.angle) for p in shape_outlines(b)]]
 
-    # ---- the tape's (rrbody.engine.tape): what was filmed and the frames -----------------------
-    @property
-    def space(self) -> Any:
-        """The filmed pymunk space."""
-        return self.tape.space
-
-    @property
-    def plane(self) -> Any:
-        """The space's PlaneFriction, or None."""
-        return self.tape.plane
-
-    @property
-    def bodies(self) -> tuple[Any, ...]:
-        """The filmed bodies, in the order of the frames' rows."""
-        return self.tape.bodies
-
-    @property
-    def labels(self) -> tuple[str, ...]:
-        """A name per filmed body."""
-        return self.tape.labels
-
-    @property
-    def every(self) -> int:
-        """One frame is stored per ``every`` calls of :meth:`capture`."""
-        return self.tape.every
-
-    @property
-    def motion(self) -> bool:
-        """Whether velocities, spins and friction are stored (9 numbers per body and frame, else 3)."""
-        return self.tape.motion
-
-    @property
-    def max_mb(self) -> float:
-        """The captured frames' memory cap (MB, 10^6 bytes)."""
-        return self.tape.max_mb
-
-    @property
-    def _cog(self) -> np.ndarray:
-        """Each body's centre of gravity in its own frame (bodies, 2), m."""
-        return self.tape.cog
-
-    @property
-    def _anchor(self) -> np.ndarray:
-        """The driven point P of each body rrbody's builder drives (body frame, m; NaN for the others)."""
-        return self.tape.anchor
-
-    @property
-    def bytes_per_frame(self) -> int:
-        """Memory one captured frame takes: bodies x (3 or 9) numbers x 8 bytes."""
-        return self.tape.bytes_per_frame
+    # ---- the tape's (rrbody.engine.tape): what was filmed and the frames, read-only ---------------
+    space = _from_tape("space", "The filmed pymunk space.")
+    plane = _from_tape("plane", "The space's PlaneFriction, or None.")
+    bodies = _from_tape("bodies", "The filmed bodies (a tuple), in the order of the frames' rows.")
+    labels = _from_tape("labels", "A name per filmed body (a tuple of str).")
+    every = _from_tape("every", "One frame is stored per ``every`` calls of :meth:`capture`.")
+    motion = _from_tape("motion", "Whether velocities, spins and friction are stored (9 numbers per body and "
+                                  "frame, else 3).")
+    max_mb = _from_tape("max_mb", "The captured frames' memory cap (MB, 10^6 bytes).")
+    _cog = _from_tape("cog", "Each body's centre of gravity in its own frame (bodies, 2), m.")
+    _anchor = _from_tape("anchor", "The driven point P of each body rrbody's builder drives (body frame, m; NaN "
+                                   "for the others).")
+    bytes_per_frame = _from_tape("bytes_per_frame", "Memory one captured frame takes: bodies x (3 or 9) numbers "
+                                                    "x 8 bytes.")
+    n_frames = _from_tape("n_frames", "How many frames were captured.")
+    _data = _from_tape("data", "The frame store, not a copy (its first ``n_frames`` rows are the frames).")
+    _times = _from_tape("stamps", "The frames' times (s; the first ``n_frames``), not a copy.")
 
     @property
     def times(self) -> np.ndarray:
@@ -174,21 +148,6 @@ class Recorder:
         (s); default the plane's clock. Raises ValueError, storing nothing, if a filmed body has left the
         space or the frame would pass ``max_mb``; the frames already captured stay."""
         return self.tape.capture(t)
-
-    @property
-    def n_frames(self) -> int:
-        """How many frames were captured."""
-        return self.tape.n_frames
-
-    @property
-    def _data(self) -> np.ndarray:
-        """The frame store (its first ``n_frames`` rows are the frames)."""
-        return self.tape.data
-
-    @property
-    def _times(self) -> np.ndarray:
-        """The frames' times (s; the first ``n_frames``)."""
-        return self.tape.stamps
 
     # ---- derived quantities ----------------------------------------------------------------------
     def _need_frames(self) -> None:

@@ -1,6 +1,7 @@
 """The recorder's pictures (:class:`rrbody.render.recorder.Recorder`): every pymunk shape's exact
 outline in its body's frame, and the matplotlib artists of one picture, updated frame by frame.
-Units: m and rad, world frame for what is drawn; the frame store's columns are the tape's (:mod:`rrbody.engine.tape`)."""
+Units: m and rad, world frame for what is drawn; the frame store's columns are the tape's
+(:mod:`rrbody.engine.tape`)."""
 
 from __future__ import annotations
 
@@ -11,8 +12,8 @@ import numpy as np
 
 from rrbody.engine.tape import FT, FX, FY, PA, PX, PY, VW, VX, VY, WIDTH_MOTION, WIDTH_POSE  # the frames' columns
 
-__all__ = ["shape_outlines", "fit_view", "MARGIN", "CIRCLE_POINTS", "REVERSE", "WITH", "NEUTRAL", "Picture", "to_world", "check_color", "body_colours", "WIDTH_POSE",
-           "WIDTH_MOTION", "PX", "PY", "PA", "VX", "VY", "VW", "FX", "FY", "FT"]
+__all__ = ["shape_outlines", "fit_view", "MARGIN", "CIRCLE_POINTS", "REVERSE", "WITH", "NEUTRAL", "Picture", "to_world",
+           "check_color", "body_colours", "WIDTH_POSE", "WIDTH_MOTION", "PX", "PY", "PA", "VX", "VY", "VW", "FX", "FY", "FT"]
 
 #: points on a circle's rim in its outline (a regular polygon: its centroid is the circle's centre)
 CIRCLE_POINTS = 48
