@@ -2,7 +2,7 @@
 
 :class:`rrbody.engine.plugin.PlaneFriction` keeps its bodies' rows, the id lookup and the kernel's
 caches in private fields; every other module of rrbody, and the benchmarks, read them through its
-accessors (``rows``, ``row_index``, ``row_of``, ``rows_of_ids``, ``step_arrays``) and write through its
+accessors (``rows``, ``row_index``, ``row_of``, ``rows_of_ids``, ``drive_target``, ``step_arrays``) and write through its
 methods (``add_footprint``, ``drive``): :mod:`rrbody.engine.plane_rows`. This test walks the sources
 with ``ast`` and fails on an attribute of one of those names read or written on anything but
 ``self``, outside the plugin's own modules (plugin.py and the modules it is split into). Tests may

@@ -200,7 +200,7 @@ class EngineHandle:
         """Before each step: put the driver where the step's position update lands it exactly on
         P(t_{n+1}), with the velocity the joint solver should give P (computed in the plugin's compiled
         step, :func:`rrbody.contact.kernel._driver`)."""
-        px, py, vx, vy = self.plane.row_of(self.body)[K.DPX:K.DVY + 1].tolist()
+        px, py, vx, vy = self.plane.drive_target(self.body)
         self._set_v(self._drv_ptr, (vx, vy))
         self._set_p(self._drv_ptr, (px, py))
 

@@ -96,8 +96,14 @@ class PlaneRows:
         """Mark plugin body ``body`` as held at its point P (``anchor``, body frame, m) by rrbody's circular
         driver (P on the circle of radius ``d``, m, about the origin at ``omega`` rad/s, from the plugin's
         time ``t0``, s): the compiled step then computes the driver's state with the friction (columns
-        DPX..DVY, read by :mod:`rrbody.engine.builder`). For rrbody's builder; a user's joints need none."""
+        DPX..DVY, :meth:`drive_target`). For rrbody's builder; a user's joints need none."""
         self._bodies[self._slots[body], [K.DRV, K.OMG, K.DD, K.ANX, K.ANY, K.T0]] = 1.0, omega, d, *anchor, t0
+
+    def drive_target(self, body: Any) -> list[float]:
+        """Where the step just computed that the driver of a driven ``body`` (:meth:`drive`) must go: [x, y,
+        vx, vy] of P at the step's end (m, m/s, world frame), a copy. Read before each ``space.step`` by
+        rrbody's builder (one index into the rows, no view: it runs every step)."""
+        return self._bodies[self._slots[body], K.DPX:K.DVY + 1].tolist()
 
     def step_arrays(self) -> tuple[np.ndarray, ...]:
         """Copies of the compiled step's own arrays (id lookup, row cache, rows, shapes, geo, tables), in
