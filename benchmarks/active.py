@@ -127,12 +127,14 @@ def _contacts(space: object) -> int:
 
 def _frozen_call(pf: object) -> tuple[tuple, object, object, object]:
     """The plugin's compiled call on the space's state now, for timing it again and again: (its
-    arguments up to ``active``, the ``active`` rows, the noise array, the compiled entry point)."""
+    arguments up to ``active``, the ``active`` rows, the noise array, the compiled entry point). The
+    plugin's own arrays are copies (``pf.step_arrays()``, the same types: the same compiled entry), so the
+    timed calls, which write the rows and the row cache, leave the plugin as it was."""
     io = pf._sio if pf._sio is not None else pf._io  # type: ignore[attr-defined]
     got, ids, out = io.read()
     rows, noise = pf._act.arrays(pf)  # type: ignore[attr-defined]
-    base = (got, ids, pf._k_lookup, pf._cache, pf._bodies, pf._k_shapes, pf._k_geo,  # type: ignore[attr-defined]
-            pf._k_tables, pf.t, DT, out)  # type: ignore[attr-defined]
+    lookup, cache, bodies, shapes, geo, tables = pf.step_arrays()  # type: ignore[attr-defined]
+    base = (got, ids, lookup, cache, bodies, shapes, geo, tables, pf.t, DT, out)  # type: ignore[attr-defined]
     return base, rows, noise, pf._kernel  # type: ignore[attr-defined]
 
 
@@ -148,7 +150,7 @@ def _effect_share(pf: object, reps: int = 7, block: int = 20) -> tuple[float, fl
 
     base, rows, noise, kernel = _frozen_call(pf)
     act = pf._act  # type: ignore[attr-defined]
-    B = pf._bodies  # type: ignore[attr-defined]
+    B = base[4]  # the copy of the rows the timed calls take
     saved = B.copy()
     frozen = B.copy()
     frozen[:, K.COEFF] = 0.0
@@ -186,8 +188,8 @@ def _breakdown(pf: object, reps: int = 15, block: int = 20) -> dict[str, float]:
     from rrbody.physics.effects.drive_circular import sincos_reduced
 
     base, rows, noise, kernel = _frozen_call(pf)
-    got = base[0]
-    B = pf._bodies  # type: ignore[attr-defined]
+    got, cache, tables = base[0], base[3], base[7]
+    B = base[4]  # the copy of the rows the timed calls take
     disk = B[:, K.TKIND] == K.TABLE_CIRCLE
     coeff = B[:, K.COEFF]
     states = {"no friction": B.copy(), "disks": B.copy(), "L-shapes (table)": B.copy(), "L-shapes (exact)": B.copy()}
@@ -218,13 +220,13 @@ def _breakdown(pf: object, reps: int = 15, block: int = 20) -> dict[str, float]:
         res[name] -= res["no friction"]
     handed, n_l = 0, 0
     for i in range(got.shape[0]):
-        j = pf._cache[K.ROWMAP, i]  # type: ignore[attr-defined]
+        j = cache[K.ROWMAP, i]
         if j < 0 or disk[j]:
             continue
         sa, ca = sincos_reduced(got[i, 0] + got[i, 3] * DT)
         vbx, vby = ca * got[i, 1] + sa * got[i, 2], -sa * got[i, 1] + ca * got[i, 2]
         n_l += 1
-        handed += not table_covers(pf._k_tables, int(B[j, K.TAB]), vbx, vby, got[i, 3],  # type: ignore[attr-defined]
+        handed += not table_covers(tables, int(B[j, K.TAB]), vbx, vby, got[i, 3],
                                    B[j, K.VEPS])
     res["handed over"] = handed / max(n_l, 1)
     return res

@@ -16,7 +16,7 @@ the timed steps unless a row says it times that step. The machine is stated in t
 2. **Static friction where nothing sticks** (target: at most 10 % on the step): the sliding disks of 1
    with uniform pressure, mu_static = mu (the default: static friction is always on for dry bodies)
    against mu_static = 2 mu (same cost expected: the static code runs only for a body at rest) and
-   against static friction switched off through the plugin's internal ``_add(..., static=0.0)`` (the
+   against static friction switched off through the plugin's package-internal ``add_footprint(..., static=0.0)`` (the
    builder's path; no public switch exists). The per-step cost is quoted beside the plugin figure
    recorded by the engine study in ``engine_plugin.csv`` (an earlier run: quoted, not divided), and
    that scene (benchmarks/plugin.py: half circles, half boxes, dt = 1/120 s) is measured again now.
@@ -101,7 +101,7 @@ def _pressure(kind: str) -> Any:
 def _scene(n: int, kind: str = "uniform", *, mu: float = MU, mu_static: float | None = None, tilt: float = 0.0,
            box: bool = False, moving: bool = True, static_off: bool = False, seed: int = 11) -> tuple[Any, Any, list[Any]]:
     """A space with ``n`` bodies on a grid, in the plugin: disks (or boxes), sliding and spinning
-    (``moving``) or at rest; ``static_off`` adds them through the plugin's internal ``_add`` with no
+    (``moving``) or at rest; ``static_off`` adds them through the plugin's package-internal ``add_footprint`` with no
     static friction (MUS 0)."""
     import pymunk
 
@@ -131,8 +131,8 @@ def _scene(n: int, kind: str = "uniform", *, mu: float = MU, mu_static: float | 
         from rrbody.engine.shapes import body_footprint
 
         for b in bodies:
-            pf._add(b, law=K.LAW_DRY, coeff=mu * pf._g_normal, footprint=body_footprint(b, pressure), snap=True,
-                    history=None, static=0.0)
+            pf.add_footprint(b, law=K.LAW_DRY, coeff=mu * pf.g * math.cos(pf.tilt),
+                             footprint=body_footprint(b, pressure), snap=True, history=None, static=0.0)
     else:
         for b in bodies:
             pf.add(b, mu=mu, pressure=pressure, mu_static=mu_static)
@@ -429,7 +429,7 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
         ratio = base / v["s"] if k != "mu_s = mu" else 1.0
         row("static_moving", f"{n} sliding disks, uniform", k, n, steps, v["s"], ratio,
             "mu_s = mu over this" if k != "mu_s = mu" else "", f"{v['sliding']}/{n} still sliding and spinning",
-            "internal _add(static=0.0): no public switch" if k == "static off" else "")
+            "package-internal add_footprint(static=0.0): no public switch" if k == "static off" else "")
     from . import plugin as plugin_study
 
     eng = st["engine scene"]["s"]
@@ -507,7 +507,7 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
                 f"<= {STATIC_RATIO_MAX:.2f}x",
                 (f"mu_s = mu vs static off {r_off:.3f}x; " if not math.isnan(r_off) else "static off not measured; ")
                 + f"mu_s = mu vs mu_s = 2 mu {r_2mu:.3f}x ({fmt(base * us / n)} us per body){rec_txt}",
-                met2, "static off through the plugin's internal _add(static=0.0) (no public switch); "
+                met2, "static off through the plugin's package-internal add_footprint(static=0.0) (no public switch); "
                       f"interleaved, best of {reps}")
     t3 = Target(f"{n:,} bodies held by static friction on a tilt step in one compiled call",
                 "1 compiled call per pf.step, no per-body Python",
@@ -569,7 +569,7 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
           "bodies by construction; it is reported, not judged.", "",
           f"Static friction in steps where nothing sticks (the same {n} sliding disks, uniform; target: <= "
           f"{STATIC_RATIO_MAX:.2f}x). Static friction is always on for dry bodies (mu_s defaults to mu); `static off` "
-          f"adds the bodies through the plugin's internal `_add(..., static=0.0)`, the only way to switch it off:", "",
+          f"adds the bodies through the plugin's package-internal `add_footprint(..., static=0.0)`, the only way to switch it off:", "",
           md_table(["variant", "us per step", "us per body", "mu_s = mu over this", "still sliding at the end"], srow),
           "", rec_line, "",
           f"Static friction on a tilted plane: {n} disks released at rest on atan(0.3), mu = {MU_T:g}, mu_s = "

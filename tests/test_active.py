@@ -133,7 +133,7 @@ def _terminal_circle(dt: float, plane: bool) -> tuple[float, float]:
     s.mass = M
     space.add(b, s)
     if plane:  # viscous plane friction (the builder's law): for a uniform disk gamma_t = gamma_r = g
-        pf._add(b, law=K.LAW_VISCOUS, coeff=g, footprint=body_footprint(b, uniform()), snap=False, history=None)
+        pf.add_footprint(b, law=K.LAW_VISCOUS, coeff=g, footprint=body_footprint(b, uniform()), snap=False, history=None)
         act = Active(force=F, angle=math.pi / 2, point=(0.02, 0.0))
     else:
         pf.add(b, mu=0.0)

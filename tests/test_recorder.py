@@ -269,7 +269,7 @@ def test_bad_input_is_refused_naming_it_and_writes_nothing(tmp_path: Path, case:
                                                           monkeypatch: pytest.MonkeyPatch) -> None:
     space, pf, bodies = _sliding()
     if case == "removed, bulk read":  # the route taken where the bodies' struct layout is unknown
-        monkeypatch.setattr("rrbody.render.recorder.layout", lambda: None)
+        monkeypatch.setattr("rrbody.engine.tape.layout", lambda: None)
     rec = Recorder(space, pf)
     if case != "no frames":
         for _ in range(3):
@@ -358,10 +358,10 @@ def test_both_read_routes_capture_the_same_frames(monkeypatch: pytest.MonkeyPatc
     kin.position, kin.velocity, kin.angular_velocity = (0.2, 0.8), (0.1, 0.0), 1.5
     space.add(kin, pymunk.Circle(kin, 0.05))
     fast = Recorder(space, pf, reserve=40)
-    assert fast._store.buf.shape[0] == 40
-    monkeypatch.setattr("rrbody.render.recorder.layout", lambda: None)
+    assert fast.tape._store.buf.shape[0] == 40
+    monkeypatch.setattr("rrbody.engine.tape.layout", lambda: None)
     bulk = Recorder(space, pf)
-    assert fast._io is None and bulk._io is not None
+    assert fast.tape._io is None and bulk.tape._io is not None
     extra = []
     for i in range(50):
         pf.step(1e-2)
@@ -370,6 +370,6 @@ def test_both_read_routes_capture_the_same_frames(monkeypatch: pytest.MonkeyPatc
         if i == 8:
             space.remove(extra[0], *extra[0].shapes)
         assert fast.capture() and bulk.capture()
-    assert fast.n_frames == bulk.n_frames == 50 and fast._store.reallocs == 2  # reserved 40, then doubled
+    assert fast.n_frames == bulk.n_frames == 50 and fast.tape._store.reallocs == 2  # reserved 40, then doubled
     assert np.array_equal(fast.frames, bulk.frames) and np.array_equal(fast.times, bulk.times)
     assert np.abs(fast.frames[:, :, 3:6]).max() > 0.0  # they moved

@@ -59,13 +59,13 @@ def test_every_recorder_route_captures_the_same_frames(monkeypatch: pytest.Monke
     assert layout() is not None  # on every pymunk the suite runs on: else the struct route goes untested
     space, pf, bodies = _sliding()
     recs = [Recorder(space, pf)]
-    monkeypatch.setattr("rrbody.render.recorder.layout", lambda: None)
+    monkeypatch.setattr("rrbody.engine.tape.layout", lambda: None)
     for route in ROUTES:
         rec = Recorder(space, pf)
-        rec._io = BatchIO(space, poses=True, route=route)  # forced (the default is the fastest this pymunk has)
-        assert rec._io.route == route
+        rec.tape._io = BatchIO(space, poses=True, route=route)  # forced (the default is the fastest this pymunk has)
+        assert rec.tape._io.route == route
         recs.append(rec)
-    assert recs[0]._io is None
+    assert recs[0].tape._io is None
     for _ in range(60):
         pf.step(1e-2)
         assert all(r.capture() for r in recs)

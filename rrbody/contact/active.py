@@ -30,7 +30,7 @@ NO_ACTIVE: tuple[np.ndarray, np.ndarray] = (np.zeros((0, A.N_ACTIVE)), np.zeros(
 
 
 class ActiveSet:
-    """The active bodies of one PlaneFriction ``pf`` (which owns the rows, ``pf._slots``)."""
+    """The active bodies of one PlaneFriction ``pf`` (which owns the rows: ``pf.row_index(body)``)."""
 
     def __init__(self, seed: int = 0) -> None:
         self.params: dict[Any, Active] = {}
@@ -59,8 +59,7 @@ class ActiveSet:
 
     def _build(self, pf: Any) -> None:
         """The ``active`` rows in the plugin's row order (bodies no longer in the plugin dropped)."""
-        slots = pf._slots
-        for body in [b for b in self.params if b not in slots]:
+        for body in [b for b in self.params if pf.row_index(b) is None]:
             del self.params[body]
             self.pending.discard(body)
         n = len(pf._list)
@@ -87,10 +86,10 @@ class ActiveSet:
         friction holds, and it slid off)."""
         h = 0.5 * dt
         for body in self.pending:
-            j = pf._slots.get(body)
+            j = pf.row_index(body)
             if j is None:
                 continue
-            row = pf._bodies[j]
+            row = pf.rows[j]
             if row[K.LAW] == K.LAW_DRY and row[K.SNAP] > 0.0 and body.angular_velocity == 0.0 \
                     and body.velocity == (0.0, 0.0):
                 continue

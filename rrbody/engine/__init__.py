@@ -2,8 +2,12 @@
 scenes run in pymunk (``--method engine``; the ``engine`` extra).
 
 - :class:`PlaneFriction` (``rrbody.engine.plugin``): the plugin for any pymunk program (users import it
-  from :mod:`rrbody.plugin`); its bodies' shapes as footprints (``shapes``) and its reads and writes of
-  pymunk's memory (``bodymem``, ``structio``, ``batchio``, ``capture``; ``compat`` for pymunk 6 and 7);
+  from :mod:`rrbody.plugin`); its table of bodies and the read-only accessors to their rows
+  (``plane_rows``), what ``add`` checks and writes (``admit``), its bodies' shapes as footprints
+  (``shapes``) and its reads and writes of pymunk's memory (``bodymem``, ``structio``, ``batchio``;
+  ``compat`` for pymunk 6 and 7);
+- the recorder's capture tape (``tape``, with its copy kernels in ``capture``): the frames of filmed
+  bodies, which :class:`rrbody.render.recorder.Recorder` draws;
 - :func:`attach` (``rrbody.engine.builder``): rrbody's own scenes built on it;
 - :func:`simulate_engine`, :func:`engine_flip_time` (``rrbody.engine.run``, ``track``): the run loop;
 - :class:`EngineSettings` and the dt rules (``rrbody.engine.settings``). Needs pymunk.

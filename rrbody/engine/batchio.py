@@ -28,7 +28,7 @@ import numpy as np
 
 from rrbody._private import private_allowed
 
-__all__ = ["BatchIO", "READ_COLUMNS", "POSE_COLUMNS", "ROUTES", "body_uid", "batch_reads"]
+__all__ = ["BatchIO", "READ_COLUMNS", "POSE_COLUMNS", "ROUTES", "body_uid", "rows_of", "batch_reads"]
 
 #: columns of the array :meth:`BatchIO.read` returns (pymunk.batch writes fields in this order)
 READ_COLUMNS = ("angle", "vx", "vy", "spin", "fx", "fy", "torque")
@@ -45,6 +45,17 @@ def body_uid(body: Any) -> int:
     reads the ids."""
     uid = int(body.id)
     return uid - (1 << 64) if uid >= 1 << 63 else uid
+
+
+def rows_of(keys: np.ndarray, rows: np.ndarray, want: np.ndarray) -> np.ndarray:
+    """The row of each id of ``want`` (:func:`body_uid`) in a table of ids ``keys`` (sorted) and their
+    ``rows``; -1 where it is absent (vectorised: O(len(want) log len(keys)))."""
+    out = np.full(len(want), -1, dtype=np.int64)
+    if len(keys):
+        pos = np.minimum(np.searchsorted(keys, want), len(keys) - 1)
+        hit = keys[pos] == want
+        out[hit] = rows[pos[hit]]
+    return out
 
 
 def batch_reads(poses: bool = False) -> bool:

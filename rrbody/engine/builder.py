@@ -147,15 +147,14 @@ class EngineHandle:
         space.add(*objs)
         law, coeff, static, fp = _footprint(scene)
         # the rest rule is for free bodies: a driven body's joint decides its velocity
-        self.plane._add(self.body, law=law, coeff=coeff, footprint=fp, snap=scene.drive is None, history=history,
-                        v_eps=1e-12 * scene.velocity_scale(), staggered=self._staggered, static=static)
+        self.plane.add_footprint(self.body, law=law, coeff=coeff, footprint=fp, snap=scene.drive is None,
+                                 history=history, v_eps=1e-12 * scene.velocity_scale(), staggered=self._staggered,
+                                 static=static)
         if scene.active is not None:  # a free body's propulsion and its medium (rrbody.contact.active)
             self.plane.activate(self.body, scene.active)
             self.plane.seed(scene.seed)  # its noise: the scene's seed, as on the ODE path
         if self.driver is not None:
-            j = self.plane._slots[self.body]
-            self.plane._bodies[j, [K.DRV, K.OMG, K.DD, K.ANX, K.ANY, K.T0]] = \
-                1.0, self._omega, self._d, *self.anchor, self._t0
+            self.plane.drive(self.body, omega=self._omega, d=self._d, anchor=self.anchor, t0=self._t0)
             self._set_drive_writers()
             self.plane.pre_step.append(self._drive)
         # the solver must run at least the requested iterations (never lowered for other bodies)
@@ -204,7 +203,7 @@ class EngineHandle:
         """Before each step: put the driver where the step's position update lands it exactly on
         P(t_{n+1}), with the velocity the joint solver should give P (computed in the plugin's compiled
         step, :func:`rrbody.contact.body.driver`)."""
-        px, py, vx, vy = self.plane._bodies[self.plane._slots[self.body], K.DPX:K.DVY + 1].tolist()
+        px, py, vx, vy = self.plane.drive_target(self.body)
         self._set_v(self._drv_ptr, (vx, vy))
         self._set_p(self._drv_ptr, (px, py))
 

@@ -1,4 +1,4 @@
-"""The recorder's copy kernels (:class:`rrbody.render.recorder.Recorder`): one frame of the filmed
+"""The recorder's copy kernels (its tape, :class:`rrbody.engine.tape.Tape`): one frame of the filmed
 bodies, in one compiled call, either read straight from their structs (:func:`capture_direct`) or
 picked from the space's bulk read (:func:`capture_rows`); both add the plugin's velocity at its
 time and its friction.

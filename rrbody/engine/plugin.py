@@ -16,6 +16,10 @@ a rim, an annulus, a Hertz patch, feet, any p(x, y); :mod:`rrbody.physics.contac
 One compiled call per step reads every body through ``pymunk.batch``, computes all wrenches and
 writes the forces back; then ``space.step`` runs. The contract (what is read, when it acts, what is
 guaranteed at rest) is in docs/plugin.md.
+
+The plugin's table of bodies, and the read-only accessors through which the rest of rrbody reads
+their rows, are its base class :class:`rrbody.engine.plane_rows.PlaneRows`; what ``add`` checks and
+writes for a new body is :mod:`rrbody.engine.admit`.
 """
 
 from __future__ import annotations
@@ -27,42 +31,26 @@ import numpy as np
 
 from rrbody.contact import kernel as K
 from rrbody.contact.active import NO_ACTIVE, ActiveSet
+from rrbody.contact.lean import fast_entry
+from rrbody.engine.admit import FRICTION_METHODS, body_row, check_body, half_kick, not_finite
 from rrbody.engine.batchio import BatchIO, body_uid
 from rrbody.engine.bodymem import layout
-from rrbody.contact.feet import feet_step
-from rrbody.contact.footprints import Footprints
-from rrbody.contact.lean import fast_entry
-from rrbody.contact.rows import Rows
+from rrbody.engine.plane_rows import PlaneRows
 from rrbody.engine.shapes import body_footprint
 from rrbody.engine.structio import StructIO
 from rrbody.model.active import Active
 from rrbody.model.checks import check, check_choice
 from rrbody.model.friction import check_mu_static
 from rrbody.model.pressure import PRESSURE_KINDS, Pressure, as_pressure
-from rrbody.physics import contact as C
 from rrbody.physics.footprint import Footprint
 
 __all__ = ["PlaneFriction", "PRESSURES", "Active"]
 
 #: normal-pressure profiles PlaneFriction.add accepts (rrbody.pressure; or their text form, "ring:0.05")
 PRESSURES: tuple[str, ...] = PRESSURE_KINDS
-#: ``add``'s friction_method: each step's exact wrench (a disk, a ring, a Hertz patch: its table), or the
-#: footprint's wrench table
-FRICTION_METHODS: tuple[str, ...] = ("auto", "table")
 
 
-def _not_finite(position: tuple[float, float] | None, angle: float, velocity: tuple[float, float],
-                spin: float) -> str:
-    """``"<quantity> must be finite (<unit>), got <value>"`` for the first non-finite one, else ``""``. The
-    angle first: pymunk derives the position it reports from it (an infinite angle reads as a NaN position)."""
-    for what, unit, val in (("angle", "rad", angle), ("position", "m", position), ("velocity", "m/s", velocity),
-                            ("angular_velocity", "rad/s", spin)):
-        if val is not None and not all(map(math.isfinite, val if isinstance(val, tuple) else (val,))):
-            return f"{what} must be finite ({unit}), got {val!r}"
-    return ""
-
-
-class PlaneFriction:
+class PlaneFriction(PlaneRows):
     """Dry friction of a horizontal plane under the bodies of one ``pymunk.Space``.
 
     Parameters
@@ -105,19 +93,9 @@ class PlaneFriction:
         self._io = BatchIO(space)
         # reads and writes through the plugin bodies' own structs, where pymunk's layout is known
         self._sio = StructIO(self) if layout() is not None else None
-        self._slots: dict[Any, int] = {}  # body -> row; its keys keep the order bodies were added in
-        self._list: list[Any] = []  # row -> body
-        self._rows = Rows(K.N_BODY)  # the kernel's ``bodies`` rows
-        self._idrows = Rows(None, np.int64)  # row -> the body's id (int64 view of pymunk's uintptr)
-        self._feet = Footprints()  # the footprints and wrench tables: the kernel's shapes, geo, tables
-        self._geo = self._feet.rows  # row -> its footprint rows and geo block
-        self._views()
+        super().__init__()  # the table of bodies and their rows (rrbody.engine.plane_rows)
         self.pre_step: list[Any] = []  # callables f(dt) run after friction is set, before space.step (builder)
         self._fresh: set[Any] = set()
-        self._dirty = True  # membership changed: the id lookup is rebuilt at the next step
-        self.members = 0  # counts membership changes (readers such as the recorder cache rows by it)
-        self._k_lookup = np.zeros((2, 0), dtype=np.int64)
-        self._cache = np.zeros((3, 16), dtype=np.int64)  # the kernel's row cache (kernel.plane_check)
         self._kernel: Any = None  # the compiled step's entry point, found on the first step
         self.t = 0.0  # s: time advanced by step (compensated sum)
         self._tc = 0.0
@@ -125,11 +103,6 @@ class PlaneFriction:
         self._t_stop: dict[Any, float] = {}
 
     # ---- membership --------------------------------------------------------------------------
-    @property
-    def bodies(self) -> tuple[Any, ...]:
-        """The bodies that feel the plane's friction, in the order they were added."""
-        return tuple(self._slots)
-
     def add(self, body: Any, *, mu: float, pressure: Pressure | str = "uniform", mu_static: float | None = None,
             friction_method: str = "auto") -> None:
         """Give ``body`` (dynamic, already in the space, with at least one shape of positive area)
@@ -152,13 +125,13 @@ class PlaneFriction:
         Raises ValueError naming the body for a mass or moment that is not positive and finite, for a
         position, angle, velocity or spin that is not finite, and for a centre of gravity no non-negative
         pressure holds (it would tip). Amortised O(1): no copy of the other bodies' data."""
-        self._check_body(body)
+        check_body(body, self.space, self._name)
         mu = float(check("mu", mu))
         mu_s = mu if mu_static is None else check_mu_static(mu_static, mu)
         method = check_choice("friction_method", friction_method, FRICTION_METHODS)
         footprint = body_footprint(body, as_pressure(pressure), name=self._name, table=method == "table")
-        self._add(body, law=K.LAW_DRY, coeff=mu * self._g_normal, footprint=footprint, snap=True, history=None,
-                  static=mu_s * self._g_normal, tabulate=method == "table")
+        self.add_footprint(body, law=K.LAW_DRY, coeff=mu * self._g_normal, footprint=footprint, snap=True,
+                           history=None, static=mu_s * self._g_normal, tabulate=method == "table")
 
     def _name(self, body: Any) -> str:
         """``pf.bodies[k] (repr)`` for messages (O(n): error paths only)."""
@@ -166,48 +139,21 @@ class PlaneFriction:
             return f"pf.bodies[{list(self._slots).index(body)}] ({body!r})"
         return repr(body)
 
-    def _check_body(self, body: Any) -> None:
-        import pymunk
-
-        if not isinstance(body, pymunk.Body):
-            raise ValueError(f"body must be a pymunk.Body, got {body!r}")
-        if body.body_type != pymunk.Body.DYNAMIC:
-            raise ValueError(f"body must be a dynamic pymunk.Body (kinematic and static bodies do not slide), "
-                             f"got body_type {body.body_type!r}")
-        if body.space is not self.space:
-            raise ValueError("body must be added to the PlaneFriction's space first (space.add(body, *shapes))")
-        m, moment = float(body.mass), float(body.moment)
-        if not (0.0 < m < math.inf and 0.0 < moment < math.inf):
-            raise ValueError(f"body {self._name(body)}: mass and moment must be positive and finite (kg, kg m^2), "
-                             f"got mass {m!r}, moment {moment!r}: give its shapes a density or mass, or set "
-                             f"body.mass/moment")
-        p, v, a, w = body.position, body.velocity, body.angle, body.angular_velocity
-        if not math.isfinite(p.x + p.y + v.x + v.y + a + w):  # one test on the common path (a huge sum: no error)
-            bad = _not_finite((p.x, p.y), a, (v.x, v.y), w)
-            if bad:
-                raise ValueError(f"body {self._name(body)}: {bad}")
-
-    def _add(self, body: Any, *, law: float, coeff: float, footprint: Footprint, snap: bool,
-             history: tuple[float, float, float, float] | None, v_eps: float = 0.0, staggered: bool = True,
-             static: float | None = None, tabulate: bool = False) -> None:
-        """``add`` for rrbody's builder too: any law (K.LAW_DRY with coeff mu g, K.LAW_VISCOUS with gamma)
-        and footprint (point mass, sampled elements); ``snap`` False leaves the rest rule to the joint
-        that holds a driven body; ``history`` = (vx, vy, w, gap) when the builder has made the half kick;
-        ``static`` mu_static g cos(tilt) (m/s^2; default: coeff for dry friction, none for viscous);
-        ``tabulate``: dry friction from the footprint's wrench table."""
-        shapes, geo, reach, (gx, gy), jj = footprint
-        m, moment = float(body.mass), float(body.moment)
-        row = np.zeros(K.N_BODY)
-        row[[K.MASS, K.IPM, K.LAW, K.COEFF, K.REACH, K.SNAP, K.VEPS, K.VGX, K.VGY, K.VJ, K.STAG]] = \
-            m, moment / m, law, coeff, reach, 1.0 if snap else 0.0, v_eps, gx, gy, jj, 1.0 if staggered else 0.0
-        row[[K.MUS, K.GTX, K.GTY]] = (coeff if law == K.LAW_DRY else 0.0) if static is None else static, *self._g_plane
-        row[K.HELD] = -1.0  # no load tested yet
-        # two or more point feet: a foot at rest is held by static friction (rrbody.contact.feet)
-        row[K.FEET] = 1.0 if shapes.shape[0] > 1 and bool(np.all(shapes[:, C.KIND] == C.POINT)) else 0.0
-        if law == K.LAW_DRY:  # (the viscous law is linear: exact and cheap without a table)
-            row[K.TKIND], row[K.TAB] = self._feet.friction_table(shapes, geo, tabulate)
-        if history is not None:
-            row[[K.PVX, K.PVY, K.PW, K.GAP]] = history
+    def add_footprint(self, body: Any, *, law: float, coeff: float, footprint: Footprint, snap: bool,
+                      history: tuple[float, float, float, float] | None, v_eps: float = 0.0,
+                      staggered: bool = True, static: float | None = None, tabulate: bool = False) -> None:
+        """``add`` with the friction law and footprint already made (rrbody's builder, benchmarks), unchecked:
+        any law (K.LAW_DRY with ``coeff`` mu g cos(tilt) in m/s^2, K.LAW_VISCOUS with gamma in 1/s) and
+        footprint (:mod:`rrbody.engine.shapes`, a point mass, sampled elements); ``snap`` False leaves
+        the rest rule to the joint that holds a driven body; ``history`` = (vx, vy, spin, gap) (m/s,
+        rad/s, s) when the caller has made the half kick; ``v_eps`` the speed under which the body
+        counts as at rest (m/s); ``staggered`` False for a body stepped without the half-step
+        velocity; ``static`` mu_static g cos(tilt) (m/s^2; default: coeff for dry friction, none for
+        viscous, 0 switches static friction off); ``tabulate``: dry friction from the footprint's wrench
+        table. A body already in the plugin is read again in place."""
+        shapes, geo = footprint[0], footprint[1]
+        row = body_row(body, law=law, coeff=coeff, footprint=footprint, snap=snap, history=history, v_eps=v_eps,
+                       staggered=staggered, static=static, g_plane=self._g_plane, feet=self._feet, tabulate=tabulate)
         j = self._slots.get(body)
         if j is None:
             j = self._rows.append_one(row)
@@ -256,47 +202,12 @@ class PlaneFriction:
         self._dirty = True
         self.members += 1
 
-    def _views(self) -> None:
-        """The kernel's arrays: views of the rows in use (no copy)."""
-        self._bodies = self._rows.view
-        self._k_shapes, self._k_geo, self._k_tables = self._feet.arrays
-
-    def _relink(self) -> None:
-        """After adds or removals: the sorted id -> row table, and a reset of the kernel's row cache."""
-        ids = self._idrows.view
-        order = np.argsort(ids, kind="stable")
-        self._k_lookup = np.ascontiguousarray(np.vstack([ids[order], order.astype(np.int64)]))
-        self._cache[K.ROW_ID] = 0  # ids are pointers, never 0: every cached row is looked up again
-        self._dirty = False
-
     # ---- stepping ----------------------------------------------------------------------------
     def _kick(self, dt: float) -> None:
         """Half kick of newly added bodies: their velocity becomes the one at t + dt/2."""
         for body in self._fresh:
-            j = self._slots[body]
-            v = body.velocity
-            vx, vy, w = float(v.x), float(v.y), float(body.angular_velocity)
-            if (vx, vy, w) != (0.0, 0.0, 0.0):
-                gx, gy = self._g_plane  # gravity along a tilted plane: half a kick of it too
-                row = self._bodies[j]
-                alpha = float(body.angle)
-                foot = -1
-                if row[K.FEET] > 0.0 and row[K.MUS] > 0.0 and row[K.SNAP] > 0.0 and row[K.LAW] == K.LAW_DRY:
-                    # on feet, launched with a foot at rest (or arriving there in the half step): held
-                    # (the kicked velocity moves the pose in the first step: its lever halfway through it)
-                    foot, ax, ay, tq = feet_step(self._k_shapes, int(row[K.S0]), int(row[K.S1]), alpha,
-                                                 alpha + 0.5 * w * dt, alpha, vx, vy, w, vx, vy, w, gx, gy, 0.0,
-                                                 row[K.COEFF], row[K.MUS], row[K.IPM], row[K.VEPS], 0.5 * dt,
-                                                 row[K.REACH], -1)
-                    aw, s = tq / row[K.IPM], 1.0
-                    row[K.PIN] = foot + 1.0 if foot >= 0 else 0.0
-                if foot == -1:
-                    ax, ay, aw, s = K.limited(j, math.cos(alpha), math.sin(alpha), vx, vy, w, vx, vy, w, 0.5 * dt,
-                                              self._bodies, self._k_shapes, self._k_geo, self._k_tables, gx, gy, 0.0)
-                h = 0.5 * dt * s
-                body.velocity = (vx + h * ax + 0.5 * dt * gx, vy + h * ay + 0.5 * dt * gy)
-                body.angular_velocity = w + h * aw
-            self._bodies[j, [K.PVX, K.PVY, K.PW, K.GAP]] = vx, vy, w, 0.5 * dt
+            half_kick(body, self._slots[body], dt, self._g_plane, self._bodies, self._k_shapes, self._k_geo,
+                      self._k_tables)
         self._fresh.clear()
 
     def step(self, dt: float) -> None:
@@ -399,7 +310,7 @@ class PlaneFriction:
             a, vx, vy, w = got[i, :4].tolist()
             more = f" (and {n_bad - 1} more bodies)" if n_bad > 1 else ""
             raise ValueError(f"body {self._name(self._list[int(self._cache[K.ROWMAP, i])])}: "
-                             f"{_not_finite(None, a, (vx, vy), w)}{more}; the step was refused and nothing "
+                             f"{not_finite(None, a, (vx, vy), w)}{more}; the step was refused and nothing "
                              f"changed: give the body a finite state, or pf.remove(body)")
         gone = [b for b in self._slots if b.space is not self.space]
         more = f" (and {len(gone) - 1} more bodies)" if len(gone) > 1 else ""
@@ -425,47 +336,3 @@ class PlaneFriction:
         if self._bodies[j, K.STOP] > 0.0 or (body.velocity == (0.0, 0.0) and body.angular_velocity == 0.0):
             return self._t_stop.get(body)
         return None
-
-    def held_foot(self, body: Any) -> int | None:
-        """For a body on point feet (``pressure=rrbody.pressure.points(...)``, two or more): the index of
-        the foot static friction held at rest in the last step, the body turning about it (docs:
-        Contacts, "Pivoting on a foot"); None while every foot slides, or at rest."""
-        pin = int(self._bodies[self._slots[body], K.PIN])
-        return pin - 1 if pin > 0 else None
-
-    # ---- readers -----------------------------------------------------------------------------
-    def velocity(self, body: Any) -> tuple[float, float, float]:
-        """(vx, vy, spin) of ``body``'s centre of gravity at the plugin's time ``t`` (m/s, rad/s).
-
-        pymunk's ``body.velocity`` after a step belongs to t + dt/2 (the staggered scheme); this is the
-        mean of it and the velocity before the step, second-order accurate at t."""
-        j = self._slots[body]
-        v = body.velocity
-        w = body.angular_velocity
-        p = self._bodies[j]
-        if p[K.GAP] <= 0.0 or p[K.STAG] == 0.0:
-            return float(v.x), float(v.y), float(w)
-        if p[K.STOP] > 0.0 and v.x == 0.0 and v.y == 0.0 and w == 0.0:
-            # the rest rule stopped it within the last step and nothing is left: at rest at t (the mean
-            # below would still hold half the velocity read at that step's start)
-            return 0.0, 0.0, 0.0
-        return 0.5 * (p[K.PVX] + v.x), 0.5 * (p[K.PVY] + v.y), 0.5 * (p[K.PW] + w)
-
-    def friction(self, body: Any) -> tuple[float, float, float]:
-        """The friction the last ``step`` applied to ``body``: force (N, world frame) at its centre of
-        gravity and torque about it (N m), static friction and the rest rule's stopping impulse
-        included (zeros before the first step). Its product with the velocity is the friction power."""
-        p = self._bodies[self._slots[body]]
-        return float(p[K.FFX]), float(p[K.FFY]), float(p[K.FFT])
-
-    def wrench(self, body: Any, velocity: tuple[float, float, float] | None = None,
-               angle: float | None = None) -> tuple[float, float, float]:
-        """The friction force (N, world frame) and torque about the centre of gravity (N m) on ``body``
-        at its current angle and velocity, or at the given ones (no rest rule, no limiter)."""
-        j = self._slots[body]
-        v = body.velocity
-        vx, vy, w = (float(v.x), float(v.y), float(body.angular_velocity)) if velocity is None else velocity
-        a = float(body.angle) if angle is None else float(angle)
-        ax, ay, aw = K.body_accel(j, a, vx, vy, w, self._bodies, self._k_shapes, self._k_geo, self._k_tables)
-        m = self._bodies[j, K.MASS]
-        return m * ax, m * ay, m * self._bodies[j, K.IPM] * aw

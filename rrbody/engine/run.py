@@ -120,8 +120,8 @@ def _driven_loop(h: EngineHandle, fs: np.ndarray, ev: np.ndarray, minima: np.nda
     offs = layout()
     addr = address(h.body._body) if offs is not None else 0
     offs = np.zeros(10, dtype=np.int64) if offs is None else offs
-    j = plane._slots[h.body]
-    bodies = plane._bodies  # the plugin's rows: fixed while nothing is added to this run's own space
+    j = plane.row_index(h.body)
+    bodies = plane.rows  # the plugin's rows (read-only): fixed while nothing is added to this run's own space
     body = h.body
     if 0.0 >= fs[T_END] - (0.5 * dt if fs[K_OUT] >= out.shape[0] else 1e-12 * dt):  # as track_step's test
         return 0, "reached t_end"

@@ -29,47 +29,40 @@ turns against its orbit, blue where it turns with it, grey where either is zero.
 is the drive's for a body driven at P by rrbody's builder, and for any other body the sense in which
 its centre of gravity's path turns (the sign of v x dv/dt, from the captured velocities by central
 differences); a body sliding straight or at rest has none.
+
+The numbers live on the recorder's tape (:class:`rrbody.engine.tape.Tape`, ``rec.tape``: the pymunk
+side, which reads the bodies and the plugin); this module draws from them and reads nothing of pymunk
+but the shapes' outlines and the static shapes.
 """
 
 from __future__ import annotations
 
 import math
 import sys
+from operator import attrgetter
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from rrbody.contact import kernel as K
-from rrbody.engine.batchio import BatchIO, body_uid
-from rrbody.engine.bodymem import address, addresses
-from rrbody.engine.capture import capture_direct, capture_rows, layout
-from rrbody.contact.lean import fast_entry
-from rrbody.contact.rows import Rows
-from rrbody.model.checks import check_int, check_positive, check_real
+from rrbody.engine.tape import Tape
+from rrbody.model.checks import check_int, check_real
 from rrbody.model.io import atomic_path, check_writable
 from rrbody.render.movie_figure import check_movie, check_size
-from rrbody.render.recorder_picture import (CIRCLE_POINTS, NEUTRAL, PA, PX, PY, REVERSE, VW, VX, VY, WIDTH_MOTION,
-                                            WIDTH_POSE, WITH, Picture, fit_view, shape_outlines, to_world)
+from rrbody.render.recorder_picture import (CIRCLE_POINTS, NEUTRAL, REVERSE, VW, VX, VY, WITH, Picture, body_colours,
+                                            check_color, fit_view, shape_outlines, to_world)
 
 __all__ = ["Recorder", "shape_outlines", "CIRCLE_POINTS", "REVERSE", "WITH", "NEUTRAL"]
 
 #: relative size under which the orbit's turning (v x a) counts as none (rounding of a straight path)
 _STRAIGHT = 1e-9
-#: the plugin's arrays when there is no plane (capture_rows reads none of it then)
-_NO_ROWS = np.zeros((0, K.N_BODY))
 
 
-def _rows_of(keys: np.ndarray, rows: np.ndarray, want: np.ndarray) -> np.ndarray:
-    """The row of each id of ``want`` in a table of ids ``keys`` (sorted) and their ``rows``; -1 where
-    it is absent."""
-    out = np.full(len(want), -1, dtype=np.int64)
-    if len(keys):
-        pos = np.minimum(np.searchsorted(keys, want), len(keys) - 1)
-        hit = keys[pos] == want
-        out[hit] = rows[pos[hit]]
-    return out
+def _from_tape(name: str, doc: str) -> Any:
+    """A read-only property of the recorder: its tape's attribute ``name`` (:class:`rrbody.engine.tape.Tape`;
+    the recorder keeps no copy of what the tape holds)."""
+    return property(attrgetter(f"tape.{name}"), doc=doc)
 
 
 class Recorder:
@@ -100,6 +93,9 @@ class Recorder:
         capture in the loop waits for the operating system to map a fresh page (on this project's
         machines the first write of fresh memory costs several times the capture itself). More
         frames than this can still be captured: the store then doubles.
+
+    The captured numbers are on ``rec.tape`` (:class:`rrbody.engine.tape.Tape`, which reads pymunk and
+    the plugin); the recorder draws from them.
     """
 
     def __init__(self, space: Any, plane: Any = None, *, bodies: Sequence[Any] | None = None,
@@ -107,86 +103,33 @@ class Recorder:
                  max_mb: float = 1000.0, reserve: int | None = None) -> None:
         import pymunk
 
-        if not isinstance(space, pymunk.Space):
-            raise ValueError(f"space must be a pymunk.Space, got {space!r}")
-        if plane is not None and getattr(plane, "space", None) is not space:
-            raise ValueError(f"plane must be the PlaneFriction of this space (or None), got {plane!r}")
-        self.space, self.plane = space, plane
-        self.every = check_int("every", every, 1, 10**9)
-        self.max_mb = check_positive("max_mb", max_mb, unit="MB")
-        self.motion = bool(motion)
-        if bodies is None:
-            first = list(plane.bodies) if plane is not None else []
-            seen = set(first)
-            bodies = first + [b for b in space.bodies if b not in seen and b.shapes
-                              and b.body_type != pymunk.Body.STATIC]
-        self.bodies: tuple[Any, ...] = tuple(bodies)
-        if not self.bodies:
-            raise ValueError("bodies: nothing to film, got 0 bodies (the space has no dynamic or kinematic body "
-                             "with shapes): add bodies to the space before creating the Recorder")
-        for k, b in enumerate(self.bodies):
-            if not isinstance(b, pymunk.Body) or b.space is not space or b.body_type == pymunk.Body.STATIC \
-                    or not b.shapes:
-                raise ValueError(f"bodies[{k}] must be a dynamic or kinematic pymunk.Body with shapes, in this "
-                                 f"space, got {b!r}")
-        if len(set(self.bodies)) != len(self.bodies):
-            raise ValueError("bodies must not repeat a body")
-        if labels is None:
-            labels = [f"b{k:04d}" for k in range(len(self.bodies))]
-        self.labels = tuple(str(x) for x in labels)
-        if len(self.labels) != len(self.bodies) or len(set(self.labels)) != len(self.labels):
-            raise ValueError(f"labels must give {len(self.bodies)} distinct names (one per body), got "
-                             f"{len(self.labels)} ({len(set(self.labels))} distinct)")
-        # geometry, read now (like the plugin's add): outlines in body coordinates, the centre of gravity
+        self.tape = Tape(space, plane, bodies=bodies, labels=labels, every=every, motion=motion, max_mb=max_mb,
+                         reserve=reserve)
+        # geometry, read now (like the plugin's add): outlines in body coordinates, their reach from the
+        # centre of gravity (m), and the static shapes in the world frame as they are now
         self._outlines = [shape_outlines(b) for b in self.bodies]
-        self._cog = np.array([tuple(b.center_of_gravity) for b in self.bodies], dtype=float)
         self._reach = np.array([max(float(np.hypot(*(o - c).T).max()) for o in outs)
                                 for outs, c in zip(self._outlines, self._cog)])
         self._static = [o for b in [space.static_body, *[x for x in space.bodies if x.body_type == pymunk.Body.STATIC]]
                         for o in [to_world(p, b.position.x, b.position.y, b.angle) for p in shape_outlines(b)]]
-        ids = np.array([body_uid(b) for b in self.bodies], dtype=np.int64)
-        self._ids = ids
-        # the driven point P (body coordinates) and the drive's sense, for bodies rrbody's builder drives
-        self._anchor = np.full((len(self.bodies), 2), np.nan)
-        self._drive_sense = np.zeros(len(self.bodies))
-        if plane is not None:
-            for k, b in enumerate(self.bodies):
-                j = plane._slots.get(b)
-                if j is not None and plane._bodies[j, K.DRV] > 0.0:
-                    self._anchor[k] = plane._bodies[j, [K.ANX, K.ANY]]
-                    self._drive_sense[k] = math.copysign(1.0, plane._bodies[j, K.OMG])
-        self._width = WIDTH_MOTION if self.motion else WIDTH_POSE
-        self._frame_bytes = len(self.bodies) * self._width * 8
-        #: the most frames max_mb allows
-        self._max_frames = int(self.max_mb * 1e6 // self._frame_bytes)
-        self._kernel: Any = None  # the capture kernel's compiled entry point (capture_direct or capture_rows), found on the first capture
-        self._store = Rows((len(self.bodies), self._width))  # the frames, and their times (s)
-        self._clock = Rows(None)
-        if reserve is not None:
-            if self._max_frames < 1:
-                raise ValueError(f"reserve: max_mb={self.max_mb:g} MB holds no frame of {self._frame_bytes} bytes; "
-                                 f"raise max_mb")
-            reserve = check_int("reserve", reserve, 1, self._max_frames,
-                                unit=f"frames (what max_mb={self.max_mb:g} MB holds)")
-            self._store.ensure(reserve, touch=True)
-            self._clock.ensure(reserve, touch=True)
-        self._calls = 0
-        self._rows = np.full(len(self.bodies), -1, dtype=np.int64)  # their rows in the space's bulk read
-        self._prow: tuple[int, np.ndarray] | None = None  # (plane.members, their rows in the plane's arrays)
-        self._no_plane = np.full(len(self.bodies), -1, dtype=np.int64)
-        # the bodies' state is read from their structs where pymunk's layout of them is known (about
-        # 2 us per 1,000 bodies), else from the space's bulk read (about 14 us: rrbody.engine.capture)
-        self._offs = layout()
-        self._io = BatchIO(space, poses=True) if self._offs is None else None
-        if self._offs is not None:
-            self._addr = addresses(self.bodies)
-            self._space_addr = address(space._space)
 
-    # ---- capture ---------------------------------------------------------------------------------
-    @property
-    def bytes_per_frame(self) -> int:
-        """Memory one captured frame takes: bodies x (3 or 9) numbers x 8 bytes."""
-        return self._frame_bytes
+    # ---- the tape's (rrbody.engine.tape): what was filmed and the frames, read-only ---------------
+    space = _from_tape("space", "The filmed pymunk space.")
+    plane = _from_tape("plane", "The space's PlaneFriction, or None.")
+    bodies = _from_tape("bodies", "The filmed bodies (a tuple), in the order of the frames' rows.")
+    labels = _from_tape("labels", "A name per filmed body (a tuple of str).")
+    every = _from_tape("every", "One frame is stored per ``every`` calls of :meth:`capture`.")
+    motion = _from_tape("motion", "Whether velocities, spins and friction are stored (9 numbers per body and "
+                                  "frame, else 3).")
+    max_mb = _from_tape("max_mb", "The captured frames' memory cap (MB, 10^6 bytes).")
+    _cog = _from_tape("cog", "Each body's centre of gravity in its own frame (bodies, 2), m.")
+    _anchor = _from_tape("anchor", "The driven point P of each body rrbody's builder drives (body frame, m; NaN "
+                                   "for the others).")
+    bytes_per_frame = _from_tape("bytes_per_frame", "Memory one captured frame takes: bodies x (3 or 9) numbers "
+                                                    "x 8 bytes.")
+    n_frames = _from_tape("n_frames", "How many frames were captured.")
+    _data = _from_tape("data", "The frame store, not a copy (its first ``n_frames`` rows are the frames).")
+    _times = _from_tape("stamps", "The frames' times (s; the first ``n_frames``), not a copy.")
 
     @property
     def times(self) -> np.ndarray:
@@ -204,86 +147,7 @@ class Recorder:
         """Store this instant (one call in ``every``; returns whether it stored a frame). ``t``: the time
         (s); default the plane's clock. Raises ValueError, storing nothing, if a filmed body has left the
         space or the frame would pass ``max_mb``; the frames already captured stay."""
-        self._calls += 1
-        if (self._calls - 1) % self.every:
-            return False
-        if t is None:
-            if self.plane is None:
-                raise ValueError("t must be given (the frame's time, s) when the Recorder has no plane")
-            t = float(self.plane.t)
-        else:
-            t = check_real("t", t)
-        n = self._store.n
-        if n >= self._store.buf.shape[0] or n >= self._max_frames:
-            self._make_room(n)
-        prow = self._plane_rows()
-        bodies = _NO_ROWS if self.plane is None else self.plane._bodies
-        store = self._store.buf
-        if self._io is None:
-            kernel, args = capture_direct, (self._addr, self._offs, self._space_addr, bodies, prow, store, n)
-        else:
-            got, ids, _ = self._io.read()
-            kernel, args = capture_rows, (got, ids, self._ids, self._rows, bodies, prow, store, n)
-        if self._kernel is None:
-            self._kernel, result = fast_entry(kernel, *args)
-        else:
-            result = self._kernel(*args)
-        if self._io is None:
-            if result >= 0:  # the index of a filmed body no longer in the space
-                self._gone(result, n)
-        elif not result:
-            # the space's order changed (bodies added or removed): find the filmed bodies again
-            order = np.argsort(ids)
-            rows = _rows_of(ids[order], order, self._ids)
-            if (rows < 0).any():
-                self._gone(int(np.flatnonzero(rows < 0)[0]), n)
-            self._rows = rows
-            capture_rows(got, ids, self._ids, self._rows, bodies, prow, store, n)
-        self._clock.buf[n] = t
-        self._store.n = self._clock.n = n + 1
-        return True
-
-    def _gone(self, k: int, n: int) -> None:
-        """The ValueError for filmed body ``k`` having left the space at frame ``n`` (nothing is stored)."""
-        raise ValueError(f"bodies[{k}] ({self.labels[k]}) is no longer in the space (frame {n}): a filmed "
-                         f"body must stay in the space; the {n} frames captured are kept")
-
-    def _make_room(self, n: int) -> None:
-        """Room for frame ``n`` (the store doubles), or the ValueError of ``max_mb`` (nothing changes)."""
-        if n + 1 > self._max_frames:
-            raise ValueError(f"max_mb: frame {n} would take the capture past max_mb={self.max_mb:g} MB "
-                             f"({len(self.bodies)} bodies x {self._width} numbers x 8 bytes a frame); "
-                             f"the {n} frames captured are kept: film them, raise max_mb, or capture less "
-                             f"often (every=...)")
-        self._store.ensure(n + 1)
-        self._clock.ensure(n + 1)  # the same capacity as the store's: both grow by the same rule
-
-    @property
-    def n_frames(self) -> int:
-        """How many frames were captured."""
-        return self._store.n
-
-    @property
-    def _data(self) -> np.ndarray:
-        """The frame store (its first ``n_frames`` rows are the frames)."""
-        return self._store.buf
-
-    @property
-    def _times(self) -> np.ndarray:
-        """The frames' times (s; the first ``n_frames``)."""
-        return self._clock.buf
-
-    def _plane_rows(self) -> np.ndarray:
-        """Each filmed body's row in the plane's arrays, or -1 (cached until the plane's membership changes)."""
-        pf = self.plane
-        if pf is None:
-            return self._no_plane
-        if self._prow is None or self._prow[0] != pf.members:
-            if pf._dirty:
-                pf._relink()
-            look = pf._k_lookup
-            self._prow = (pf.members, _rows_of(look[0], look[1], self._ids))
-        return self._prow[1]
+        return self.tape.capture(t)
 
     # ---- derived quantities ----------------------------------------------------------------------
     def _need_frames(self) -> None:
@@ -296,10 +160,7 @@ class Recorder:
 
     def centres(self) -> np.ndarray:
         """Centres of gravity (frames, bodies, 2), m, world frame."""
-        d = self._data[:self.n_frames]
-        c, s = np.cos(d[:, :, PA]), np.sin(d[:, :, PA])
-        gx, gy = self._cog[:, 0], self._cog[:, 1]
-        return np.stack([d[:, :, PX] + c * gx - s * gy, d[:, :, PY] + s * gx + c * gy], axis=2)
+        return self.tape.centres()
 
     def senses(self) -> np.ndarray:
         """(frames, bodies): -1 where a body turns against its orbit (reverse rotation), +1 with it,
@@ -315,8 +176,9 @@ class Recorder:
         cross = v[:, :, 0] * a[:, :, 1] - v[:, :, 1] * a[:, :, 0]
         size = np.hypot(v[:, :, 0], v[:, :, 1]) * np.hypot(a[:, :, 0], a[:, :, 1])
         orbit = np.where(np.abs(cross) > _STRAIGHT * size, np.sign(cross), 0.0)
-        driven = self._drive_sense != 0.0
-        orbit[:, driven] = self._drive_sense[driven]
+        sense = self.tape.drive_sense  # a driven body's orbit turns as its drive does
+        driven = sense != 0.0
+        orbit[:, driven] = sense[driven]
         return np.sign(d[:, :, VW]) * orbit
 
     def marks(self, color: Any) -> np.ndarray:
@@ -352,22 +214,9 @@ class Recorder:
             raise ValueError(f"arrows must be some of 'velocity', 'friction', 'torque', got {bad[0]!r}")
         if arrows:
             self._need_motion("arrows")
-        if isinstance(color, np.ndarray) and color.ndim == 2:  # marks per frame and body (-1, 0, +1)
-            if color.shape != (self.n_frames, len(self.bodies)) or not np.isin(color, (-1.0, 0.0, 1.0)).all():
-                raise ValueError(f"color as marks must be an array (frames, bodies) = ({self.n_frames}, "
-                                 f"{len(self.bodies)}) of -1, 0 and +1, got shape {color.shape}")
-        elif isinstance(color, str) and color == "spin":
+        color = check_color(color, self.n_frames, len(self.bodies))
+        if isinstance(color, str) and color == "spin":
             self._need_motion('color="spin"')
-        elif not (isinstance(color, str) and color == "body"):
-            from matplotlib.colors import is_color_like
-
-            cols = [color] if isinstance(color, str) or (isinstance(color, tuple) and len(color) in (3, 4)
-                                                          and all(isinstance(v, (int, float)) for v in color)) \
-                else list(color)
-            if len(cols) not in (1, len(self.bodies)) or not all(is_color_like(c) for c in cols):
-                raise ValueError(f"color must be 'body', 'spin', a colour or one colour per body "
-                                 f"({len(self.bodies)}), got {color!r}")
-            color = cols
         if trails is True:
             mask = np.ones(len(self.bodies), bool)
         elif trails is False or trails is None:
@@ -505,15 +354,4 @@ class Recorder:
 
     def colours(self, color: Any) -> Any:
         """Per-body RGBA (bodies x 4) for a fixed colouring, or None for "spin" or marks (per frame: :meth:`marks`)."""
-        from matplotlib import colormaps
-        from matplotlib.colors import to_rgba_array
-
-        if (isinstance(color, str) and color == "spin") or isinstance(color, np.ndarray) and color.ndim == 2:
-            return None
-        if isinstance(color, str) and color == "body":
-            cmap = colormaps["tab10"]
-            return np.array([cmap(k % 10) for k in range(len(self.bodies))])
-        rgba = to_rgba_array(color)
-        return np.repeat(rgba, len(self.bodies), axis=0) if len(rgba) == 1 else rgba
-
-
+        return body_colours(color, len(self.bodies))

@@ -1,6 +1,7 @@
 """The recorder's pictures (:class:`rrbody.render.recorder.Recorder`): every pymunk shape's exact
 outline in its body's frame, and the matplotlib artists of one picture, updated frame by frame.
-Units: m and rad, world frame for what is drawn; the frame store's columns are the recorder's."""
+Units: m and rad, world frame for what is drawn; the frame store's columns are the tape's
+(:mod:`rrbody.engine.tape`)."""
 
 from __future__ import annotations
 
@@ -9,18 +10,55 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["shape_outlines", "fit_view", "MARGIN", "CIRCLE_POINTS", "REVERSE", "WITH", "NEUTRAL", "Picture", "to_world", "WIDTH_POSE",
-           "WIDTH_MOTION", "PX", "PY", "PA", "VX", "VY", "VW", "FX", "FY", "FT"]
+from rrbody.engine.tape import FT, FX, FY, PA, PX, PY, VW, VX, VY, WIDTH_MOTION, WIDTH_POSE  # the frames' columns
+
+__all__ = ["shape_outlines", "fit_view", "MARGIN", "CIRCLE_POINTS", "REVERSE", "WITH", "NEUTRAL", "Picture", "to_world",
+           "check_color", "body_colours", "WIDTH_POSE", "WIDTH_MOTION", "PX", "PY", "PA", "VX", "VY", "VW", "FX", "FY", "FT"]
 
 #: points on a circle's rim in its outline (a regular polygon: its centroid is the circle's centre)
 CIRCLE_POINTS = 48
 #: colour by spin: turning against the orbit (reverse rotation), with it, neither
 REVERSE, WITH, NEUTRAL = "#d62728", "#1f77b4", "#9a9a9a"
-WIDTH_POSE, WIDTH_MOTION = 3, 9  # numbers per body and frame
 #: the blank border a fitted view keeps round the bodies' whole paths, on each side, as a fraction of
 #: the paths' larger extent: clear of the panel's frame line, and of most of the time label and scale bar
 MARGIN = 0.08
-PX, PY, PA, VX, VY, VW, FX, FY, FT = range(9)
+
+# ---- colours -------------------------------------------------------------------------------------
+def check_color(color: Any, n_frames: int, n_bodies: int) -> Any:
+    """A picture's ``color`` checked (ValueError otherwise): marks (an array (frames, bodies) of -1, 0,
+    +1) or "spin" or "body" as given, a colour or one per body as a list of colours."""
+    if isinstance(color, np.ndarray) and color.ndim == 2:  # marks per frame and body (-1, 0, +1)
+        if color.shape != (n_frames, n_bodies) or not np.isin(color, (-1.0, 0.0, 1.0)).all():
+            raise ValueError(f"color as marks must be an array (frames, bodies) = ({n_frames}, "
+                             f"{n_bodies}) of -1, 0 and +1, got shape {color.shape}")
+        return color
+    if isinstance(color, str) and color in ("spin", "body"):
+        return color
+    from matplotlib.colors import is_color_like
+
+    cols = [color] if isinstance(color, str) or (isinstance(color, tuple) and len(color) in (3, 4)
+                                                  and all(isinstance(v, (int, float)) for v in color)) \
+        else list(color)
+    if len(cols) not in (1, n_bodies) or not all(is_color_like(c) for c in cols):
+        raise ValueError(f"color must be 'body', 'spin', a colour or one colour per body ({n_bodies}), "
+                         f"got {color!r}")
+    return cols
+
+
+def body_colours(color: Any, n_bodies: int) -> Any:
+    """Per-body RGBA (bodies x 4) for a fixed colouring (checked by :func:`check_color`), or None for
+    "spin" or marks (their colours change per frame)."""
+    from matplotlib import colormaps
+    from matplotlib.colors import to_rgba_array
+
+    if (isinstance(color, str) and color == "spin") or isinstance(color, np.ndarray) and color.ndim == 2:
+        return None
+    if isinstance(color, str) and color == "body":
+        cmap = colormaps["tab10"]
+        return np.array([cmap(k % 10) for k in range(n_bodies)])
+    rgba = to_rgba_array(color)
+    return np.repeat(rgba, n_bodies, axis=0) if len(rgba) == 1 else rgba
+
 
 # ---- outlines ------------------------------------------------------------------------------------
 def _capsule(a: np.ndarray, b: np.ndarray, r: float) -> np.ndarray:

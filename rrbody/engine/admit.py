@@ -1,0 +1,118 @@
+"""A body's entry into :class:`rrbody.engine.plugin.PlaneFriction`: the checks ``add`` makes, the row
+of the kernel's ``bodies`` array it writes (columns :mod:`rrbody.contact.columns`), and the half kick
+a newly added body gets at its first step (the staggered scheme's start, docs/engine.md).
+
+These are the plugin's own steps, kept apart from its membership and stepping: each is a function of
+the body and the numbers it is given, so that the plugin decides only where the row goes.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from rrbody.contact import kernel as K
+from rrbody.contact.feet import feet_step
+from rrbody.contact.footprints import Footprints
+from rrbody.physics import contact as C
+from rrbody.physics.footprint import Footprint
+
+__all__ = ["FRICTION_METHODS", "not_finite", "check_body", "body_row", "half_kick"]
+
+#: ``add``'s friction_method: each step's exact wrench (a disk, a ring, a Hertz patch: its table), or the
+#: footprint's wrench table
+FRICTION_METHODS: tuple[str, ...] = ("auto", "table")
+
+
+def not_finite(position: tuple[float, float] | None, angle: float, velocity: tuple[float, float],
+               spin: float) -> str:
+    """``"<quantity> must be finite (<unit>), got <value>"`` for the first non-finite one, else ``""``. The
+    angle first: pymunk derives the position it reports from it (an infinite angle reads as a NaN position)."""
+    for what, unit, val in (("angle", "rad", angle), ("position", "m", position), ("velocity", "m/s", velocity),
+                            ("angular_velocity", "rad/s", spin)):
+        if val is not None and not all(map(math.isfinite, val if isinstance(val, tuple) else (val,))):
+            return f"{what} must be finite ({unit}), got {val!r}"
+    return ""
+
+
+def check_body(body: Any, space: Any, name: Callable[[Any], str]) -> None:
+    """Raise ValueError unless ``body`` is a dynamic pymunk.Body in ``space`` with a positive, finite mass
+    (kg) and moment (kg m^2) and a finite position (m), angle (rad), velocity (m/s) and spin (rad/s);
+    ``name(body)`` names it in the messages."""
+    import pymunk
+
+    if not isinstance(body, pymunk.Body):
+        raise ValueError(f"body must be a pymunk.Body, got {body!r}")
+    if body.body_type != pymunk.Body.DYNAMIC:
+        raise ValueError(f"body must be a dynamic pymunk.Body (kinematic and static bodies do not slide), "
+                         f"got body_type {body.body_type!r}")
+    if body.space is not space:
+        raise ValueError("body must be added to the PlaneFriction's space first (space.add(body, *shapes))")
+    m, moment = float(body.mass), float(body.moment)
+    if not (0.0 < m < math.inf and 0.0 < moment < math.inf):
+        raise ValueError(f"body {name(body)}: mass and moment must be positive and finite (kg, kg m^2), "
+                         f"got mass {m!r}, moment {moment!r}: give its shapes a density or mass, or set "
+                         f"body.mass/moment")
+    p, v, a, w = body.position, body.velocity, body.angle, body.angular_velocity
+    if not math.isfinite(p.x + p.y + v.x + v.y + a + w):  # one test on the common path (a huge sum: no error)
+        bad = not_finite((p.x, p.y), a, (v.x, v.y), w)
+        if bad:
+            raise ValueError(f"body {name(body)}: {bad}")
+
+
+def body_row(body: Any, *, law: float, coeff: float, footprint: Footprint, snap: bool,
+             history: tuple[float, float, float, float] | None, v_eps: float, staggered: bool,
+             static: float | None, g_plane: tuple[float, float], feet: Footprints, tabulate: bool) -> np.ndarray:
+    """The kernel's row (:mod:`rrbody.contact.columns`) of ``body`` with this friction law and footprint,
+    before its footprint is placed (:meth:`Footprints.place` fills S0, S1). ``coeff``: mu g cos(tilt)
+    for dry friction or gamma (1/s) for viscous; ``static``: mu_static g cos(tilt) (m/s^2; None: coeff
+    for dry friction, none for viscous); ``g_plane``: gravity's pull along the plane (m/s^2, world
+    frame); ``history`` (vx, vy, spin, gap) when the caller has made the half kick; ``feet``: the
+    plugin's footprint store, which gives a dry body its wrench table (``tabulate``: the footprint's own)."""
+    shapes, geo, reach, (gx, gy), jj = footprint
+    m, moment = float(body.mass), float(body.moment)
+    row = np.zeros(K.N_BODY)
+    row[[K.MASS, K.IPM, K.LAW, K.COEFF, K.REACH, K.SNAP, K.VEPS, K.VGX, K.VGY, K.VJ, K.STAG]] = \
+        m, moment / m, law, coeff, reach, 1.0 if snap else 0.0, v_eps, gx, gy, jj, 1.0 if staggered else 0.0
+    row[[K.MUS, K.GTX, K.GTY]] = (coeff if law == K.LAW_DRY else 0.0) if static is None else static, *g_plane
+    row[K.HELD] = -1.0  # no load tested yet
+    # two or more point feet: a foot at rest is held by static friction (rrbody.contact.feet)
+    row[K.FEET] = 1.0 if shapes.shape[0] > 1 and bool(np.all(shapes[:, C.KIND] == C.POINT)) else 0.0
+    if law == K.LAW_DRY:  # (the viscous law is linear: exact and cheap without a table)
+        row[K.TKIND], row[K.TAB] = feet.friction_table(shapes, geo, tabulate)
+    if history is not None:
+        row[[K.PVX, K.PVY, K.PW, K.GAP]] = history
+    return row
+
+
+def half_kick(body: Any, j: int, dt: float, g_plane: tuple[float, float], bodies: np.ndarray, shapes: np.ndarray,
+              geo: np.ndarray, tables: np.ndarray) -> None:
+    """The half kick of a newly added body (row ``j`` of the kernel's arrays): its velocity (m/s, rad/s,
+    world frame) becomes the one at t + dt/2 under friction and gravity's pull along the plane
+    (``g_plane``, m/s^2), and its row keeps the velocity at t as the step's history (dt in s)."""
+    v = body.velocity
+    vx, vy, w = float(v.x), float(v.y), float(body.angular_velocity)
+    if (vx, vy, w) != (0.0, 0.0, 0.0):
+        gx, gy = g_plane  # gravity along a tilted plane: half a kick of it too
+        row = bodies[j]
+        alpha = float(body.angle)
+        foot = -1
+        if row[K.FEET] > 0.0 and row[K.MUS] > 0.0 and row[K.SNAP] > 0.0 and row[K.LAW] == K.LAW_DRY:
+            # on feet, launched with a foot at rest (or arriving there in the half step): held
+            # (the kicked velocity moves the pose in the first step: its lever halfway through it)
+            foot, ax, ay, tq = feet_step(shapes, int(row[K.S0]), int(row[K.S1]), alpha,
+                                         alpha + 0.5 * w * dt, alpha, vx, vy, w, vx, vy, w, gx, gy, 0.0,
+                                         row[K.COEFF], row[K.MUS], row[K.IPM], row[K.VEPS], 0.5 * dt,
+                                         row[K.REACH], -1)
+            aw, s = tq / row[K.IPM], 1.0
+            row[K.PIN] = foot + 1.0 if foot >= 0 else 0.0
+        if foot == -1:
+            ax, ay, aw, s = K.limited(j, math.cos(alpha), math.sin(alpha), vx, vy, w, vx, vy, w, 0.5 * dt,
+                                      bodies, shapes, geo, tables, gx, gy, 0.0)
+        h = 0.5 * dt * s
+        body.velocity = (vx + h * ax + 0.5 * dt * gx, vy + h * ay + 0.5 * dt * gy)
+        body.angular_velocity = w + h * aw
+    bodies[j, [K.PVX, K.PVY, K.PW, K.GAP]] = vx, vy, w, 0.5 * dt
