@@ -19,7 +19,7 @@ import numpy as np
 from numba import njit
 
 # (kernel.body_accel and kernel.limited: the plugin's readers)
-from rrbody.contact.accel import (accel_at, body_accel, limited, limited_at, prefetch_at,  # noqa: F401
+from rrbody.contact.accel import (accel_at, body_accel, limited, prefetch_at,  # noqa: F401
                                  reads_footprint_table)
 from rrbody.contact import body as B
 from rrbody.contact import rest as R
