@@ -28,14 +28,18 @@ from typing import Any
 
 __all__ = ["ENV", "private_allowed", "no_refcount"]
 
-#: the environment variable that turns rrbody's uses of private internals off ("1"; "" or "0": on)
+#: the environment variable that turns rrbody's uses of private internals off ("1"; unset, "" or "0": on)
 ENV = "RRBODY_NO_PRIVATE"
 
 
 def private_allowed() -> bool:
-    """Whether rrbody may use other libraries' private internals (False where ``RRBODY_NO_PRIVATE`` is set
-    to anything but ``""`` or ``"0"``). Read at each call; the kernels read it once, when they compile."""
-    return os.environ.get(ENV, "") in ("", "0")
+    """Whether rrbody may use other libraries' private internals (False where ``RRBODY_NO_PRIVATE`` is
+    ``"1"``; True where it is unset, ``""`` or ``"0"``; any other value is a ValueError naming it). Read at each call; the kernels read it once, when
+    they compile."""
+    value = os.environ.get(ENV, "")
+    if value not in ("", "0", "1"):  # ("false" would otherwise turn them off: say so instead)
+        raise ValueError(f"{ENV} must be 1 (private fast paths off), 0 or unset (on), got {value!r}")
+    return value != "1"
 
 
 @functools.lru_cache(maxsize=1)

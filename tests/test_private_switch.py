@@ -75,3 +75,12 @@ def test_the_switch_turns_every_private_fast_path_off() -> None:
 
 def test_zero_and_empty_leave_it_on() -> None:
     assert _probe("0")["allowed"] and _probe("")["allowed"]
+
+
+def test_another_value_is_refused_with_its_name_and_the_valid_ones() -> None:
+    """``RRBODY_NO_PRIVATE=false`` must not quietly turn the fast paths off (nor leave them on)."""
+    env = {**os.environ, "RRBODY_NO_PRIVATE": "false"}
+    out = subprocess.run([sys.executable, "-c", "from rrbody._private import private_allowed; private_allowed()"],
+                         env=env, capture_output=True, text=True)
+    assert out.returncode != 0
+    assert "ValueError: RRBODY_NO_PRIVATE must be 1 (private fast paths off), 0 or unset (on), got 'false'" in out.stderr
