@@ -71,7 +71,7 @@ class PlaneRows:
         :mod:`rrbody.contact.columns` (SI units; world frame unless a column says the body frame): a
         read-only view, live (the step updates it in place) until the next ``add`` or ``remove`` (they
         may move it: ``members`` counts them), then read it again. Row order is not the order of
-        :attr:`bodies`: :meth:`row_index` gives a body's row."""
+        :attr:`~rrbody.engine.plane_rows.PlaneRows.bodies`: :meth:`row_index` gives a body's row."""
         return self._read_only
 
     def row_index(self, body: Any) -> int | None:

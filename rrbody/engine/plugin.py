@@ -68,6 +68,8 @@ class PlaneFriction(PlaneRows):
     downhill : float
         Direction of steepest descent in the space's coordinates, rad from the x axis (default 0).
 
+    Notes
+    -----
     ``add`` and ``remove`` cost O(1) amortised whatever the number of bodies (arrays that double their
     capacity; a removed body's row is replaced by the last one), so bodies can come and go one by one
     in scenes of 10^4 bodies. A body removed from the space must be removed from the plugin as well

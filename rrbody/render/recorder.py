@@ -68,6 +68,9 @@ def _from_tape(name: str, doc: str) -> Any:
 class Recorder:
     """Captures the bodies of a pymunk space step by step; films them as MP4, rerun recording or poster.
 
+    The captured numbers are on ``rec.tape`` (:class:`rrbody.engine.tape.Tape`, which reads pymunk and
+    the plugin); the recorder draws from them.
+
     Parameters
     ----------
     space : pymunk.Space
@@ -93,9 +96,6 @@ class Recorder:
         capture in the loop waits for the operating system to map a fresh page (on this project's
         machines the first write of fresh memory costs several times the capture itself). More
         frames than this can still be captured: the store then doubles.
-
-    The captured numbers are on ``rec.tape`` (:class:`rrbody.engine.tape.Tape`, which reads pymunk and
-    the plugin); the recorder draws from them.
     """
 
     def __init__(self, space: Any, plane: Any = None, *, bodies: Sequence[Any] | None = None,
