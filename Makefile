@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 # extras each target installs (pyproject.toml, [project.optional-dependencies]); the core alone
 # (numpy, scipy, numba, tqdm) computes flip times and trajectories
 DEMO_EXTRAS := movie
-TEST_EXTRAS := test,engine,movie,rerun,dask,data,mujoco
+TEST_EXTRAS := test,engine,movie,rerun,dask,data,mujoco,envs
 DOCS_EXTRAS := docs,movie
 
 .PHONY: demo test bench scenes docs docs-check clean venv venv-lowest
@@ -103,10 +103,13 @@ demo: $(VENV)/.installed-demo $(VENV)/.kernels
 # after the whole suite: the kernels of a flip time, the plugin and its exact references on every route,
 # the recorder, the takeovers of private names, the MuJoCo adapter (docs/versions.md)
 LOWEST := .venv-lowest
-LOWEST_EXTRAS := test engine mujoco movie
+LOWEST_EXTRAS := test engine mujoco movie envs
+# gym-pusht pins pymunk < 7: it lives here, beside pymunk 6.6, for the fidelity checks of rrbody.envs
+# against the real package (RRBODY_REQUIRE_PUSHT=1 turns their skip, where it is missing, into a failure)
+PUSHT := gym-pusht==0.1.8
 LOWEST_TESTS := tests/test_flip.py tests/test_plugin_io.py tests/test_takeovers.py tests/test_plugin.py \
 	tests/test_recorder.py tests/test_mujoco.py tests/test_tableaus.py
-LOWEST_RUN = PYTHONPATH=$(CURDIR) RRBODY_CACHE_DIR=$(CURDIR)/$(LOWEST)/cache RRBODY_NO_SEED=1 MPLBACKEND=Agg \
+LOWEST_RUN = PYTHONPATH=$(CURDIR) RRBODY_REQUIRE_PUSHT=1 RRBODY_CACHE_DIR=$(CURDIR)/$(LOWEST)/cache RRBODY_NO_SEED=1 MPLBACKEND=Agg \
 	$(LOWEST)/bin/python
 
 # the takeovers of every private fast path at once (rrbody._private: RRBODY_NO_PRIVATE=1; docs/versions.md):
@@ -119,7 +122,7 @@ $(LOWEST)/.installed: pyproject.toml | $(UV)
 	@echo "==> lowest-venv: installing the oldest versions pyproject allows into $(LOWEST) (about $(call unq,$(T_LOWEST)) in the recorded run)"
 	$(UV) venv --quiet --allow-existing --python $(BIN)/python $(LOWEST)
 	$(UV) pip install --quiet --compile-bytecode --python $(LOWEST)/bin/python --resolution lowest-direct \
-		-r pyproject.toml $(addprefix --extra ,$(LOWEST_EXTRAS))
+		-r pyproject.toml $(addprefix --extra ,$(LOWEST_EXTRAS)) '$(PUSHT)'
 	touch $@
 
 venv-lowest: $(LOWEST)/.installed

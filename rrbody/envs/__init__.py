@@ -1,0 +1,1 @@
+"""Gymnasium environments on rrbody's table (placeholder while the package is built)."""
