@@ -101,14 +101,15 @@ demo: $(VENV)/.installed-demo $(VENV)/.kernels
 # its kernels compiled by that venv's numba into a cache folder of its own (the checkout's install-time
 # kernels are the main venv's numba's: not copied, RRBODY_NO_SEED). make test runs LOWEST_TESTS there
 # after the whole suite: the kernels of a flip time, the plugin and its exact references on every route,
-# the recorder, the takeovers of private names, the MuJoCo adapter (docs/versions.md)
+# the recorder, the takeovers of private names, the MuJoCo adapter, rrbody.envs against the installed
+# gym-pusht (docs/versions.md)
 LOWEST := .venv-lowest
 LOWEST_EXTRAS := test engine mujoco movie envs
 # gym-pusht pins pymunk < 7: it lives here, beside pymunk 6.6, for the fidelity checks of rrbody.envs
 # against the real package (RRBODY_REQUIRE_PUSHT=1 turns their skip, where it is missing, into a failure)
 PUSHT := gym-pusht==0.1.8
 LOWEST_TESTS := tests/test_flip.py tests/test_plugin_io.py tests/test_takeovers.py tests/test_plugin.py \
-	tests/test_recorder.py tests/test_mujoco.py tests/test_tableaus.py
+	tests/test_recorder.py tests/test_mujoco.py tests/test_tableaus.py tests/test_envs_pusht.py
 LOWEST_RUN = PYTHONPATH=$(CURDIR) RRBODY_REQUIRE_PUSHT=1 RRBODY_CACHE_DIR=$(CURDIR)/$(LOWEST)/cache RRBODY_NO_SEED=1 MPLBACKEND=Agg \
 	$(LOWEST)/bin/python
 

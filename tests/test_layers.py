@@ -1,7 +1,7 @@
 """Import contract: rrbody's sub-packages form layers and every import runs downward.
 
 Layers, bottom to top: model -> physics -> integrate -> contact -> {engine, mujoco_adapter} -> analysis
--> render -> cli. ``contact`` is the plane step both engine adapters call and imports no engine; the two
+-> render -> envs -> cli. ``contact`` is the plane step both engine adapters call and imports no engine; the two
 adapters (pymunk's ``engine`` and ``mujoco_adapter``) share a level and never import each other, and no
 package imports two engines. A module may import from its own layer or a lower one, never from a higher
 one (a back edge), and the module graph has no cycle. Imports inside functions count too: a lazy import is still a dependency. The
@@ -22,10 +22,11 @@ import pytest
 PKG = Path(__file__).resolve().parents[1] / "rrbody"
 #: the levels, bottom to top; the packages of one level may not import each other (the two engine adapters)
 LEVELS: tuple[tuple[str, ...], ...] = (("model",), ("physics",), ("integrate",), ("contact",), ("engine", "mujoco_adapter"),
-                                       ("analysis",), ("render",), ("cli",))
+                                       ("analysis",), ("render",), ("envs",), ("cli",))
 LAYERS = tuple(name for level in LEVELS for name in level)
-#: the third-party engines, and the packages that may import each (no other may, and none both)
-ENGINES = {"pymunk": {"engine"}, "mujoco": {"mujoco_adapter"}}
+#: the third-party engines, and the packages that may import each (no other may, and none both); the
+#: gymnasium environments (envs) are pymunk programs of their own: they build the spaces they step
+ENGINES = {"pymunk": {"engine", "envs"}, "mujoco": {"mujoco_adapter"}}
 #: modules at the package root and the layer they count as
 ROOT_MODULES = {"rrbody._version": -1, "rrbody._cache": -1, "rrbody._private": -1, "rrbody": len(LEVELS), "rrbody.plugin": len(LEVELS),
                 "rrbody.mujoco": len(LEVELS), "rrbody.pressure": len(LEVELS), "rrbody.planar": len(LEVELS)}

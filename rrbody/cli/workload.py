@@ -149,6 +149,12 @@ def _planar_workload() -> None:
     MK.scatter(i64, i64, i64, np.zeros((1, 3)), frame, bodies, qpos, qvel, xfrc, user, got, np.zeros(1, dtype=bool),
                np.zeros(1), 0.0, 1e-3)
     MK.unapply(i64, xfrc, user)
+    # the coverage of the gymnasium environments (rrbody.envs.pusht): two T's of two bars each
+    from rrbody.physics.overlap import overlap_area, pieces_area
+
+    tee = np.array([[[-60.0, 30.0], [60.0, 30.0], [60.0, 0.0], [-60.0, 0.0]],
+                    [[-15.0, 30.0], [-15.0, 120.0], [15.0, 120.0], [15.0, 30.0]]])
+    overlap_area(tee, tee + 1.0) / pieces_area(tee)
 
 
 def run_extras() -> None:

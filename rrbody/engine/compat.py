@@ -14,7 +14,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-__all__ = ["on_begin"]
+__all__ = ["on_begin", "on_post_solve"]
 
 
 def on_begin(space: Any, a: int | None, b: int | None, fn: Callable[[Any, Any, Any], Any]) -> None:
@@ -41,3 +41,12 @@ def on_begin(space: Any, a: int | None, b: int | None, fn: Callable[[Any, Any, A
         return True  # pymunk 6: process the contact
 
     handler.begin = begin
+
+
+def on_post_solve(space: Any, a: int, b: int, fn: Callable[[Any, Any, Any], Any]) -> None:
+    """Call ``fn(arbiter, space, data)`` after the solver has processed a contact between shapes of
+    collision types ``a`` and ``b``, on every step it lasts (to count or read contacts; it changes none)."""
+    if hasattr(space, "on_collision"):  # pymunk >= 7
+        space.on_collision(a, b, post_solve=fn)
+    else:
+        space.add_collision_handler(a, b).post_solve = fn

@@ -1,0 +1,276 @@
+"""Push-T on a table: the planar pushing task of Diffusion Policy, with the T sliding on rrbody's exact
+dry friction.
+
+The task, written from its published description and gym-pusht 0.1.8's behaviour (the environment
+robot-learning users run; LeRobot's pusht): a 512 x 512 workspace (units; y down in pictures) inside
+four walls; a T of two bars (the top bar 120 x 30 units, the stem 30 x 90 below it) on one body of mass
+1 whose moment of inertia and centre of gravity are gym-pusht's, quirks included (the moment is twice
+the top bar's about the body origin; the centre of gravity is the mean of the two bars' centroids, not
+their area-weighted mean); a kinematic disk agent of radius 15 whose velocity a PD law (k_p 100,
+k_v 20) drives to the action, the target position, at every 0.01 s physics step, 10 steps per action
+(10 Hz control); the goal pose (256, 256, pi/4); reward = coverage / 0.95 clipped to [0, 1], where
+the coverage is the T's area inside the goal T over the goal's area; success, and termination, above
+0.95 coverage; episodes truncated at 300 actions by the registration (``rrbody/PushT-v0``).
+
+The table. gym-pusht has none: it sets ``space.damping = 0``, which pymunk applies as
+velocity x 0^dt, so every velocity is wiped at every step and the T moves only while it is pushed,
+as its mass and inertia answer the contact impulse. Here (``table=True``, the default) the space keeps
+its momentum and :class:`rrbody.engine.plugin.PlaneFriction` presses the T on the table with its
+weight (``pressure``: how the weight spreads; the centre of pressure follows the centre of gravity)
+and applies dry friction integrated over its area: ``mu`` sliding, ``mu_static`` at rest (None: equal
+to ``mu``), ``g`` in m/s^2, and ``scale`` metres per workspace unit (:mod:`rrbody.envs.tabletop`
+states the defaults and where they come from). ``table=False`` is gym-pusht's environment: the same
+observations for the same seeds and actions (tests/test_envs_pusht.py checks it against the package).
+``damping`` is pymunk's, as gym-pusht takes it (default: 0 without a table, 1 on one).
+"""
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+from rrbody.engine.compat import on_post_solve
+from rrbody.envs.tabletop import G, MU, SCALE, make_table
+from rrbody.model.checks import check_choice, check_int, check_range, check_real
+from rrbody.physics.overlap import overlap_area, pieces_area
+
+__all__ = ["OBS_TYPES", "PushTEnv"]
+
+#: gym-pusht 0.1.8's observation types
+OBS_TYPES = ("state", "environment_state_agent_pos", "pixels", "pixels_agent_pos")
+#: this environment's keywords (a keyword not among them is a TypeError naming it and these)
+KEYWORDS = ("obs_type", "render_mode", "block_cog", "damping", "observation_width", "observation_height",
+            "visualization_width", "visualization_height", "table", "mu", "mu_static", "pressure", "g", "scale")
+WORKSPACE = 512.0
+SUCCESS = 0.95
+
+
+def _tee_vertices(scale: float = 30.0, length: float = 4.0) -> tuple[list[tuple[float, float]], ...]:
+    """The T's two bars in the body frame (units), in gym-pusht's shape and vertex order."""
+    top = [(-length * scale / 2, scale), (length * scale / 2, scale), (length * scale / 2, 0.0),
+           (-length * scale / 2, 0.0)]
+    stem = [(-scale / 2, scale), (-scale / 2, length * scale), (scale / 2, length * scale), (scale / 2, scale)]
+    return top, stem
+
+
+def _world(local: np.ndarray, x: float, y: float, angle: float) -> np.ndarray:
+    """Body-frame vertices (k, n, 2) placed at a body origin (x, y) turned by ``angle`` (rad)."""
+    c, s = math.cos(angle), math.sin(angle)
+    out = np.empty_like(local)
+    out[..., 0] = x + c * local[..., 0] - s * local[..., 1]
+    out[..., 1] = y + s * local[..., 0] + c * local[..., 1]
+    return out
+
+
+def _box(lo: float, hi: float, n: int) -> spaces.Box:
+    return spaces.Box(low=np.full(n, lo), high=np.full(n, hi), dtype=np.float64)
+
+
+class PushTEnv(gym.Env):
+    """Push-T (gym-pusht 0.1.8's task, spaces and seeding) on a table of exact dry friction.
+
+    Observations (``obs_type``), in workspace units: ``state`` [agent x, agent y, T x, T y, T angle
+    in [0, 2 pi)], the T's position being its body origin (the top bar's lower edge centre);
+    ``environment_state_agent_pos`` {the T's 8 corners (16 numbers), the agent's position};
+    ``pixels`` an (observation_height, observation_width, 3) uint8 picture; ``pixels_agent_pos``
+    {the picture, the agent's position}. Actions: the agent's target position, 2 numbers in [0, 512].
+    ``env.unwrapped.plane`` is the table (:class:`rrbody.engine.plugin.PlaneFriction`, None without
+    one); ``env.unwrapped.space`` the pymunk space, rebuilt by every reset.
+    """
+
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
+
+    def __init__(self, obs_type: str = "state", render_mode: str | None = "rgb_array",
+                 block_cog: Any = None, damping: float | None = None, observation_width: int = 96,
+                 observation_height: int = 96, visualization_width: int = 680, visualization_height: int = 680,
+                 *, table: bool = True, mu: float = MU, mu_static: float | None = None, pressure: Any = "uniform",
+                 g: float = G, scale: float = SCALE, **unknown: Any) -> None:
+        if unknown:
+            name = next(iter(unknown))
+            raise TypeError(f"PushTEnv got an unknown keyword {name!r}; valid keywords: {', '.join(KEYWORDS)}")
+        super().__init__()
+        self.obs_type = check_choice("obs_type", obs_type, OBS_TYPES)
+        if render_mode not in (None, "rgb_array"):
+            raise ValueError(f"render_mode must be 'rgb_array' or None (no window: pictures are arrays), "
+                             f"got {render_mode!r}")
+        self.render_mode = render_mode
+        self.observation_width = check_int("observation_width", observation_width, 1, 4096)
+        self.observation_height = check_int("observation_height", observation_height, 1, 4096)
+        self.visualization_width = check_int("visualization_width", visualization_width, 1, 4096)
+        self.visualization_height = check_int("visualization_height", visualization_height, 1, 4096)
+        if block_cog is not None:
+            block_cog = (check_real("block_cog[0]", block_cog[0]), check_real("block_cog[1]", block_cog[1]))
+        self.block_cog = block_cog
+        self.damping = None if damping is None else check_range("damping", damping, 0.0, 1.0)
+        if not isinstance(table, bool):
+            raise TypeError(f"table must be True or False, got {table!r}")
+        self.table = make_table(mu, mu_static, pressure, g, scale) if table else None
+        self.k_p, self.k_v = 100, 20
+        self.control_hz = self.metadata["render_fps"]
+        self.dt = 0.01
+        self.success_threshold = SUCCESS
+        self.action_space = spaces.Box(low=0, high=512, shape=(2,), dtype=np.float32)
+        self.observation_space = self._observation_space()
+        self._local = np.array(_tee_vertices(), dtype=np.float64)  # (2, 4, 2): the bars, body frame
+        self._last_action: Any = None
+        self.space: Any = None
+        self.plane: Any = None
+
+    def _observation_space(self) -> spaces.Space:
+        """gym-pusht 0.1.8's spaces, bounds and dtypes for ``obs_type``."""
+        pixels = spaces.Box(low=0, high=255, shape=(self.observation_height, self.observation_width, 3),
+                            dtype=np.uint8)
+        agent = spaces.Box(low=np.array([0, 0]), high=np.array([512, 512]), dtype=np.float64)
+        if self.obs_type == "state":
+            return spaces.Box(low=np.array([0, 0, 0, 0, 0]), high=np.array([512, 512, 512, 512, 2 * np.pi]),
+                              dtype=np.float64)
+        if self.obs_type == "environment_state_agent_pos":
+            return spaces.Dict({"environment_state": _box(0, 512, 16), "agent_pos": agent})
+        if self.obs_type == "pixels":
+            return pixels
+        return spaces.Dict({"pixels": pixels, "agent_pos": agent})
+
+    # ---- the world -----------------------------------------------------------------------------
+    def _setup(self) -> None:
+        """A new space: walls, the agent, the T, the goal, the contact counter, the table."""
+        import pymunk
+
+        space = pymunk.Space()
+        space.gravity = 0, 0
+        space.damping = self.damping if self.damping is not None else (0.0 if self.table is None else 1.0)
+        walls = [((5, 506), (5, 5)), ((5, 5), (506, 5)), ((506, 5), (506, 506)), ((5, 506), (506, 506))]
+        space.add(*(pymunk.Segment(space.static_body, a, b, 2) for a, b in walls))
+        agent = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+        agent.position = (256, 400)
+        space.add(agent, pymunk.Circle(agent, 15))
+        top, stem = _tee_vertices()
+        # gym-pusht's moment: the top bar's about the body origin, twice (its second term reuses the top bar)
+        block = pymunk.Body(1, 2 * pymunk.moment_for_poly(1, vertices=top))
+        shapes = [pymunk.Poly(block, top), pymunk.Poly(block, stem)]
+        block.center_of_gravity = (shapes[0].center_of_gravity + shapes[1].center_of_gravity) / 2
+        block.angle = 0
+        block.position = (256, 300)
+        space.add(block, *shapes)
+        if self.block_cog is not None:
+            block.center_of_gravity = self.block_cog
+        self.space, self.agent, self.block, self._block_shapes = space, agent, block, shapes
+        self.goal_pose = np.array([256, 256, np.pi / 4])
+        self._goal = _world(self._local, 256.0, 256.0, math.pi / 4)
+        self._goal_area = pieces_area(self._goal)
+        on_post_solve(space, 0, 0, self._handle_collision)
+        self.n_contact_points = 0
+        self.plane = None
+        self._advance = space.step
+        if self.table is not None:
+            from rrbody.engine.plugin import PlaneFriction
+
+            t = self.table
+            self.plane = PlaneFriction(space, g=t.g_space)
+            self.plane.add(block, mu=t.mu, mu_static=t.mu_static, pressure=t.pressure)
+            self._advance = self.plane.step
+
+    def _handle_collision(self, arbiter: Any, space: Any, data: Any) -> None:
+        self.n_contact_points += len(arbiter.contact_point_set.points)
+
+    def _set_state(self, state: np.ndarray) -> None:
+        """The agent at state[:2], the T's origin at state[2:4] then its angle state[4] (gym-pusht's
+        order: the angle turns the T about its centre of gravity), then one physics step."""
+        self.agent.position = list(state[:2])
+        self.block.position = list(state[2:4])
+        self.block.angle = state[4]
+        self._advance(self.dt)
+
+    def _coverage(self) -> float:
+        """The T's area inside the goal T over the goal's area (exact: rrbody.physics.overlap)."""
+        x, y = self.block.position
+        block = _world(self._local, x, y, self.block.angle)
+        return overlap_area(block, self._goal) / self._goal_area
+
+    # ---- gymnasium -----------------------------------------------------------------------------
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict]:
+        """A new episode: random agent position in [50, 450)^2, T position in [100, 400)^2 and angle in
+        [-pi, pi) from the env's generator (gym-pusht's draws), or ``options["reset_to_state"]``
+        ([agent x, agent y, T x, T y, T angle])."""
+        super().reset(seed=seed)
+        if options is not None and options.get("reset_to_state") is not None:
+            state = np.array(options["reset_to_state"], dtype=np.float64)
+            if state.shape != (5,) or not np.all(np.isfinite(state)):
+                raise ValueError(f"options['reset_to_state'] must be 5 finite numbers [agent x, agent y, "
+                                 f"T x, T y, T angle], got {options['reset_to_state']!r}")
+        else:
+            r = self.np_random
+            state = np.array([r.integers(50, 450), r.integers(50, 450), r.integers(100, 400),
+                              r.integers(100, 400), r.uniform(-np.pi, np.pi)])
+        self._setup()
+        self._set_state(state)
+        info = self._get_info()
+        info["is_success"] = False
+        return self.get_obs(), info
+
+    def step(self, action: Any) -> tuple[Any, float, bool, bool, dict]:
+        """Drive the agent toward ``action`` for 0.1 s (10 physics steps of PD control), then observe."""
+        if self.space is None:
+            raise RuntimeError("call reset() before step()")
+        ax, ay = float(action[0]), float(action[1])
+        if not (math.isfinite(ax) and math.isfinite(ay)):
+            raise ValueError(f"action must be 2 finite numbers (the agent's target, in [0, 512]), got {action!r}")
+        self.n_contact_points = 0
+        self._last_action = action
+        agent, dt, kp, kv, advance = self.agent, self.dt, self.k_p, self.k_v, self._advance
+        for _ in range(int(1 / (dt * self.control_hz))):
+            px, py = agent.position
+            vx, vy = agent.velocity
+            # the PD law in gym-pusht's arithmetic (float64, the same order of operations)
+            agent.velocity = (vx + (kp * (ax - px) + kv * (0.0 - vx)) * dt,
+                              vy + (kp * (ay - py) + kv * (0.0 - vy)) * dt)
+            advance(dt)
+        coverage = self._coverage()
+        reward = np.clip(coverage / self.success_threshold, 0.0, 1.0)
+        terminated = is_success = coverage > self.success_threshold
+        info = self._get_info()
+        info["is_success"] = is_success
+        info["coverage"] = coverage
+        return self.get_obs(), reward, terminated, False, info
+
+    def get_obs(self) -> Any:
+        """The observation of ``obs_type`` (units; angle in rad)."""
+        if self.obs_type == "state":
+            return np.array([*self.agent.position, *self.block.position, self.block.angle % (2 * np.pi)],
+                            dtype=np.float64)
+        if self.obs_type == "environment_state_agent_pos":
+            return {"environment_state": self.keypoints().flatten(), "agent_pos": np.array(self.agent.position)}
+        pixels = self._picture(self.observation_width, self.observation_height, None)
+        if self.obs_type == "pixels":
+            return pixels
+        return {"pixels": pixels, "agent_pos": np.array(self.agent.position)}
+
+    def keypoints(self) -> np.ndarray:
+        """The T's 8 corners (8, 2), units: the top bar's 4 then the stem's, each turned by the T's
+        angle about its origin with pymunk's own arithmetic (as gym-pusht computes them)."""
+        body = self.block
+        return np.vstack([np.array(v.rotated(body.angle) + body.position)
+                          for shape in self._block_shapes for v in shape.get_vertices()])
+
+    def _get_info(self) -> dict[str, Any]:
+        # gym-pusht's count per step divides by 1 / dt * control_hz = 1000 (sic), kept so info agrees
+        per_step = int(np.ceil(self.n_contact_points / int(1 / self.dt * self.control_hz)))
+        return {"pos_agent": np.array(self.agent.position), "vel_agent": np.array(self.agent.velocity),
+                "block_pose": np.array([*self.block.position, self.block.angle]),
+                "goal_pose": np.array(self.goal_pose), "n_contacts": per_step}
+
+    def _picture(self, width: int, height: int, action: Any) -> np.ndarray:
+        from rrbody.envs.pusht_draw import draw
+
+        x, y = self.block.position
+        return draw(tuple(self.agent.position), _world(self._local, x, y, self.block.angle), self._goal,
+                    width, height, action=None if action is None else np.asarray(action, dtype=np.float64))
+
+    def render(self) -> np.ndarray | None:
+        """The (visualization_height, visualization_width, 3) uint8 picture with the last action's
+        marker, or None when ``render_mode`` is None."""
+        if self.render_mode is None or self.space is None:
+            return None
+        return self._picture(self.visualization_width, self.visualization_height, self._last_action)

@@ -1,0 +1,260 @@
+"""rrbody/PushT-v0: gym-pusht's task without a table (checked against the installed gym-pusht), and the
+T on a table of exact dry friction (checked against closed forms), its spaces and its errors.
+
+The comparisons with gym-pusht run where it is installed (make test's oldest-versions pass, beside
+pymunk 6.6, which gym-pusht pins); ``RRBODY_REQUIRE_PUSHT=1`` (set there) turns their skip into a failure.
+"""
+from __future__ import annotations
+
+import math
+import os
+import warnings
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import rrbody.envs  # noqa: F401 (registers rrbody/PushT-v0)
+from rrbody.envs.pusht import OBS_TYPES, PushTEnv
+from rrbody.envs.tabletop import G, MU, SCALE
+
+#: mu g in workspace units/s^2 for the default table
+A_DEFAULT = MU * G / SCALE
+PARK = np.array([30.0, 30.0], dtype=np.float32)  # an action that keeps the agent far from the T
+
+
+def gym_pusht():  # noqa: ANN201 (the module)
+    """The installed gym_pusht (registers gym_pusht/PushT-v0), or a skip; a failure where it is required."""
+    if os.environ.get("RRBODY_REQUIRE_PUSHT") == "1":
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            import gym_pusht
+        return gym_pusht
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return pytest.importorskip("gym_pusht")
+
+
+def _flat(obs: object) -> np.ndarray:
+    return np.concatenate([np.ravel(v) for v in obs.values()]) if isinstance(obs, dict) else np.ravel(obs)
+
+
+def _walk(obs: np.ndarray, rng: np.random.Generator, n: int) -> np.ndarray:
+    """A seeded random walk of the agent's target from its start: pushes the T now and then."""
+    start = np.asarray(obs, dtype=np.float64)[:2]
+    return np.clip(start + np.cumsum(rng.normal(0.0, 30.0, (n, 2)), axis=0), 0, 512).astype(np.float32)
+
+
+@pytest.mark.parametrize("obs_type", ["state", "environment_state_agent_pos"])
+def test_without_a_table_it_is_gym_pusht(obs_type: str) -> None:
+    """Same seeds and actions: the same observations (bit for bit: the same pymunk calls in the same
+    order), rewards, flags and info; the coverage to rounding (gym-pusht's shapely overlay and
+    rrbody.physics.overlap's exact clipping differ by ~1e-15: 1e-12 allows for it and no more)."""
+    gym_pusht()
+    steps = 0
+    for seed in range(8):
+        ref = gym.make("gym_pusht/PushT-v0", obs_type=obs_type)
+        ours = gym.make("rrbody/PushT-v0", obs_type=obs_type, table=False)
+        assert ours.observation_space == ref.observation_space and ours.action_space == ref.action_space
+        o_ref, i_ref = ref.reset(seed=seed)
+        o_ours, i_ours = ours.reset(seed=seed)
+        np.testing.assert_array_equal(_flat(o_ours), _flat(o_ref))
+        assert sorted(i_ours) == sorted(i_ref)
+        agent = o_ref["agent_pos"] if isinstance(o_ref, dict) else o_ref
+        for action in _walk(agent, np.random.default_rng(seed), 60):
+            r_ref, r_ours = ref.step(action), ours.step(action)
+            np.testing.assert_array_equal(_flat(r_ours[0]), _flat(r_ref[0]))
+            assert abs(r_ours[1] - r_ref[1]) <= 1e-12 and type(r_ours[1]) is type(r_ref[1])
+            assert r_ours[2:4] == r_ref[2:4]
+            assert abs(r_ours[4]["coverage"] - r_ref[4]["coverage"]) <= 1e-12
+            for key in ("pos_agent", "vel_agent", "block_pose", "goal_pose"):
+                np.testing.assert_array_equal(r_ours[4][key], r_ref[4][key])
+            assert r_ours[4]["n_contacts"] == r_ref[4]["n_contacts"]
+            assert r_ours[4]["is_success"] == r_ref[4]["is_success"]
+            steps += 1
+            if r_ref[2] or r_ref[3]:
+                break
+    assert steps > 200
+
+
+def test_reset_to_state_is_gym_pusht_s() -> None:
+    gym_pusht()
+    state = [100.0, 120.0, 300.0, 250.0, 1.0]
+    ref = gym.make("gym_pusht/PushT-v0")
+    ours = gym.make("rrbody/PushT-v0", table=False)
+    np.testing.assert_array_equal(ours.reset(options={"reset_to_state": state})[0],
+                                  ref.reset(options={"reset_to_state": state})[0])
+
+
+def test_the_walk_pushes_the_t() -> None:
+    """The fidelity check above means something only if the T moves in it."""
+    env = gym.make("rrbody/PushT-v0", table=False)
+    moved = 0
+    for seed in range(8):
+        obs, _ = env.reset(seed=seed)
+        start = obs[2:5].copy()
+        for action in _walk(obs, np.random.default_rng(seed), 60):
+            obs = env.step(action)[0]
+        moved += not np.allclose(obs[2:5], start)
+    assert moved >= 3
+
+
+def test_without_a_table_velocities_are_wiped_each_step() -> None:
+    """gym-pusht's stand-in for a table: damping 0, velocity x 0^dt: a T set moving stops at once
+    (pymunk moves positions before it updates velocities: one step's travel, v dt, then nothing)."""
+    env = PushTEnv(table=False)
+    env.reset(options={"reset_to_state": [30, 30, 256, 300, 0.3]})
+    env.block.velocity = (200.0, 0.0)
+    x0 = env.block.position.x
+    env.step(PARK)
+    assert env.block.velocity == (0.0, 0.0) and env.block.position.x == pytest.approx(x0 + 200.0 * 0.01, abs=1e-12)
+
+
+def _slide(mu: float, v0: float, heading: float, angle: float = 0.3) -> PushTEnv:
+    env = PushTEnv(mu=mu)
+    env.reset(options={"reset_to_state": [30, 30, 256, 300, angle]})
+    env.block.velocity = (v0 * math.cos(heading), v0 * math.sin(heading))
+    return env
+
+
+def test_on_a_frictionless_table_the_t_keeps_its_momentum() -> None:
+    """mu = 0: free motion, exactly (no wipe, no force): 0.5 s at 200 units/s is 100 units."""
+    env = _slide(0.0, 200.0, 0.7)
+    p0 = np.array(env.block.position)
+    for _ in range(5):
+        env.step(PARK)
+    assert np.linalg.norm(np.array(env.block.position) - p0) == pytest.approx(100.0, rel=1e-12)
+    assert abs(env.block.velocity) == pytest.approx(200.0, rel=1e-14)
+
+
+@pytest.mark.parametrize("angle", [0.3, 2.0])
+def test_a_sliding_t_decelerates_at_mu_g_without_turning(angle: float) -> None:
+    """A T translating on the table: dry friction integrated over its area under the pressure that
+    puts the centre of pressure at gym-pusht's centre of gravity (the mean of the bars' centroids, off
+    their area centroid) is mu m g against the velocity with no torque, so |v| falls by mu g t exactly
+    (each step removes mu g dt) and the heading and angle stay (rounding: 1e-12 relative)."""
+    v0 = 300.0
+    env = _slide(MU, v0, 0.7, angle)
+    a0 = env.block.angle
+    env.step(PARK)  # 0.1 s, less than the stopping time v0 / (mu g) = 0.17 s
+    v = env.block.velocity
+    assert abs(v) == pytest.approx(v0 - A_DEFAULT * 0.1, rel=1e-12)
+    assert math.atan2(v.y, v.x) == pytest.approx(0.7, abs=1e-12)
+    assert abs(env.block.angular_velocity) < 1e-12 and env.block.angle == pytest.approx(a0, abs=1e-12)
+    env.step(PARK)
+    assert env.block.velocity == (0.0, 0.0) and env.block.angular_velocity == 0.0  # stopped, and held
+
+
+def test_the_stopping_distance_is_v0_squared_over_2_mu_g() -> None:
+    """To within one step's travel v0 dt: a velocity set by hand counts from the plugin's next half step."""
+    v0 = 200.0
+    env = _slide(MU, v0, -1.1)
+    p0 = np.array(env.block.position)
+    for _ in range(3):
+        env.step(PARK)
+    d = np.linalg.norm(np.array(env.block.position) - p0)
+    assert abs(d - v0 ** 2 / (2 * A_DEFAULT)) <= v0 * 0.01
+
+
+def test_static_friction_holds_a_t_at_rest() -> None:
+    env = PushTEnv(mu=0.3, mu_static=0.5)
+    env.reset(seed=3)
+    pose = np.array([*env.block.position, env.block.angle])
+    agent = np.array(env.agent.position, dtype=np.float32)
+    for _ in range(5):
+        env.step(agent)  # the agent stays where it is
+    np.testing.assert_array_equal(np.array([*env.block.position, env.block.angle]), pose)
+
+
+def test_a_push_on_a_table_leaves_the_t_sliding_then_stopped() -> None:
+    """The agent drives up into the T's stem for 0.1 s, then backs off: without a table the T stops with
+    the agent; on a table (mu = 0.5) it slides on, away from the walls, and friction alone stops it."""
+    travelled = {}
+    for table in (False, True):
+        env = PushTEnv(table=table, mu=0.5)
+        env.reset(options={"reset_to_state": [256, 430, 256, 250, 0.0]})  # the agent below the stem
+        for y in (200, 470):
+            env.step(np.array([256, y], np.float32))
+        at_release = np.array(env.block.position)
+        for _ in range(5):
+            env.step(np.array([256, 470], np.float32))
+        travelled[table] = np.linalg.norm(np.array(env.block.position) - at_release)
+        assert env.block.velocity == (0.0, 0.0) and env.block.position.y > 60  # the top bar clear of the wall
+    assert travelled[False] == 0.0 and travelled[True] > 5.0
+
+
+def test_spaces_and_observations() -> None:
+    for obs_type in OBS_TYPES[:2]:
+        env = gym.make("rrbody/PushT-v0", obs_type=obs_type)
+        obs, info = env.reset(seed=0)
+        assert env.observation_space.contains(obs)
+        assert info["is_success"] is False
+        obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+        assert env.observation_space.contains(obs) and 0.0 <= reward <= 1.0
+        assert {"coverage", "is_success", "n_contacts", "block_pose", "goal_pose"} <= set(info)
+    assert gym.spec("rrbody/PushT-v0").max_episode_steps == 300
+
+
+def test_the_goal_pose_gives_full_coverage() -> None:
+    env = PushTEnv()
+    env.reset(seed=0)
+    env.block.angle = math.pi / 4  # the angle first: it turns the T about its centre of gravity
+    env.block.position = (256, 256)
+    env.agent.position = (30, 30)
+    _, reward, terminated, _, info = env.step(PARK)
+    assert info["coverage"] == pytest.approx(1.0, abs=1e-12) and reward == 1.0 and terminated
+    env.block.position = (256 + 30 * math.cos(math.pi / 4), 256 + 30 * math.sin(math.pi / 4))  # 30 along the bar
+    _, reward, terminated, _, info = env.step(PARK)
+    # the top bar keeps 90 x 30 of its 120 x 30 in the goal; the stem, 30 wide, moved off the goal stem
+    assert info["coverage"] == pytest.approx(90 * 30 / 6300, abs=1e-12) and not terminated
+
+
+def test_gymnasium_s_checker_passes() -> None:
+    from gymnasium.utils.env_checker import check_env
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the checker's notes on bounds; a failure still raises
+        check_env(PushTEnv(), skip_render_check=True)
+
+
+def test_two_async_workers_run_it() -> None:
+    envs = gym.vector.AsyncVectorEnv([lambda: gym.make("rrbody.envs:rrbody/PushT-v0")] * 2)
+    try:
+        obs, _ = envs.reset(seed=[1, 2])
+        for _ in range(3):
+            obs, reward, *_ = envs.step(envs.action_space.sample())
+        assert obs.shape == (2, 5) and reward.shape == (2,)
+    finally:
+        envs.close()
+
+
+@pytest.mark.parametrize(("kw", "err", "words"), [
+    ({"frobnicate": 1}, TypeError, "frobnicate"),
+    ({"mu": -0.1}, ValueError, "mu must be"),
+    ({"mu": 0.4, "mu_static": 0.2}, ValueError, "mu_static must be >= mu"),
+    ({"scale": 0.0}, ValueError, "scale must be in (0"),
+    ({"scale": -1.0}, ValueError, "scale must be in (0"),
+    ({"g": 0.0}, ValueError, "g must be"),
+    ({"pressure": "bogus"}, ValueError, "pressure must be one of"),
+    ({"obs_type": "keypoints"}, ValueError, "obs_type must be one of"),
+    ({"table": "yes"}, TypeError, "table must be True or False"),
+    ({"damping": 2.0}, ValueError, "damping must be in [0, 1]"),
+    ({"observation_width": 0}, ValueError, "observation_width"),
+])
+def test_bad_input_names_the_parameter(kw: dict, err: type, words: str) -> None:
+    with pytest.raises(err, match=None) as e:
+        gym.make("rrbody/PushT-v0", **kw)
+    assert words in str(e.value), str(e.value)
+
+
+def test_bad_actions_and_states() -> None:
+    with pytest.raises(ValueError, match="render_mode must be 'rgb_array' or None"):
+        PushTEnv(render_mode="human")  # (gymnasium.make wraps an rgb_array env in its own HumanRendering)
+    env = PushTEnv()
+    with pytest.raises(RuntimeError, match="reset"):
+        env.step(PARK)
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match="action must be 2 finite numbers"):
+        env.step(np.array([np.nan, 1.0]))
+    with pytest.raises(ValueError, match="reset_to_state"):
+        env.reset(options={"reset_to_state": [1, 2, 3]})
