@@ -143,8 +143,10 @@ test: $(VENV)/.installed-test $(VENV)/.kernels $(LOWEST)/.installed
 
 
 ## make bench: work-precision benchmarks -> benchmarks/results/, then every figure the README and docs quote
-bench: $(VENV)/.installed-test $(VENV)/.kernels
-	$(BIN)/python -m benchmarks.run
+bench: $(VENV)/.installed-test $(VENV)/.kernels $(LOWEST)/.installed
+	$(BIN)/python -m benchmarks.run --skip pusht
+	# Push-T against gym-pusht's own env: where gym-pusht is installed (it pins pymunk < 7)
+	$(LOWEST_RUN) -m benchmarks.run --only pusht
 	$(BIN)/python -m benchmarks.quotes
 
 ## make scenes: every paper figure and the report -> results/

@@ -5,6 +5,7 @@ Usage (from the repository root)::
     python -m benchmarks.run                 # every study (make bench; ~10-15 min on 2 cores)
     python -m benchmarks.run --quick         # smaller grids (a smoke run, ~1 min)
     python -m benchmarks.run --only ode      # one study; SUMMARY.md keeps the other studies' last results
+    python -m benchmarks.run --skip pusht    # all but one study (make bench runs pusht beside gym-pusht)
     python -m benchmarks.run --out /tmp/b    # another output folder
 
 Studies whose module is not importable yet (area friction, engine, sweeps, rendering) print a
@@ -41,6 +42,7 @@ STUDIES: dict[str, str] = {
     "startup": "benchmarks.startup",
     "coldstart": "benchmarks.coldstart",
     "mujoco": "benchmarks.mujoco",
+    "pusht": "benchmarks.pusht",
 }
 
 DEFAULT_OUT = Path(__file__).resolve().parent / "results"
@@ -91,6 +93,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     ap.add_argument("--quick", action="store_true", help="small grids (a smoke run)")
     ap.add_argument("--only", action="append", choices=list(STUDIES), metavar="NAME",
                     help=f"run only this study (repeatable): {', '.join(STUDIES)}")
+    ap.add_argument("--skip", action="append", choices=list(STUDIES), metavar="NAME", default=[],
+                    help="leave this study out (repeatable; its last results stay)")
     ap.add_argument("--out", type=Path, default=DEFAULT_OUT, help="output folder (default: benchmarks/results)")
     args = ap.parse_args(argv)
     out: Path = args.out
@@ -98,7 +102,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"error: --out: parent folder {str(out.parent)!r} does not exist", file=sys.stderr)
         return 2
     out.mkdir(exist_ok=True)
-    names = args.only or list(STUDIES)
+    names = [n for n in (args.only or list(STUDIES)) if n not in args.skip]
     info = machine_info()
     print(f"benchmarks -> {out}\n{machine_text(info)}", flush=True)
     t0 = time.perf_counter()
