@@ -6,7 +6,7 @@ BIN := $(VENV)/bin
 # (numpy, scipy, numba, tqdm) computes flip times and trajectories
 DEMO_EXTRAS := movie
 TEST_EXTRAS := test,engine,movie,rerun,dask,data,mujoco,envs
-DOCS_EXTRAS := docs,movie
+DOCS_EXTRAS := docs,movie,envs
 
 .PHONY: demo test bench scenes docs docs-check clean venv venv-lowest
 
