@@ -258,3 +258,15 @@ def test_bad_actions_and_states() -> None:
         env.step(np.array([np.nan, 1.0]))
     with pytest.raises(ValueError, match="reset_to_state"):
         env.reset(options={"reset_to_state": [1, 2, 3]})
+
+
+def test_without_gymnasium_the_import_names_the_extra() -> None:
+    import subprocess
+    import sys
+
+    from tests.test_extras import BLOCK
+
+    code = BLOCK + "\nimport rrbody.envs\n"
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert p.returncode != 0
+    assert "the optional package 'gymnasium'" in p.stderr and "[envs]" in p.stderr, p.stderr[-500:]

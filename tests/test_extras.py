@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-OPTIONAL = ("pymunk", "matplotlib", "rerun", "xarray", "imageio", "imageio_ffmpeg", "dask", "pyarrow")
+OPTIONAL = ("pymunk", "matplotlib", "rerun", "xarray", "imageio", "imageio_ffmpeg", "dask", "pyarrow", "gymnasium")
 
 #: a subprocess prelude: importing any optional package raises ModuleNotFoundError, as when it is absent
 BLOCK = textwrap.dedent(f"""

@@ -10,7 +10,9 @@ from __future__ import annotations
 
 from typing import Any
 
-import gymnasium
+from rrbody.model.extras import require
+
+gymnasium = require("gymnasium", purpose="rrbody.envs (the gymnasium environments)")
 
 __all__ = ["PushTEnv", "table"]
 

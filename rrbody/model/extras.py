@@ -42,6 +42,7 @@ EXTRA_OF: dict[str, str] = {
     "dask": "dask", "distributed": "dask",
     "xarray": "data", "netCDF4": "data", "h5netcdf": "data",
     "mujoco": "mujoco",
+    "gymnasium": "envs",
     "sphinx": "docs", "furo": "docs", "myst_parser": "docs", "selenium": "docs",
 }
 
