@@ -234,6 +234,7 @@ def test_two_async_workers_run_it() -> None:
     ({"mu": 0.4, "mu_static": 0.2}, ValueError, "mu_static must be >= mu"),
     ({"scale": 0.0}, ValueError, "scale must be in (0"),
     ({"scale": -1.0}, ValueError, "scale must be in (0"),
+    ({"scale": 1e-7}, ValueError, "scale must be in [9.81e-6, 9.81e6] m per unit for g = 9.81"),
     ({"g": 0.0}, ValueError, "g must be"),
     ({"pressure": "bogus"}, ValueError, "pressure must be one of"),
     ({"obs_type": "keypoints"}, ValueError, "obs_type must be one of"),

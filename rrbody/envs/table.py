@@ -26,7 +26,6 @@ import pymunk
 
 from rrbody.engine.plugin import PlaneFriction
 from rrbody.envs.tabletop import G, MU, SCALE, Table, make_table
-from rrbody.model.checks import LIMITS, range_text
 
 __all__ = ["CONTRACT", "TableSpace", "TableWrapper", "table"]
 
@@ -231,11 +230,6 @@ def table(env: gymnasium.Env[Any, Any], *, mu: float = MU, mu_static: float | No
     if not isinstance(env, gymnasium.Env):
         raise TypeError(f"env must be a gymnasium.Env, got {type(env).__name__}: {CONTRACT}")
     params = make_table(mu, mu_static, pressure, g, scale)
-    lim = LIMITS["g"]
-    if not lim.lo <= params.g_space <= lim.hi:  # PlaneFriction would refuse g / scale at the first reset: say it now
-        raise ValueError(f"scale must be {range_text(params.g / lim.hi, params.g / lim.lo, unit='m per unit')} for "
-                         f"g = {params.g:g} m/s^2 (the plane presses with g / scale units/s^2, which PlaneFriction "
-                         f"takes {range_text(lim.lo, lim.hi)}), got {scale!r}")
     if bodies is not None and not callable(bodies):
         raise TypeError(f"bodies must be None or a callable env.unwrapped -> list of pymunk.Body, got {bodies!r}")
     e: Any = env

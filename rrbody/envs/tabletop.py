@@ -14,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from rrbody.model.checks import check, check_positive
+from rrbody.model.checks import LIMITS, check, check_positive, range_text
 from rrbody.model.friction import check_mu_static
 from rrbody.model.pressure import Pressure, as_pressure
 
@@ -55,5 +55,11 @@ def make_table(mu: Any = MU, mu_static: Any = None, pressure: Any = "uniform", g
     mu_f = float(check("mu", mu))
     mu_s = None if mu_static is None else check_mu_static(mu_static, mu_f)
     as_pressure(pressure)  # refuses an unknown pressure now, before any environment is built
-    return Table(mu=mu_f, mu_static=mu_s, pressure=pressure, g=float(check("g", g)),
-                 scale=check_positive("scale", scale, unit="m per unit"))
+    t = Table(mu=mu_f, mu_static=mu_s, pressure=pressure, g=float(check("g", g)),
+              scale=check_positive("scale", scale, unit="m per unit"))
+    lim = LIMITS["g"]
+    if not lim.lo <= t.g_space <= lim.hi:  # PlaneFriction would refuse g / scale later: say it now, naming scale
+        raise ValueError(f"scale must be {range_text(t.g / lim.hi, t.g / lim.lo, unit='m per unit')} for "
+                         f"g = {t.g:g} m/s^2 (the plane presses with g / scale units/s^2, which PlaneFriction "
+                         f"takes {range_text(lim.lo, lim.hi)}), got {scale!r}")
+    return t
