@@ -78,7 +78,7 @@ class TableSpace:
 class TableWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
     """``env`` on a table (build it with :func:`table`, which checks the arguments).
 
-    After every ``reset`` of ``env``: a new :class:`PlaneFriction` on ``env.unwrapped.space`` (pressing
+    After every ``reset`` of ``env``: a new :class:`~rrbody.engine.plugin.PlaneFriction` on ``env.unwrapped.space`` (pressing
     with ``table.g_space`` = g / scale, units/s^2), carrying the table's bodies with ``mu``,
     ``mu_static`` and ``pressure``; the space's damping set to 1 if it was 0 (any other value is kept);
     and :class:`TableSpace` in ``env.unwrapped.space``. Before every ``reset`` the environment gets
@@ -214,7 +214,7 @@ def table(env: gymnasium.Env[Any, Any], *, mu: float = MU, mu_static: float | No
     -------
     TableWrapper
         ``env`` with the table, its observations, actions, rewards and spaces unchanged; ``.plane`` is
-        the current :class:`PlaneFriction`, ``.table`` the parameters.
+        the current :class:`~rrbody.engine.plugin.PlaneFriction`, ``.table`` the parameters.
 
     Raises
     ------
