@@ -2,7 +2,7 @@
 
 gym-pusht 0.1.8 (the competitor, its own code: ``gymnasium.make("gym_pusht/PushT-v0")``, state
 observations) against rrbody/PushT-v0 on its default table (mu 0.3) and against gym-pusht's env put on
-the same table by :func:`rrbody.envs.table`, the same actions for each. Two phases: *moving*, a seeded
+the same table by :func:`rrbody.envs.wrapper.table`, the same actions for each. Two phases: *moving*, a seeded
 random walk of the agent's target that pushes the T now and then; *at rest*, the agent held where it
 is and the T at rest (no body moves). Blocks of 25 steps of each env, interleaved in one run, the best
 block of each (``min`` over 9 rounds). Also reported: rrbody/PushT-v0 without its table (the table's

@@ -271,3 +271,13 @@ def test_without_gymnasium_the_import_names_the_extra() -> None:
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert p.returncode != 0
     assert "the optional package 'gymnasium'" in p.stderr and "[envs]" in p.stderr, p.stderr[-500:]
+
+
+def test_the_package_exports_the_env_and_the_wrapper_function() -> None:
+    """``rrbody.envs.table`` is the wrapper function, even once its module has been imported (the module
+    is ``rrbody.envs.wrapper``: a submodule named ``table`` would shadow the function)."""
+    import rrbody.envs.wrapper  # noqa: F401
+    from rrbody.envs import PushTEnv as Env
+    from rrbody.envs import table
+
+    assert callable(table) and table.__module__ == "rrbody.envs.wrapper" and Env is PushTEnv

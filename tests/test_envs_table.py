@@ -1,4 +1,4 @@
-"""rrbody.envs.table: gym-pusht's own Push-T env (and any env meeting the contract) on the table.
+"""rrbody.envs.table (rrbody/envs/wrapper.py): gym-pusht's own Push-T env (and any env meeting the contract) on the table.
 
 Against the real gym-pusht (0.1.8 in the oldest-versions venv); its tests skip where it is not installed,
 unless RRBODY_REQUIRE_PUSHT=1, which makes a missing gym-pusht an error. The contract env at the end (a puck
@@ -24,7 +24,7 @@ import pytest
 gymnasium = pytest.importorskip("gymnasium")
 pymunk = pytest.importorskip("pymunk")
 
-from rrbody.envs.table import TableSpace, table  # noqa: E402
+from rrbody.envs.wrapper import TableSpace, table  # noqa: E402
 from rrbody.envs.tabletop import G, SCALE  # noqa: E402
 
 try:

@@ -28,7 +28,7 @@ def __getattr__(name: str) -> Any:
 
         return PushTEnv
     if name == "table":
-        from rrbody.envs.table import table
+        from rrbody.envs.wrapper import table
 
         return table
     raise AttributeError(f"module 'rrbody.envs' has no attribute {name!r}")

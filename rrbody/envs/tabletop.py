@@ -1,7 +1,7 @@
 """The table under a pymunk environment: its parameters, their defaults and their checks.
 
 Shared by the Push-T environment (:mod:`rrbody.envs.pusht`) and the wrapper that puts gym-pusht's own
-environment on a table (:mod:`rrbody.envs.table`), so that both take the same keywords with the same
+environment on a table (:mod:`rrbody.envs.wrapper`), so that both take the same keywords with the same
 defaults and refuse the same values with the same messages.
 
 Units. A pymunk environment has its own length unit (Push-T: a 512 x 512 workspace); ``scale`` is the

@@ -3,7 +3,7 @@
 ::
 
     import gymnasium, gym_pusht
-    from rrbody.envs.table import table
+    from rrbody.envs import table
 
     env = table(gymnasium.make("gym_pusht/PushT-v0"), mu=0.3)   # the T slides, then stops
     obs, info = env.reset(seed=0)
