@@ -77,6 +77,29 @@ def test_without_a_table_it_is_gym_pusht(obs_type: str) -> None:
     assert steps > 200
 
 
+@pytest.mark.parametrize("obs_type", ["pixels", "pixels_agent_pos"])
+def test_without_a_table_its_pictures_are_gym_pusht_s(obs_type: str) -> None:
+    """The 96 x 96 observations and the 680 x 680 renders, pixel for pixel (rrbody.envs.pusht_draw
+    repaints pygame's surface and OpenCV's resize exactly: tests/test_envs_draw.py), contact marks included."""
+    gym_pusht()
+    marked = 0
+    for seed in range(3):
+        ref = gym.make("gym_pusht/PushT-v0", obs_type=obs_type)
+        ours = gym.make("rrbody/PushT-v0", obs_type=obs_type, table=False)
+        assert ours.observation_space == ref.observation_space
+        o_ref, _ = ref.reset(seed=seed)
+        o_ours, _ = ours.reset(seed=seed)
+        np.testing.assert_array_equal(_flat(o_ours), _flat(o_ref))
+        block = ref.unwrapped.block
+        for action in np.random.default_rng(seed).normal(0, 40, (6, 2)):
+            action = (np.array(block.position) + action).astype(np.float32)  # near the T: contacts
+            r_ref, r_ours = ref.step(action), ours.step(action)
+            np.testing.assert_array_equal(_flat(r_ours[0]), _flat(r_ref[0]))
+            np.testing.assert_array_equal(ours.render(), ref.render())
+            marked += r_ref[4]["n_contacts"] > 0
+    assert marked >= 3
+
+
 def test_reset_to_state_is_gym_pusht_s() -> None:
     gym_pusht()
     state = [100.0, 120.0, 300.0, 250.0, 1.0]

@@ -158,6 +158,10 @@ class PushTEnv(gym.Env):
             block.center_of_gravity = self.block_cog
         self.space, self.agent, self.block, self._block_shapes = space, agent, block, shapes
         self.goal_pose = np.array([256, 256, np.pi / 4])
+        # the goal as gym-pusht places it for its pictures: a body at the goal pose (pymunk's arithmetic)
+        self._goal_body = pymunk.Body(1, pymunk.moment_for_box(1, (50, 100)))
+        self._goal_body.position = self.goal_pose[:2].tolist()
+        self._goal_body.angle = self.goal_pose[2]
         self._goal = _world(self._local, 256.0, 256.0, math.pi / 4)
         self._goal_area = pieces_area(self._goal)
         on_post_solve(space, 0, 0, self._handle_collision)
@@ -262,11 +266,24 @@ class PushTEnv(gym.Env):
                 "goal_pose": np.array(self.goal_pose), "n_contacts": per_step}
 
     def _picture(self, width: int, height: int, action: Any) -> np.ndarray:
+        """gym-pusht's picture (rrbody.envs.pusht_draw: pixel for pixel): the goal, the walls, the agent,
+        the T and pymunk's marks of the last physics step's contact points."""
         from rrbody.envs.pusht_draw import draw
 
-        x, y = self.block.position
-        return draw(tuple(self.agent.position), _world(self._local, x, y, self.block.angle), self._goal,
-                    width, height, action=None if action is None else np.asarray(action, dtype=np.float64))
+        def corners(body: Any) -> np.ndarray:  # the bar, then the stem, as pymunk places them
+            return np.array([[body.local_to_world(v) for v in s.get_vertices()] for s in self._block_shapes])
+
+        marks: list[Any] = []
+
+        def contact(arbiter: Any) -> None:  # pymunk's debug draw: a segment across each contact point
+            cps = arbiter.contact_point_set
+            n = np.array(cps.normal)
+            marks.extend([np.array(p.point_a) - 2 * n, np.array(p.point_b) + 2 * n] for p in cps.points)
+
+        self.block.each_arbiter(contact)
+        return draw(tuple(self.agent.position), corners(self.block), corners(self._goal_body), width, height,
+                    action=None if action is None else np.asarray(action, dtype=np.float64),
+                    contacts=np.array(marks) if marks else None)
 
     def render(self) -> np.ndarray | None:
         """The (visualization_height, visualization_width, 3) uint8 picture with the last action's

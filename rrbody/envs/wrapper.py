@@ -48,7 +48,7 @@ class TableSpace:
 
     __slots__ = ("_space", "_plane")
 
-    def __init__(self, plane: PlaneFriction) -> None:
+    def __init__(self, plane: Any) -> None:  # a rrbody.engine.plugin.PlaneFriction (no name clash in the docs)
         # object.__setattr__: this class's own __setattr__ writes to the real space
         object.__setattr__(self, "_space", plane.space)
         object.__setattr__(self, "_plane", plane)
@@ -99,7 +99,7 @@ class TableWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
         return self._table
 
     @property
-    def plane(self) -> PlaneFriction:
+    def plane(self) -> Any:  # a rrbody.engine.plugin.PlaneFriction (the docs' type reference needs no name clash)
         """The table's friction on the current space (a new one after every reset): ``plane.bodies``,
         ``plane.friction(body)``, ``plane.velocity(body)``, ``plane.stop_time(body)``, ``plane.space``
         (the real ``pymunk.Space``). Raises ``gymnasium.error.ResetNeeded`` before the first reset."""
