@@ -47,16 +47,18 @@ def _stepper(env: Any, actions: np.ndarray | None, seed: int) -> Callable[[], No
             base.agent.velocity = (0.0, 0.0)
             base.block.velocity = (0.0, 0.0)
             base.block.angular_velocity = 0.0
-            for _ in range(3):  # settled, untimed: a T the reset left touching a wall has stopped
+            for _ in range(3):  # settled: a T the reset left touching a wall has stopped
                 env.step(hold)
         state["k"] = 0
 
     hold = np.array([40.0, 40.0], dtype=np.float32)
     reset()
 
+    episode = len(actions) if actions is not None else 300  # the at-rest episode as long as the walk
+
     def block() -> None:
-        if state["k"] + BLOCK > (len(actions) if actions is not None else 10 ** 9) or state["k"] > 250:
-            reset()  # (not timed apart: one reset per ten blocks, the same for every env)
+        if state["k"] + BLOCK > episode:
+            reset()  # a new episode, one per 15 blocks for every env; the best of 40 rounds is a block without one
         for i in range(BLOCK):
             env.step(hold if actions is None else actions[state["k"] + i])
         state["k"] += BLOCK

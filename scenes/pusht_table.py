@@ -481,18 +481,12 @@ def side_by_side(runs: dict[str, dict[str, Any]], actions: np.ndarray, path: Pat
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.patches import Circle, Polygon
 
-    from rrbody.envs.pusht import _tee_vertices
+    from rrbody.envs.pusht import tee_corners as placed
     from rrbody.render.movie_figure import check_movie
     from rrbody.render.mp4 import write_frames
 
     size = (960, 480)
     final = check_movie(path, force=force, fps=fps, speed=2.0, size=size)[0]
-    local = np.array(_tee_vertices())
-
-    def placed(x: float, y: float, a: float) -> np.ndarray:
-        c, s = math.cos(a), math.sin(a)
-        return np.stack([x + c * local[..., 0] - s * local[..., 1], y + s * local[..., 0] + c * local[..., 1]], -1)
-
     fig = mfig.Figure(figsize=(size[0] / 100, size[1] / 100), dpi=100)
     canvas = FigureCanvasAgg(fig)
     art = []

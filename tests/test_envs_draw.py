@@ -15,10 +15,7 @@ of the pixels more than 8 levels off (mean at most 0.011 levels).
 """
 from __future__ import annotations
 
-import importlib
-import os
 from dataclasses import dataclass
-from types import ModuleType
 from typing import Any
 
 import numpy as np
@@ -26,19 +23,10 @@ import pytest
 
 from rrbody.envs import pusht_draw
 from rrbody.envs.pusht_draw import draw
+from tests.pusht_support import need
 
 #: what a picture 1 unit off exceeds in every state (see the module's docstring)
 FAR, LEVELS, MEAN = 0.001, 8, 0.02
-
-
-def _need(module: str) -> ModuleType:
-    """``module``, or a skip; with RRBODY_REQUIRE_PUSHT=1 a missing one fails the test."""
-    if os.environ.get("RRBODY_REQUIRE_PUSHT") == "1":
-        try:
-            return importlib.import_module(module)
-        except ImportError as e:
-            pytest.fail(f"RRBODY_REQUIRE_PUSHT=1 but {module} cannot be imported: {e}")
-    return pytest.importorskip(module)
 
 
 def _tee(x: float, y: float, angle: float) -> np.ndarray:
@@ -65,8 +53,8 @@ class State:
 
 def _states(seeds: range, steps: int, **sizes: int) -> list[State]:
     """gym-pusht's pictures of the states after a reset and each of ``steps`` actions aimed near the block."""
-    _need("gym_pusht")
-    gym, pygame = _need("gymnasium"), _need("pygame")
+    need("gym_pusht")
+    gym, pygame = need("gymnasium"), need("pygame")
     env = gym.make("gym_pusht/PushT-v0", obs_type="pixels", render_mode="rgb_array", **sizes)
     u, out = env.unwrapped, []
     for seed in seeds:
@@ -129,8 +117,8 @@ def test_other_sizes_are_gym_pushts() -> None:
 
 def test_the_rasterisation_is_pygames_off_the_surface_too() -> None:
     """Fat segments, polygons and disks, some partly or wholly off the surface (clipped), against pygame."""
-    _need("gym_pusht")
-    pygame = _need("pygame")
+    need("gym_pusht")
+    pygame = need("pygame")
     from gym_pusht.envs.pymunk_override import DrawOptions
     from pymunk.space_debug_draw_options import SpaceDebugColor
 
@@ -162,7 +150,7 @@ def test_the_rasterisation_is_pygames_off_the_surface_too() -> None:
 
 
 def test_the_cross_is_opencvs() -> None:
-    cv2 = _need("cv2")
+    cv2 = need("cv2")
     for side in (50, 96, 150, 200, 680, 1000):
         ms, th = int(8 / 96 * side), int(1 / 96 * side)
         for x, y in ((side // 2, side // 3), (2, side - 3)):

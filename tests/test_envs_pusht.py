@@ -7,7 +7,6 @@ pymunk 6.6, which gym-pusht pins); ``RRBODY_REQUIRE_PUSHT=1`` (set there) turns 
 from __future__ import annotations
 
 import math
-import os
 import warnings
 
 import gymnasium as gym
@@ -17,22 +16,11 @@ import pytest
 import rrbody.envs  # noqa: F401 (registers rrbody/PushT-v0)
 from rrbody.envs.pusht import OBS_TYPES, PushTEnv
 from rrbody.envs.tabletop import G, MU, SCALE
+from tests.pusht_support import need
 
 #: mu g in workspace units/s^2 for the default table
 A_DEFAULT = MU * G / SCALE
 PARK = np.array([30.0, 30.0], dtype=np.float32)  # an action that keeps the agent far from the T
-
-
-def gym_pusht():  # noqa: ANN201 (the module)
-    """The installed gym_pusht (registers gym_pusht/PushT-v0), or a skip; a failure where it is required."""
-    if os.environ.get("RRBODY_REQUIRE_PUSHT") == "1":
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            import gym_pusht
-        return gym_pusht
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return pytest.importorskip("gym_pusht")
 
 
 def _flat(obs: object) -> np.ndarray:
@@ -50,7 +38,7 @@ def test_without_a_table_it_is_gym_pusht(obs_type: str) -> None:
     """Same seeds and actions: the same observations (bit for bit: the same pymunk calls in the same
     order), rewards, flags and info; the coverage to rounding (gym-pusht's shapely overlay and
     rrbody.physics.overlap's exact clipping differ by ~1e-15: 1e-12 allows for it and no more)."""
-    gym_pusht()
+    need("gym_pusht")
     steps = 0
     for seed in range(8):
         ref = gym.make("gym_pusht/PushT-v0", obs_type=obs_type)
@@ -81,7 +69,7 @@ def test_without_a_table_it_is_gym_pusht(obs_type: str) -> None:
 def test_without_a_table_its_pictures_are_gym_pusht_s(obs_type: str) -> None:
     """The 96 x 96 observations and the 680 x 680 renders, pixel for pixel (rrbody.envs.pusht_draw
     repaints pygame's surface and OpenCV's resize exactly: tests/test_envs_draw.py), contact marks included."""
-    gym_pusht()
+    need("gym_pusht")
     marked = 0
     for seed in range(3):
         ref = gym.make("gym_pusht/PushT-v0", obs_type=obs_type)
@@ -101,7 +89,7 @@ def test_without_a_table_its_pictures_are_gym_pusht_s(obs_type: str) -> None:
 
 
 def test_reset_to_state_is_gym_pusht_s() -> None:
-    gym_pusht()
+    need("gym_pusht")
     state = [100.0, 120.0, 300.0, 250.0, 1.0]
     ref = gym.make("gym_pusht/PushT-v0")
     ours = gym.make("rrbody/PushT-v0", table=False)

@@ -14,7 +14,6 @@ the staggered scheme integrates constant deceleration exactly: the only error is
 from __future__ import annotations
 
 import math
-import os
 import sys
 from typing import Any
 
@@ -26,15 +25,9 @@ pymunk = pytest.importorskip("pymunk")
 
 from rrbody.envs.wrapper import TableSpace, table  # noqa: E402
 from rrbody.envs.tabletop import G, SCALE  # noqa: E402
+from tests.pusht_support import have  # noqa: E402
 
-try:
-    import gym_pusht  # noqa: F401  (registers "gym_pusht/PushT-v0")
-except ImportError:
-    if os.environ.get("RRBODY_REQUIRE_PUSHT") == "1":  # the oldest-versions venv must have it: fail, never skip
-        raise
-    gym_pusht = None
-
-needs_pusht = pytest.mark.skipif(gym_pusht is None, reason="gym-pusht is not installed "
+needs_pusht = pytest.mark.skipif(not have("gym_pusht"), reason="gym-pusht is not installed "
                                  "(RRBODY_REQUIRE_PUSHT=1 turns this into a failure)")
 
 DT = 0.01        # s: gym-pusht's substep

@@ -33,11 +33,12 @@ import numpy as np
 from gymnasium import spaces
 
 from rrbody.engine.compat import on_post_solve
+from rrbody.envs.pusht_draw import draw
 from rrbody.envs.tabletop import G, MU, SCALE, make_table
 from rrbody.model.checks import check_choice, check_int, check_range, check_real
 from rrbody.physics.overlap import overlap_area, pieces_area
 
-__all__ = ["OBS_TYPES", "PushTEnv"]
+__all__ = ["OBS_TYPES", "TEE", "PushTEnv", "tee_corners"]
 
 #: gym-pusht 0.1.8's observation types
 OBS_TYPES = ("state", "environment_state_agent_pos", "pixels", "pixels_agent_pos")
@@ -56,12 +57,17 @@ def _tee_vertices(scale: float = 30.0, length: float = 4.0) -> tuple[list[tuple[
     return top, stem
 
 
-def _world(local: np.ndarray, x: float, y: float, angle: float) -> np.ndarray:
-    """Body-frame vertices (k, n, 2) placed at a body origin (x, y) turned by ``angle`` (rad)."""
+#: the T's corners in the body frame, (2, 4, 2) units: the top bar's 4, then the stem's
+TEE = np.array(_tee_vertices(), dtype=np.float64)
+
+
+def tee_corners(x: float, y: float, angle: float) -> np.ndarray:
+    """The T's corners (2, 4, 2), units, world frame, for its body origin at (x, y) turned by ``angle``
+    (rad). (Pictures place them with pymunk's own arithmetic instead, for pixel-exact agreement.)"""
     c, s = math.cos(angle), math.sin(angle)
-    out = np.empty_like(local)
-    out[..., 0] = x + c * local[..., 0] - s * local[..., 1]
-    out[..., 1] = y + s * local[..., 0] + c * local[..., 1]
+    out = np.empty_like(TEE)
+    out[..., 0] = x + c * TEE[..., 0] - s * TEE[..., 1]
+    out[..., 1] = y + s * TEE[..., 0] + c * TEE[..., 1]
     return out
 
 
@@ -114,7 +120,6 @@ class PushTEnv(gym.Env):
         self.success_threshold = SUCCESS
         self.action_space = spaces.Box(low=0, high=512, shape=(2,), dtype=np.float32)
         self.observation_space = self._observation_space()
-        self._local = np.array(_tee_vertices(), dtype=np.float64)  # (2, 4, 2): the bars, body frame
         self._last_action: Any = None
         self.space: Any = None
         self.plane: Any = None
@@ -162,7 +167,7 @@ class PushTEnv(gym.Env):
         self._goal_body = pymunk.Body(1, pymunk.moment_for_box(1, (50, 100)))
         self._goal_body.position = self.goal_pose[:2].tolist()
         self._goal_body.angle = self.goal_pose[2]
-        self._goal = _world(self._local, 256.0, 256.0, math.pi / 4)
+        self._goal = tee_corners(256.0, 256.0, math.pi / 4)
         self._goal_area = pieces_area(self._goal)
         on_post_solve(space, 0, 0, self._handle_collision)
         self.n_contact_points = 0
@@ -190,8 +195,7 @@ class PushTEnv(gym.Env):
     def _coverage(self) -> float:
         """The T's area inside the goal T over the goal's area (exact: rrbody.physics.overlap)."""
         x, y = self.block.position
-        block = _world(self._local, x, y, self.block.angle)
-        return overlap_area(block, self._goal) / self._goal_area
+        return overlap_area(tee_corners(x, y, self.block.angle), self._goal) / self._goal_area
 
     # ---- gymnasium -----------------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[Any, dict]:
@@ -268,8 +272,6 @@ class PushTEnv(gym.Env):
     def _picture(self, width: int, height: int, action: Any) -> np.ndarray:
         """gym-pusht's picture (rrbody.envs.pusht_draw: pixel for pixel): the goal, the walls, the agent,
         the T and pymunk's marks of the last physics step's contact points."""
-        from rrbody.envs.pusht_draw import draw
-
         def corners(body: Any) -> np.ndarray:  # the bar, then the stem, as pymunk places them
             return np.array([[body.local_to_world(v) for v in s.get_vertices()] for s in self._block_shapes])
 
