@@ -13,6 +13,7 @@ from rrbody.contact.columns import (COEFF, IPM, LAW, LAW_VISCOUS, S0, S1, TAB, T
 from rrbody.contact.lean import NO_REFCOUNT
 from rrbody.physics import contact as C
 from rrbody.physics.contact import footprint_wrench
+from rrbody.physics.effects import law_viscous
 from rrbody.physics.effects.drive_circular import sincos_reduced
 from rrbody.physics.footprint_table import footprint_table_prefetch, footprint_table_wrench
 from rrbody.physics.icr_table import table_wrench_body
@@ -41,13 +42,13 @@ def accel_at(j: int, ca: float, sa: float, vx: float, vy: float, w: float, bodie
     vbx = ca * vx + sa * vy  # body frame
     vby = -sa * vx + ca * vy
     if bodies[j, LAW] == LAW_VISCOUS:
-        # every element feels -gamma v(s): linear, so the footprint's mean position and spread suffice
-        gx = bodies[j, VGX]
-        gy = bodies[j, VGY]
-        fx = -c * (vbx - w * gy)
-        fy = -c * (vby + w * gx)
-        tq = -c * (gx * vby - gy * vbx + w * bodies[j, VJ])
+        # every element feels -gamma v(s): linear, so the footprint's mean position and spread suffice (the
+        # law's own closed form, the ODE path's contact method's too)
+        fx, fy, tq = law_viscous.moments(vbx, vby, w, c, bodies[j, VGX], bodies[j, VGY], bodies[j, VJ])
         return ca * fx - sa * fy, sa * fx + ca * fy, tq / bodies[j, IPM]
+    # dry friction: the only other law a row can hold with COEFF != 0. A body enters the plugin through
+    # rrbody.engine.admit.body_row, which refuses a law without a plugin form in the law table (and the law
+    # "none" has COEFF 0, returned above), so no other law reaches this branch
     tk = bodies[j, TKIND]
     if tk == TABLE_CIRCLE:
         fx, fy, tq = _circle(j, vbx, vby, w, bodies, shapes, tables)

@@ -143,10 +143,13 @@ class PlaneFriction(PlaneRows):
 
     def add_footprint(self, body: Any, *, law: float, coeff: float, footprint: Footprint, snap: bool,
                       history: tuple[float, float, float, float] | None, v_eps: float = 0.0,
-                      staggered: bool = True, static: float | None = None, tabulate: bool = False) -> None:
-        """``add`` with the friction law and footprint already made (rrbody's builder, benchmarks), unchecked:
-        any law (K.LAW_DRY with ``coeff`` mu g cos(tilt) in m/s^2, K.LAW_VISCOUS with gamma in 1/s) and
-        footprint (:mod:`rrbody.engine.shapes`, a point mass, sampled elements); ``snap`` False leaves
+                      staggered: bool = True, static: float | None = None, tabulate: bool = False,
+                      params: tuple[float, ...] = ()) -> None:
+        """``add`` with the friction law and footprint already made (rrbody's builder, benchmarks), the body
+        unchecked: any law of the law table with a plugin form (K.LAW_DRY with ``coeff`` mu g cos(tilt) in
+        m/s^2, K.LAW_VISCOUS with gamma in 1/s; ``params`` its further parameters per unit mass, if it has
+        any; another law is a ValueError naming it, :func:`rrbody.engine.admit.check_law`) and footprint
+        (:mod:`rrbody.engine.shapes`, a point mass, sampled elements); ``snap`` False leaves
         the rest rule to the joint that holds a driven body; ``history`` = (vx, vy, spin, gap) (m/s,
         rad/s, s) when the caller has made the half kick; ``v_eps`` the speed under which the body
         counts as at rest (m/s); ``staggered`` False for a body stepped without the half-step
@@ -155,7 +158,8 @@ class PlaneFriction(PlaneRows):
         table. A body already in the plugin is read again in place."""
         shapes, geo = footprint[0], footprint[1]
         row = body_row(body, law=law, coeff=coeff, footprint=footprint, snap=snap, history=history, v_eps=v_eps,
-                       staggered=staggered, static=static, g_plane=self._g_plane, feet=self._feet, tabulate=tabulate)
+                       staggered=staggered, static=static, g_plane=self._g_plane, feet=self._feet, tabulate=tabulate,
+                       params=params)
         j = self._slots.get(body)
         if j is None:
             j = self._rows.append_one(row)
