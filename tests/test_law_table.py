@@ -79,6 +79,8 @@ def test_each_law_module_declares_its_name_and_entry_points() -> None:
         mod = importlib.import_module(f"rrbody.physics.effects.{law.module}")
         assert mod.NAME == law.name and EL.MODULES[law.name] is mod
         assert callable(mod.force) and callable(mod.perp)
+        # the contact method of both paths: dry's footprint kernel, any other law's own footprint form
+        assert "contact" not in law.areas or law.name == "dry" or callable(mod.footprint), law.name
 
 
 def _friction_actions(parser: argparse.ArgumentParser) -> list[tuple[str, argparse.Action]]:
@@ -122,8 +124,8 @@ def test_law_parameters_are_validated_and_bound_from_their_declaration(monkeypat
         Friction("dry", 1.0, {"v_s": 0.1})
     with pytest.raises(ValueError, match="friction 'dry' has no parameter 'v_s'"):
         scene_from_params(H=0.2, k=0.05, omega=0.6, v_s=0.1)
-    qs = (L.LawParam("mu_s", Limit(0.0, 10.0, "(dimensionless)"), "static coefficient", load=True),
-          L.LawParam("v_s", Limit(0.0, 1e3, "m/s", lo_open=True), "Stribeck speed"))
+    qs = (L.LawParam("mu_s", Limit(0.0, 10.0, "(dimensionless)"), "static coefficient", 0.5, load=True),
+          L.LawParam("v_s", Limit(0.0, 1e3, "m/s", lo_open=True), "Stribeck speed", 0.1))
     monkeypatch.setitem(L._BY_NAME, "dry", dataclasses.replace(L._BY_NAME["dry"], params=qs))
     assert L.check_law_params("dry", {"v_s": 0.1, "mu_s": 0.6}) == (("mu_s", 0.6), ("v_s", 0.1))
     with pytest.raises(MissingParameters) as e:
@@ -217,12 +219,25 @@ def test_the_plugin_refuses_a_law_without_its_form(monkeypatch: pytest.MonkeyPat
         pf.add_footprint(body, law=K.LAW_NONE, **kw)
     with pytest.raises(ValueError, match=r"params must be 0 numbers for friction 'dry'"):
         pf.add_footprint(body, law=K.LAW_DRY, params=(0.1,), **kw)
+    # pf.add: the law by name, checked before the body is added
+    with pytest.raises(ValueError, match="law must be one of 'dry', 'viscous', 'none', got 'stribeck'"):
+        pf.add(body, mu=0.4, law="stribeck")
+    with pytest.raises(ValueError, match=r"law must be one with a friction coefficient mu \('dry'\) for add, got "
+                                         r"'viscous'"):
+        pf.add(body, mu=0.4, law="viscous")
+    with pytest.raises(ValueError, match="friction 'dry' has no parameter 'v_s'"):
+        pf.add(body, mu=0.4, params={"v_s": 0.1})
     _restricted(monkeypatch, "viscous", ("point", "sampled"))
     with pytest.raises(ValueError, match=r"friction 'viscous' has no form for the area method 'contact' \(the "
                                          r"plugin integrates"):
         pf.add_footprint(body, law=K.LAW_VISCOUS, **kw)
+    _restricted(monkeypatch, "dry", ("point", "sampled", "icr", "table"))
+    with pytest.raises(ValueError, match=r"friction 'dry' has no form for the area method 'contact' \(add "
+                                         r"integrates"):
+        pf.add(body, mu=0.4)
     assert pf.members == 0  # nothing was added
-    pf.add(body, mu=0.4)  # dry friction: the plugin's own
+    monkeypatch.undo()
+    pf.add(body, mu=0.4, law="dry", params={})  # dry friction: the plugin's own
     assert pf.rows[0][K.LAW] == K.LAW_DRY
 
 

@@ -17,11 +17,11 @@ import numpy as np
 from rrbody.contact import kernel as K
 from rrbody.contact.feet import feet_step
 from rrbody.contact.footprints import Footprints
-from rrbody.model.laws import PLUGIN_AREA, Law, check_area, law_coded
+from rrbody.model.laws import LAW_TABLE, PLUGIN_AREA, Law, check_area, check_law_params, law_coded, law_named
 from rrbody.physics import contact as C
 from rrbody.physics.footprint import Footprint
 
-__all__ = ["FRICTION_METHODS", "not_finite", "check_body", "check_law", "body_row", "half_kick"]
+__all__ = ["FRICTION_METHODS", "not_finite", "check_body", "add_law", "check_law", "body_row", "half_kick"]
 
 #: ``add``'s friction_method: each step's exact wrench (a disk, a ring, a Hertz patch: its table), or the
 #: footprint's wrench table
@@ -62,6 +62,26 @@ def check_body(body: Any, space: Any, name: Callable[[Any], str]) -> None:
         bad = not_finite((p.x, p.y), a, (v.x, v.y), w)
         if bad:
             raise ValueError(f"body {name(body)}: {bad}")
+
+
+def add_law(law: object, params: object, method: str, mu_static: object) -> tuple[Law, tuple[tuple[str, float], ...]]:
+    """``add``'s friction law checked, and its parameters (:func:`rrbody.model.laws.check_law_params`): a law of
+    the law table whose coefficient is a friction coefficient mu (a load-scaled law: dry), with a form for a
+    footprint (:func:`rrbody.model.laws.check_area`); ``method`` "table" (the footprint's wrench table) holds
+    dry friction's wrench only, and ``mu_static`` applies to a law that sticks. Each a ValueError naming the
+    law (and the method or parameter), before the body is added."""
+    spec = law_named(law, label="law")
+    if not spec.load_scaled:
+        ok = ", ".join(repr(x.name) for x in LAW_TABLE if x.load_scaled)
+        raise ValueError(f"law must be one with a friction coefficient mu ({ok}) for add, got {law!r}: its "
+                         f"coefficient is {spec.coeff_unit or 'none'}, not mu g (rrbody.engine.attach binds any law)")
+    check_area(spec.name, PLUGIN_AREA, where="add integrates the body's footprint")
+    if method == "table" and spec.name != "dry":
+        raise ValueError(f"friction_method 'table' holds dry friction's wrench; friction {spec.name!r} has no form "
+                         f"for it: use 'auto'")
+    if mu_static is not None and not spec.sticks:
+        raise ValueError(f"mu_static applies to a law that sticks (dry friction), got friction {spec.name!r}")
+    return spec, check_law_params(spec.name, {} if params is None else params)
 
 
 def check_law(law: float, coeff: float, params: tuple[float, ...]) -> Law:

@@ -43,13 +43,15 @@ PLUGIN_AREA = "contact"
 class LawParam:
     """A law's parameter beyond its coefficient, stored with the law (``Friction.params``).
 
-    ``limit``: its valid range and unit; ``load``: a friction coefficient (dimensionless, like mu), which the
-    kernels receive per unit mass as value * g * cos(tilt) (m/s^2), as the coefficient of a load-scaled law;
-    otherwise they receive the value as it is."""
+    ``limit``: its valid range and unit; ``example``: a typical value, in the range (the prebuild's workload
+    runs the law with it, :mod:`rrbody.cli.workload`); ``load``: a friction coefficient (dimensionless, like
+    mu), which the kernels receive per unit mass as value * g * cos(tilt) (m/s^2), as the coefficient of a
+    load-scaled law; otherwise they receive the value as it is."""
 
     name: str
     limit: Limit
     help: str
+    example: float
     load: bool = False
 
 
@@ -116,6 +118,9 @@ def _check_table() -> None:
         for q in law.params:
             if LAW_PARAMS[q.name] != q:
                 raise ValueError(f"LAW_TABLE: parameter {q.name!r} is declared differently by two laws")
+            lim = q.limit
+            check_range(f"LAW_TABLE: {law.name!r} parameter {q.name!r} example", q.example, lim.lo, lim.hi,
+                        lo_open=lim.lo_open, hi_open=lim.hi_open, unit=lim.unit)
 
 
 _check_table()

@@ -31,7 +31,8 @@ Adding an effect: one module with the signature of its kind plus its registratio
 in the one law table, :data:`rrbody.model.laws.LAW_TABLE` (name, code, parameters, area methods, this
 package's module of its entry points), from which :mod:`.laws` builds the compiled dispatch; an area
 method takes a name in :data:`rrbody.model.laws.AREA_METHODS` and one branch in :mod:`.areas`. A new
-law adds one compiled loop per kind, so it belongs in the prebuild's workload too.
+law adds one compiled loop per kind, which the prebuild's workload (:mod:`rrbody.cli.workload`) compiles
+at install: it runs each law of the table.
 """
 
 from __future__ import annotations

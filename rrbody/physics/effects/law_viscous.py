@@ -6,15 +6,16 @@ Parameter: ``coeff`` = gamma (1/s). Smooth everywhere; ``v_eps`` is unused. Decl
 Entry points, both paths: the element force :func:`force` and its one-axis component :func:`perp` (the
 point and sampled methods, the point-mass Jacobian: :mod:`.laws`); the law is linear, so its integral over
 any area is a closed form of the load's moments: :func:`rigid` for a homogeneous disk or ellipse (the icr
-and table methods) and :func:`moments` for any footprint, which the contact method on the ODE path
-(:mod:`.area_contact`) and the plugin's kernel (:mod:`rrbody.contact.accel`) both call.
+and table methods) and :func:`moments` for any footprint: :func:`footprint`, the law's contact form,
+which the contact method on the ODE path (:mod:`.area_contact`) and the plugin's kernel
+(:mod:`rrbody.contact.accel`) both call (through :func:`rrbody.physics.effects.laws.law_footprint`).
 """
 
 from __future__ import annotations
 
 from numba import njit
 
-__all__ = ["force", "perp", "rigid", "moments"]
+__all__ = ["force", "perp", "rigid", "moments", "footprint"]
 
 NAME = "viscous"
 
@@ -46,3 +47,10 @@ def moments(vbx: float, vby: float, spin: float, coeff: float, gx: float, gy: fl
     squared distance ``jj`` (m^2) suffice. CM velocity (vbx, vby) (m/s, body frame), spin (rad/s)."""
     return (-coeff * (vbx - spin * gy), -coeff * (vby + spin * gx),
             -coeff * (gx * vby - gy * vbx + spin * jj))
+
+
+@njit(cache=True, inline="always")
+def footprint(shapes, geo, s0, s1, gx, gy, jj, vbx, vby, w, coeff, v_eps):  # noqa: ANN001 (numba)
+    """The contact form (:func:`rrbody.physics.effects.laws.law_footprint`): :func:`moments` of the footprint's
+    load (the parts shapes[s0:s1] themselves are not needed: the law is linear)."""
+    return moments(vbx, vby, w, coeff, gx, gy, jj)
