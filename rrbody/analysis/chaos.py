@@ -49,7 +49,7 @@ METHODS = ("tangent", "two")
 def auto_method(scene: Scene) -> str:
     """The estimate for ``scene``: ``"tangent"`` where the right-hand side is smooth (no or viscous
     friction), ``"two"`` under dry friction (its kink at zero slip speed)."""
-    return "two" if scene.friction.active and scene.friction.law == "dry" else "tangent"
+    return "two" if scene.friction.active and not scene.friction.spec.smooth else "tangent"  # (the law table's)
 
 
 @dataclass
@@ -100,9 +100,9 @@ def lyapunov(scene: Scene, *, t_max: float, renorm: float | None = None, rtol: f
     d0 = float(check("d0", d0))
     transient = check_range("transient", transient, 0.0, MAX_TIME, unit="s")
     rr_samples = check_int("rr_samples", rr_samples, 0, 100_000)
-    if method == "tangent" and scene.friction.active and scene.friction.law == "dry":
-        raise ValueError("method 'tangent' needs a smooth right-hand side; dry friction has a kink where the contact "
-                         "stops sliding: use method 'two' (two nearby trajectories)")
+    if method == "tangent" and scene.friction.active and not scene.friction.spec.smooth:
+        raise ValueError(f"method 'tangent' needs a smooth right-hand side; friction {scene.friction.law!r} has a kink "
+                         f"where the contact stops sliding: use method 'two' (two nearby trajectories)")
     n_int = int(math.ceil(t_max / renorm - 1e-9))
     times = transient + np.minimum(renorm * np.arange(1, n_int + 1), t_max)
     y0 = (scene.phi0, scene.initial_phi_dot)

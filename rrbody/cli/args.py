@@ -19,6 +19,7 @@ from typing import Any, NoReturn
 
 from rrbody.model.angles import parse_number
 from rrbody.model.checks import LIMITS, check
+from rrbody.model.laws import LAW_PARAMS
 
 __all__ = ["CliError", "Parser", "OPTION_PARAMS", "emit", "ranged", "number", "integer", "angle", "float_list",
            "option_help", "check_options", "option_message", "preprocess_argv", "suggest", "commands", "subparser",
@@ -90,7 +91,8 @@ _PARAM_OPTIONS: dict[str, str] = {**{p: o for o, p in OPTION_PARAMS.items()}, "R
                                   "n_scan": "--n-scan", "stepper": "--stepper", "scheduler": "--scheduler",
                                   "pressure": "--pressure", "vertices": "--vertices", "polygon": "--body polygon",
                                   "transient": "--transient", "estimate": "--estimate",
-                                  "t_max and periods": "--t-max"}
+                                  "t_max and periods": "--t-max",
+                                  **{q: "--" + q.replace("_", "-") for q in LAW_PARAMS}}  # the law table's
 
 
 def option_help(param: str, text: str, default: object = None) -> str:

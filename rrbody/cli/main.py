@@ -22,9 +22,9 @@ from rrbody.cli.args import CliError, Parser, angle, check_options, commands, em
     parse
 from rrbody.cli.active_options import add_active_options, with_active
 from rrbody.cli.cache import add_parser as add_cache_parser
-from rrbody.cli.options import (SIMULATE_OUTPUTS, add_accuracy_options, add_integrator_options, add_scene_options,
-                                check_contradictions, check_simulate_outputs, echo_typed, number_text,
-                                scene_from_args, stepper_option, typed)
+from rrbody.cli.options import (SIMULATE_OUTPUTS, add_accuracy_options, add_friction_options, add_integrator_options,
+                                add_scene_options, check_contradictions, check_simulate_outputs, echo_typed,
+                                number_text, scene_from_args, stepper_option, typed)
 
 __all__ = ["main", "entry", "build_parser", "scene_from_args", "run_command"]
 
@@ -259,7 +259,7 @@ def build_parser() -> Parser:
     c.add_argument("--omega", type=number("--omega"), help=option_help("omega", "driving rate (required)"))
     c.add_argument("--phi0", type=angle("--phi0"), default=math.pi,
                    help=option_help("phi0", "initial angle (number, 'pi/2', '180deg', ...)", "pi"))
-    c.add_argument("--friction", choices=("dry", "viscous", "none"), default="dry", help="friction law (default dry)")
+    add_friction_options(c)
     c.add_argument("--tol", type=number("--tol"), default=1e-9, help=option_help("tol", "tolerance on H_c", "1e-9"))
     add_accuracy_options(c)
     c.add_argument("--json", action="store_true", help="print one JSON object (H_c, k, omega, ...)")

@@ -10,9 +10,10 @@ from typing import Any
 from rrbody.cli.args import (CliError, angle, check_options, float_list, given, integer, number, option_help,
                              option_message)
 from rrbody.model.checks import number_rows
-from rrbody.model.scene import FRICTION_METHODS
+from rrbody.model.laws import LAW_PARAMS, LAW_TABLE, LAWS
+from rrbody.model.scene import FRICTION_METHODS, SCENE_PARAMS
 
-__all__ = ["add_scene_options", "add_integrator_options", "add_accuracy_options", "scene_from_args", "scene_params",
+__all__ = ["add_scene_options", "add_friction_options", "add_integrator_options", "add_accuracy_options", "scene_from_args", "scene_params",
            "SCENE_OPTIONS", "INTEGRATOR_OPTIONS", "STEPPERS", "stepper_option", "check_contradictions",
            "SIMULATE_OUTPUTS", "check_simulate_outputs", "typed", "echo_typed", "number_text"]
 
@@ -55,7 +56,7 @@ def add_scene_options(p: argparse.ArgumentParser, *, free_bodies: bool = True) -
     g.add_argument("--mu", type=number("--mu"), help=option_help("mu", "friction coefficient (with --g and --d, "
                                                                   "instead of --k)"))
     g.add_argument("--g", type=number("--g"), default=9.81, help=option_help("g", "gravity, with --mu", 9.81))
-    g.add_argument("--friction", choices=("dry", "viscous", "none"), default="dry", help="friction law (default dry)")
+    add_friction_options(g, params=True)
     g.add_argument("--phi0", type=angle("--phi0"), default=math.pi,
                    help=option_help("phi0", "initial angle of CM -> P: a number (rad) or 'pi', 'pi/2', '3pi/4', "
                                             "'-0.5*pi', '180deg'", "pi"))
@@ -85,6 +86,18 @@ def add_scene_options(p: argparse.ArgumentParser, *, free_bodies: bool = True) -
                        help=option_help("v0", "free body: CM velocity VX,VY (each component)", "0,0"))
         g.add_argument("--spin0", type=number("--spin0"), default=0.0,
                        help=option_help("spin0", "free body: initial spin", 0))
+
+
+def add_friction_options(g: Any, *, params: bool = False) -> None:
+    """``--friction``, its choices the law table's laws (:mod:`rrbody.model.laws`), and with ``params`` an
+    option per law parameter the table declares (``--NAME``, with its unit and range)."""
+    g.add_argument("--friction", choices=LAWS, default="dry",
+                   help="friction law (default dry): " + "; ".join(f"{law.name}: {law.summary}" for law in LAW_TABLE))
+    for q in LAW_PARAMS.values() if params else ():
+        owners = ", ".join(law.name for law in LAW_TABLE if q in law.params)
+        opt = "--" + q.name.replace("_", "-")
+        g.add_argument(opt, type=number(opt, valid=" " + q.limit.text()), default=None,
+                       help=f"--friction {owners}: {q.help}, {q.limit.text()}")
 
 
 def add_accuracy_options(g: Any) -> None:
@@ -145,7 +158,7 @@ def check_contradictions(a: argparse.Namespace) -> None:
         for opt in ("--k", "--mu", "--g"):
             if given(a, opt):
                 raise both("--friction none", opt, f"without friction {opt} has no effect",
-                           f"drop {opt} or choose --friction dry or viscous")
+                           f"drop {opt} or choose --friction {' or '.join(n for n in LAWS if n != 'none')}")
     if given(a, "--k") and given(a, "--mu"):
         raise both("--k", "--mu", "they are alternatives (k = mu g / d)", "give one of them")
     if given(a, "--g") and not given(a, "--mu"):
@@ -181,10 +194,7 @@ def check_contradictions(a: argparse.Namespace) -> None:
 
 def scene_params(a: argparse.Namespace) -> dict[str, Any]:
     """The parsed scene options as keyword arguments of scene_from_params (None: not given)."""
-    keys = ("body", "H", "l", "R0", "delta", "orientation", "omega", "d", "k", "mu", "g", "friction", "phi0",
-            "phi_dot0", "t_max", "friction_method", "samples", "no_drive", "v0", "spin0", "pressure", "tilt",
-            "downhill", "mu_static", "sides", "vertices")
-    kw = {k: getattr(a, k) for k in keys if getattr(a, k, None) is not None}
+    kw = {k: getattr(a, k) for k in SCENE_PARAMS if getattr(a, k, None) is not None}
     if "vertices" in kw:
         try:
             kw["vertices"] = tuple(number_rows(kw["vertices"]))

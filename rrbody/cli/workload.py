@@ -14,9 +14,21 @@ import contextlib
 import io
 import sys
 
+from rrbody.model.laws import LAW_TABLE, Law
+
 __all__ = ["COMMANDS", "run_command", "run_extras", "run_all", "main"]
 
 _ROD = ["--H", "0.2", "--omega", "0.6"]
+
+
+def _driven_job(law: Law) -> list[str]:
+    """A driven rod-mass run under ``law`` (its coefficient and its parameters' examples, from the law table):
+    it compiles that law's stepping loop, the law being compiled in."""
+    coeff = ["--k", "0.05"] if law.module else []  # (the law "none" has no coefficient)
+    params = [x for q in law.params for x in ("--" + q.name.replace("_", "-"), repr(q.example))]
+    return ["simulate", *_ROD, *coeff, "--friction", law.name, *params, "--t-max", "0.5", "--json"]
+
+
 #: the command-line workload (each a tiny horizon), heaviest first: the first driven run of each law
 #: and the first free run compile a loop (15-30 s each), the rest mostly load them
 COMMANDS: tuple[list[str], ...] = (
@@ -26,8 +38,8 @@ COMMANDS: tuple[list[str], ...] = (
     ["flip-time", *_ROD, "--k", "0.05", "--json"],
     ["simulate", "--body", "disk", "--R0", "0.3", "--no-drive", "--v0", "1,0", "--spin0", "3", "--k", "1",
      "--t-max", "0.5", "--json"],
-    ["simulate", *_ROD, "--k", "0.05", "--friction", "viscous", "--t-max", "0.5", "--json"],
-    ["simulate", *_ROD, "--friction", "none", "--t-max", "0.5", "--json"],
+    # every other law of the table (dry's loop is the flip-time's above): viscous, none, ...
+    *(_driven_job(law) for law in LAW_TABLE if law.name != "dry"),
     ["simulate", "--body", "ellipse", "--R0", "0.3", "--delta", "0.3", "--no-drive", "--v0", "1,0", "--spin0", "3",
      "--k", "1", "--friction", "viscous", "--t-max", "0.5", "--json"],
     ["simulate", "--no-drive", "--H", "0.2", "--v0", "1,0", "--friction", "none", "--t-max", "0.5", "--json"],
@@ -105,11 +117,12 @@ def _rhs_workload() -> None:
     from rrbody.physics.bind import kernel_params
     from rrbody.physics.dynamics import driven_rhs, free_rhs
 
-    for law in ("dry", "viscous", "none"):
-        k = None if law == "none" else 0.05
-        p, S = kernel_params(scene_from_params(H=0.2, k=k, omega=0.6, friction=law))
+    for law in LAW_TABLE:
+        k = 0.05 if law.module else None  # (the law "none" has no coefficient)
+        kw = {"k": k, "friction": law.name, **{q.name: q.example for q in law.params}}
+        p, S = kernel_params(scene_from_params(H=0.2, omega=0.6, **kw))  # type: ignore[arg-type]
         driven_rhs(0.0, np.array([3.0, 0.0]), p, S, np.empty(2))
-        p, S = kernel_params(scene_from_params(body="disk", R0=0.3, k=k, friction=law, no_drive=True, v0=(1.0, 0.0)))
+        p, S = kernel_params(scene_from_params(body="disk", R0=0.3, no_drive=True, v0=(1.0, 0.0), **kw))  # type: ignore[arg-type]
         free_rhs(0.0, np.array([0.0, 0.0, 0.0, 1.0, 0.0, 2.0]), p, S, np.empty(6))
 
 

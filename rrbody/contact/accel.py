@@ -8,12 +8,13 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from rrbody.contact.columns import (COEFF, IPM, LAW, LAW_VISCOUS, S0, S1, TAB, TABLE_CIRCLE, TABLE_FOOTPRINT, TKIND,
-                                   VEPS, VGX, VGY, VJ)
+from rrbody.contact.columns import (COEFF, IPM, LAW, LAW_DRY, LAWP, S0, S1, TAB, TABLE_CIRCLE, TABLE_FOOTPRINT,
+                                   TKIND, VEPS, VGX, VGY, VJ)
 from rrbody.contact.lean import NO_REFCOUNT
 from rrbody.physics import contact as C
 from rrbody.physics.contact import footprint_wrench
 from rrbody.physics.effects.drive_circular import sincos_reduced
+from rrbody.physics.effects.laws import law_footprint, law_params_at
 from rrbody.physics.footprint_table import footprint_table_prefetch, footprint_table_wrench
 from rrbody.physics.icr_table import table_wrench_body
 
@@ -40,14 +41,17 @@ def accel_at(j: int, ca: float, sa: float, vx: float, vy: float, w: float, bodie
         return 0.0, 0.0, 0.0
     vbx = ca * vx + sa * vy  # body frame
     vby = -sa * vx + ca * vy
-    if bodies[j, LAW] == LAW_VISCOUS:
-        # every element feels -gamma v(s): linear, so the footprint's mean position and spread suffice
-        gx = bodies[j, VGX]
-        gy = bodies[j, VGY]
-        fx = -c * (vbx - w * gy)
-        fy = -c * (vby + w * gx)
-        tq = -c * (gx * vby - gy * vbx + w * bodies[j, VJ])
+    law = bodies[j, LAW]
+    if law != LAW_DRY:
+        # every other law: its own footprint form from the law table, as the ODE path's contact method takes it
+        # (viscous: every element feels -gamma v(s), linear, so the footprint's mean position and spread
+        # suffice). A body enters the plugin through rrbody.engine.admit.body_row, which refuses a law without
+        # one, and the law "none" has COEFF 0 (returned above)
+        fx, fy, tq = law_footprint(law, shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), bodies[j, VGX],
+                                   bodies[j, VGY], bodies[j, VJ], vbx, vby, w, c, bodies[j, VEPS],
+                                   law_params_at(bodies, j, LAWP))
         return ca * fx - sa * fy, sa * fx + ca * fy, tq / bodies[j, IPM]
+    # dry friction: the footprint kernel, or a wrench table of it
     tk = bodies[j, TKIND]
     if tk == TABLE_CIRCLE:
         fx, fy, tq = _circle(j, vbx, vby, w, bodies, shapes, tables)
@@ -63,7 +67,7 @@ def accel_at(j: int, ca: float, sa: float, vx: float, vy: float, w: float, bodie
 @njit(cache=True, inline="always")
 def reads_footprint_table(j: int, bodies: np.ndarray) -> bool:
     """Whether :func:`accel_at` reads body j's friction from its footprint's own table (dry, mu > 0)."""
-    return bodies[j, COEFF] != 0.0 and bodies[j, LAW] != LAW_VISCOUS and bodies[j, TKIND] == TABLE_FOOTPRINT
+    return bodies[j, COEFF] != 0.0 and bodies[j, LAW] == LAW_DRY and bodies[j, TKIND] == TABLE_FOOTPRINT
 
 
 @njit(cache=True, inline="always")

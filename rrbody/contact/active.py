@@ -21,6 +21,7 @@ import numpy as np
 from rrbody.contact import columns as K
 from rrbody.model.active import MAX_SEED, Active
 from rrbody.model.checks import check_int
+from rrbody.model.laws import law_coded
 from rrbody.physics.effects import active as A
 
 __all__ = ["ActiveSet", "NO_ACTIVE"]
@@ -80,17 +81,17 @@ class ActiveSet:
         """Half a kick of the deterministic active terms for bodies activated since the last step (the
         staggered scheme's start, as the plugin's own half kick of friction: docs/engine.md).
 
-        A body exactly at rest on dry friction under the rest rule gets none: its propulsion is a load
-        like a hand-applied force or a tilt's pull, which the step's rest rule and static friction hold
-        exactly, or let break away, as they do those (a kick without friction moved a body that static
-        friction holds, and it slid off)."""
+        A body exactly at rest on dry friction (a law that sticks) under the rest rule gets none: its
+        propulsion is a load like a hand-applied force or a tilt's pull, which the step's rest rule and
+        static friction hold exactly, or let break away, as they do those (a kick without friction moved a
+        body that static friction holds, and it slid off)."""
         h = 0.5 * dt
         for body in self.pending:
             j = pf.row_index(body)
             if j is None:
                 continue
             row = pf.rows[j]
-            if row[K.LAW] == K.LAW_DRY and row[K.SNAP] > 0.0 and body.angular_velocity == 0.0 \
+            if law_coded(row[K.LAW]).sticks and row[K.SNAP] > 0.0 and body.angular_velocity == 0.0 \
                     and body.velocity == (0.0, 0.0):
                 continue
             a = self.params[body]

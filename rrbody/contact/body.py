@@ -195,7 +195,7 @@ def evaluate(i, j, ca, sa, vx, vy, w, ex, ey, ew, dt, was, bodies, shapes, geo, 
     else:
         ax, ay, aw, s = limited(j, ca, sa, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo, tables, out[i, 0] / m0,
                                 out[i, 1] / m0, out[i, 2] / (m0 * bodies[j, IPM]))
-    stop = (s < 1.0 or was == STOPPING) and bodies[j, SNAP] > 0.0 and bodies[j, LAW] == LAW_DRY \
+    stop = (s < 1.0 or was == STOPPING) and bodies[j, SNAP] > 0.0 and R.law_sticks(bodies[j, LAW]) \
         and R.slow_enough(i, j, vx, vy, w, dt, bodies, out)
     return ax, ay, aw, s, stop
 

@@ -3,8 +3,8 @@
 Array layouts (columns)
 -----------------------
 ``bodies`` (float, one row per plugin body; the columns are named, their order is the kernel's own
-business): MASS (kg), IPM = I/m (m^2), LAW (1 dry, 2 viscous),
-COEFF (mu g in m/s^2, or gamma in 1/s), REACH (m: largest distance of the footprint from the centre
+business): MASS (kg), IPM = I/m (m^2), LAW (the law table's code as a float, :data:`LAW_CODE`: 0 none,
+1 dry, 2 viscous), COEFF (mu g in m/s^2, or gamma in 1/s), REACH (m: largest distance of the footprint from the centre
 of gravity), SNAP (1.0: the rest rule applies), S0, S1 (its rows in ``shapes``), VEPS (m/s: slower
 elements have no dry-friction direction), VGX, VGY, VJ (load-weighted mean position, m, and mean
 squared distance, m^2, of the footprint: all the viscous law needs), STAG (1.0: the staggered,
@@ -34,22 +34,30 @@ the id it was found for, and what the last check found (see :func:`rrbody.contac
 
 from __future__ import annotations
 
+from rrbody.model.laws import LAW_CODES, N_LAW_PARAMS
+
 __all__ = ["MASS", "IPM", "LAW", "COEFF", "REACH", "SNAP", "S0", "S1", "VEPS", "STAG", "PVX", "PVY", "PW", "GAP",
            "STOP", "EA", "EW", "DRV", "MUS", "GTX", "GTY", "FFX", "FFY", "FFT", "FEET", "TKIND", "TAB",
            "DEFR", "VGX", "VGY", "VJ", "OMG", "DD", "ANX", "ANY", "T0", "DPX", "DPY", "DVX", "DVY", "HX",
-           "HY", "HT", "HA", "HELD", "PIN", "N_BODY", "STOPPING", "ZEROED", "LAW_DRY", "LAW_VISCOUS",
+           "HY", "HT", "HA", "HELD", "PIN", "N_BODY", "STOPPING", "ZEROED", "LAW_CODE", "LAW_NONE", "LAW_DRY",
+           "LAW_VISCOUS", "LAWP",
            "DEFER", "TABLE_NONE", "TABLE_CIRCLE", "TABLE_FOOTPRINT", "N_STATUS", "ROWMAP", "ROW_ID",
            "STATUS", "SEEN", "BAD", "FIRST_BAD"]
 
 # the columns every step reads or writes come first (four of the row's six cache lines), the rest after
 (MASS, IPM, LAW, COEFF, REACH, SNAP, S0, S1, VEPS, STAG, PVX, PVY, PW, GAP, STOP, EA, EW, DRV, MUS, GTX, GTY, FFX,
  FFY, FFT, FEET, TKIND, TAB, DEFR, VGX, VGY, VJ, OMG, DD, ANX, ANY, T0, DPX, DPY, DVX, DVY, HX, HY, HT, HA, HELD,
- PIN, _SPARE0, _SPARE1) = range(48)
-#: 48 columns: a row is 384 bytes, six cache lines' worth (two spare columns)
-N_BODY = 48
+ PIN, LAWP) = range(47)
+#: 48 columns: a row is 384 bytes, six cache lines' worth. The law's further parameters per unit mass sit from
+#: LAWP on (rrbody.model.laws.bound_params: N_LAW_PARAMS of them, none while no law has any), in the two spare
+#: columns; a law table that needed more would make the row longer
+N_BODY = max(48, LAWP + N_LAW_PARAMS)
 #: STOP values: the rest rule cancels the velocity in this step, or (the step after) sets it exactly zero
 STOPPING, ZEROED = 1.0, 2.0
-LAW_DRY, LAW_VISCOUS = 1.0, 2.0
+#: the LAW column's values: the law table's codes (rrbody.model.laws), as floats; numba reads these module
+#: constants at compile time, so they are derived here, at import, from the table
+LAW_CODE: dict[str, float] = {name: float(code) for name, code in LAW_CODES.items()}
+LAW_NONE, LAW_DRY, LAW_VISCOUS = LAW_CODE["none"], LAW_CODE["dry"], LAW_CODE["viscous"]
 #: what the lean sweep's step of a body returns when it leaves the body to the limit-set loop
 DEFER = 2
 #: TKIND values: the exact footprint wrench; a disk's wrench table (icr_table's, dimensionless); the

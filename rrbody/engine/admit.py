@@ -17,10 +17,11 @@ import numpy as np
 from rrbody.contact import kernel as K
 from rrbody.contact.feet import feet_step
 from rrbody.contact.footprints import Footprints
+from rrbody.model.laws import LAW_TABLE, PLUGIN_AREA, Law, check_area, check_law_params, law_coded, law_named
 from rrbody.physics import contact as C
 from rrbody.physics.footprint import Footprint
 
-__all__ = ["FRICTION_METHODS", "not_finite", "check_body", "body_row", "half_kick"]
+__all__ = ["FRICTION_METHODS", "not_finite", "check_body", "add_law", "check_law", "body_row", "half_kick"]
 
 #: ``add``'s friction_method: each step's exact wrench (a disk, a ring, a Hertz patch: its table), or the
 #: footprint's wrench table
@@ -63,25 +64,68 @@ def check_body(body: Any, space: Any, name: Callable[[Any], str]) -> None:
             raise ValueError(f"body {name(body)}: {bad}")
 
 
+def add_law(law: object, params: object, method: str, mu_static: object) -> tuple[Law, tuple[tuple[str, float], ...]]:
+    """``add``'s friction law checked, and its parameters (:func:`rrbody.model.laws.check_law_params`): a law of
+    the law table whose coefficient is a friction coefficient mu (a load-scaled law: dry), with a form for a
+    footprint (:func:`rrbody.model.laws.check_area`); ``method`` "table" (the footprint's wrench table) holds
+    dry friction's wrench only, and ``mu_static`` applies to a law that sticks. Each a ValueError naming the
+    law (and the method or parameter), before the body is added."""
+    spec = law_named(law, label="law")
+    if not spec.load_scaled:
+        ok = ", ".join(repr(x.name) for x in LAW_TABLE if x.load_scaled)
+        raise ValueError(f"law must be one with a friction coefficient mu ({ok}) for add, got {law!r}: its "
+                         f"coefficient is {spec.coeff_unit or 'none'}, not mu g (rrbody.engine.attach binds any law)")
+    check_area(spec.name, PLUGIN_AREA, where="add integrates the body's footprint")
+    if method == "table" and spec.name != "dry":
+        raise ValueError(f"friction_method 'table' holds dry friction's wrench; friction {spec.name!r} has no form "
+                         f"for it: use 'auto'")
+    if mu_static is not None and not spec.sticks:
+        raise ValueError(f"mu_static applies to a law that sticks (dry friction), got friction {spec.name!r}")
+    return spec, check_law_params(spec.name, {} if params is None else params)
+
+
+def check_law(law: float, coeff: float, params: tuple[float, ...]) -> Law:
+    """The declaration of the LAW column's ``law`` (a code of the law table, :data:`K.LAW_CODE`), checked for
+    the plugin: ValueError naming the law and the plugin's area method if the law has no form for a footprint
+    (:func:`rrbody.model.laws.check_area`), naming the code if no law has it, and for ``params`` (the law's
+    further parameters per unit mass) of another count than the law declares, or a coefficient under "none"."""
+    spec = law_coded(law)
+    check_area(spec.name, PLUGIN_AREA, where="the plugin integrates each body's footprint")
+    if len(params) != len(spec.params):
+        raise ValueError(f"params must be {len(spec.params)} numbers for friction {spec.name!r} "
+                         f"({', '.join(q.name for q in spec.params) or 'none'}), got {params!r}")
+    if spec.name == "none" and coeff != 0.0:
+        raise ValueError(f"coeff must be 0 for friction 'none' (no friction), got {coeff!r}")
+    return spec
+
+
 def body_row(body: Any, *, law: float, coeff: float, footprint: Footprint, snap: bool,
              history: tuple[float, float, float, float] | None, v_eps: float, staggered: bool,
-             static: float | None, g_plane: tuple[float, float], feet: Footprints, tabulate: bool) -> np.ndarray:
+             static: float | None, g_plane: tuple[float, float], feet: Footprints, tabulate: bool,
+             params: tuple[float, ...] = ()) -> np.ndarray:
     """The kernel's row (:mod:`rrbody.contact.columns`) of ``body`` with this friction law and footprint,
-    before its footprint is placed (:meth:`Footprints.place` fills S0, S1). ``coeff``: mu g cos(tilt)
-    for dry friction or gamma (1/s) for viscous; ``static``: mu_static g cos(tilt) (m/s^2; None: coeff
-    for dry friction, none for viscous); ``g_plane``: gravity's pull along the plane (m/s^2, world
-    frame); ``history`` (vx, vy, spin, gap) when the caller has made the half kick; ``feet``: the
-    plugin's footprint store, which gives a dry body its wrench table (``tabulate``: the footprint's own)."""
+    before its footprint is placed (:meth:`Footprints.place` fills S0, S1). ``law``: a code of the law
+    table (:data:`K.LAW_CODE`), checked (:func:`check_law`: a ValueError, before any kernel runs);
+    ``coeff``: mu g cos(tilt) for dry friction or gamma (1/s) for viscous; ``params``: the law's further
+    parameters per unit mass (:func:`rrbody.model.laws.bound_params`); ``static``: mu_static g cos(tilt)
+    (m/s^2; None: coeff for a law that sticks, dry friction, none for viscous); ``g_plane``: gravity's pull
+    along the plane (m/s^2, world frame); ``history`` (vx, vy, spin, gap) when the caller has made the half
+    kick; ``feet``: the plugin's footprint store, which gives a dry body its wrench table (``tabulate``: the
+    footprint's own)."""
+    spec = check_law(law, coeff, params)
     shapes, geo, reach, (gx, gy), jj = footprint
     m, moment = float(body.mass), float(body.moment)
     row = np.zeros(K.N_BODY)
     row[[K.MASS, K.IPM, K.LAW, K.COEFF, K.REACH, K.SNAP, K.VEPS, K.VGX, K.VGY, K.VJ, K.STAG]] = \
         m, moment / m, law, coeff, reach, 1.0 if snap else 0.0, v_eps, gx, gy, jj, 1.0 if staggered else 0.0
-    row[[K.MUS, K.GTX, K.GTY]] = (coeff if law == K.LAW_DRY else 0.0) if static is None else static, *g_plane
+    row[[K.MUS, K.GTX, K.GTY]] = (coeff if spec.sticks else 0.0) if static is None else static, *g_plane
+    row[K.LAWP:K.LAWP + len(params)] = params
     row[K.HELD] = -1.0  # no load tested yet
     # two or more point feet: a foot at rest is held by static friction (rrbody.contact.feet)
-    row[K.FEET] = 1.0 if shapes.shape[0] > 1 and bool(np.all(shapes[:, C.KIND] == C.POINT)) else 0.0
-    if law == K.LAW_DRY:  # (the viscous law is linear: exact and cheap without a table)
+    # (dry friction only: the other feet slide under dry friction's own kernel while one is held)
+    row[K.FEET] = 1.0 if law == K.LAW_DRY and shapes.shape[0] > 1 and bool(np.all(shapes[:, C.KIND] == C.POINT)) \
+        else 0.0
+    if law == K.LAW_DRY:  # dry friction's wrench tables (the viscous law is linear: exact and cheap without one)
         row[K.TKIND], row[K.TAB] = feet.friction_table(shapes, geo, tabulate)
     if history is not None:
         row[[K.PVX, K.PVY, K.PW, K.GAP]] = history
@@ -100,7 +144,7 @@ def half_kick(body: Any, j: int, dt: float, g_plane: tuple[float, float], bodies
         row = bodies[j]
         alpha = float(body.angle)
         foot = -1
-        if row[K.FEET] > 0.0 and row[K.MUS] > 0.0 and row[K.SNAP] > 0.0 and row[K.LAW] == K.LAW_DRY:
+        if row[K.FEET] > 0.0 and row[K.MUS] > 0.0 and row[K.SNAP] > 0.0 and law_coded(row[K.LAW]).sticks:
             # on feet, launched with a foot at rest (or arriving there in the half step): held
             # (the kicked velocity moves the pose in the first step: its lever halfway through it)
             foot, ax, ay, tq = feet_step(shapes, int(row[K.S0]), int(row[K.S1]), alpha,

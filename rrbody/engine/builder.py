@@ -37,6 +37,7 @@ from rrbody.contact import kernel as K
 from rrbody.engine.plugin import PlaneFriction
 from rrbody.engine.settings import EngineSettings, check_dt
 from rrbody.physics.footprint import apply_pressure, body_parts, combine, sampled_part
+from rrbody.model.laws import PLUGIN_AREA, bound_params, check_area, law_named
 from rrbody.model.scene import Scene
 from rrbody.physics.bind import area_model, friction_per_mass, kernel_params
 from rrbody.physics import params as P
@@ -66,17 +67,23 @@ def _slope(tilt: float, downhill: float, g: float) -> tuple[float, float, float]
     return (tilt, downhill, g) if tilt != 0.0 else (0.0, 0.0, 0.0)
 
 
-def _footprint(scene: Scene) -> tuple[float, float, float | None, tuple]:
-    """(law, coeff, static, footprint) of the scene's body for the plugin kernel: the friction
-    coefficients as the ODE path binds them (:func:`rrbody.physics.bind.friction_per_mass`)."""
+def _footprint(scene: Scene) -> tuple[float, float, float | None, tuple, tuple[float, ...]]:
+    """(law, coeff, static, footprint, params) of the scene's body for the plugin kernel: the law's code
+    from the law table, the friction coefficients and the law's parameters as the ODE path binds them
+    (:func:`rrbody.physics.bind.friction_per_mass`, :func:`rrbody.model.laws.bound_params`). A law the
+    plugin has no form for is a ValueError naming it and the plugin's area method (:func:`check_area`:
+    here, before anything is added to the space)."""
     fr = scene.friction
-    law = K.LAW_VISCOUS if fr.law == "viscous" else K.LAW_DRY
+    spec = law_named(fr.law)
+    check_area(fr.law, PLUGIN_AREA, where="the engine path integrates the body's footprint")
     coeff, static = friction_per_mass(scene)
-    static_or_none = static if fr.active and fr.law == "dry" else None
+    static_or_none = static if fr.active and spec.sticks else None
+    params = bound_params(fr.law, fr.params, scene.g * math.cos(scene.tilt))[:len(spec.params)]
+    law = K.LAW_CODE[fr.law]
     if area_model(scene) == P.BODY_SAMPLED:
-        return law, coeff, static_or_none, combine([sampled_part(kernel_params(scene)[1])])
+        return law, coeff, static_or_none, combine([sampled_part(kernel_params(scene)[1])]), params
     # the ODE path's contact method packs the same footprint (one description, both paths)
-    return law, coeff, static_or_none, apply_pressure(body_parts(scene.body), scene.pressure)
+    return law, coeff, static_or_none, apply_pressure(body_parts(scene.body), scene.pressure), params
 
 
 class EngineHandle:
@@ -144,12 +151,12 @@ class EngineHandle:
             self.driver.velocity = (0.0, self._d * self._omega)
             self.joint = pymunk.PivotJoint(self.driver, self.body, (0.0, 0.0), self.anchor)
             objs += [self.driver, self.joint]
+        law, coeff, static, fp, params = _footprint(scene)  # (checked before the space changes)
         space.add(*objs)
-        law, coeff, static, fp = _footprint(scene)
         # the rest rule is for free bodies: a driven body's joint decides its velocity
         self.plane.add_footprint(self.body, law=law, coeff=coeff, footprint=fp, snap=scene.drive is None,
                                  history=history, v_eps=1e-12 * scene.velocity_scale(), staggered=self._staggered,
-                                 static=static)
+                                 static=static, params=params)
         if scene.active is not None:  # a free body's propulsion and its medium (rrbody.contact.active)
             self.plane.activate(self.body, scene.active)
             self.plane.seed(scene.seed)  # its noise: the scene's seed, as on the ODE path

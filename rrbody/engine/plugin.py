@@ -25,6 +25,7 @@ writes for a new body is :mod:`rrbody.engine.admit`.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -32,7 +33,7 @@ import numpy as np
 from rrbody.contact import kernel as K
 from rrbody.contact.active import NO_ACTIVE, ActiveSet
 from rrbody.contact.lean import fast_entry
-from rrbody.engine.admit import FRICTION_METHODS, body_row, check_body, half_kick, not_finite
+from rrbody.engine.admit import FRICTION_METHODS, add_law, body_row, check_body, half_kick, not_finite
 from rrbody.engine.batchio import BatchIO, body_uid
 from rrbody.engine.bodymem import layout
 from rrbody.engine.plane_rows import PlaneRows
@@ -41,6 +42,7 @@ from rrbody.engine.structio import StructIO
 from rrbody.model.active import Active
 from rrbody.model.checks import check, check_choice
 from rrbody.model.friction import check_mu_static
+from rrbody.model.laws import bound_params
 from rrbody.model.pressure import PRESSURE_KINDS, Pressure, as_pressure
 from rrbody.physics.footprint import Footprint
 
@@ -106,7 +108,7 @@ class PlaneFriction(PlaneRows):
 
     # ---- membership --------------------------------------------------------------------------
     def add(self, body: Any, *, mu: float, pressure: Pressure | str = "uniform", mu_static: float | None = None,
-            friction_method: str = "auto") -> None:
+            friction_method: str = "auto", law: str = "dry", params: Mapping[str, float] | None = None) -> None:
         """Give ``body`` (dynamic, already in the space, with at least one shape of positive area)
         friction coefficient ``mu`` (>= 0) against the plane, its weight pressing on it as
         ``pressure`` says (:mod:`rrbody.pressure`: each shape's weight over its area, the default; a ring, an
@@ -119,21 +121,28 @@ class PlaneFriction(PlaneRows):
         disk, uniformly loaded, a ring or a Hertz patch, takes that profile's disk table, as exact) or
         "table" (the footprint's own wrench table, :mod:`rrbody.physics.footprint_table`: within 1e-10
         of the exact wrench, several times cheaper per step for polygons, built once per distinct
-        footprint in about a second: for many bodies of few shapes). Its mass is ``body.mass`` (from the
+        footprint in about a second: for many bodies of few shapes). ``law``: the friction law, one of the law
+        table's with a friction coefficient (:mod:`rrbody.model.laws`; "dry", the default), and ``params`` its
+        further parameters by name (dry friction has none). Its mass is ``body.mass`` (from the
         shapes' density or mass, or set by you), its shapes' geometry is read now: call ``add``
         again after changing either. The body's current velocity is its velocity at the next step's
         start time (the first step gives it the half kick of the staggered scheme).
 
         Raises ValueError naming the body for a mass or moment that is not positive and finite, for a
         position, angle, velocity or spin that is not finite, and for a centre of gravity no non-negative
-        pressure holds (it would tip). Amortised O(1): no copy of the other bodies' data."""
+        pressure holds (it would tip); naming the law for one the table does not have, or has no form for
+        a footprint or the friction_method (:func:`rrbody.engine.admit.add_law`). Amortised O(1): no copy of
+        the other bodies' data."""
         check_body(body, self.space, self._name)
         mu = float(check("mu", mu))
         mu_s = mu if mu_static is None else check_mu_static(mu_static, mu)
         method = check_choice("friction_method", friction_method, FRICTION_METHODS)
+        spec, lp = add_law(law, params, method, mu_static)
         footprint = body_footprint(body, as_pressure(pressure), name=self._name, table=method == "table")
-        self.add_footprint(body, law=K.LAW_DRY, coeff=mu * self._g_normal, footprint=footprint, snap=True,
-                           history=None, static=mu_s * self._g_normal, tabulate=method == "table")
+        g_n = self._g_normal
+        self.add_footprint(body, law=K.LAW_CODE[spec.name], coeff=mu * g_n, footprint=footprint, snap=True,
+                           history=None, static=mu_s * g_n if spec.sticks else 0.0, tabulate=method == "table",
+                           params=bound_params(spec.name, lp, g_n)[:len(spec.params)])
 
     def _name(self, body: Any) -> str:
         """``pf.bodies[k] (repr)`` for messages (O(n): error paths only)."""
@@ -143,10 +152,13 @@ class PlaneFriction(PlaneRows):
 
     def add_footprint(self, body: Any, *, law: float, coeff: float, footprint: Footprint, snap: bool,
                       history: tuple[float, float, float, float] | None, v_eps: float = 0.0,
-                      staggered: bool = True, static: float | None = None, tabulate: bool = False) -> None:
-        """``add`` with the friction law and footprint already made (rrbody's builder, benchmarks), unchecked:
-        any law (K.LAW_DRY with ``coeff`` mu g cos(tilt) in m/s^2, K.LAW_VISCOUS with gamma in 1/s) and
-        footprint (:mod:`rrbody.engine.shapes`, a point mass, sampled elements); ``snap`` False leaves
+                      staggered: bool = True, static: float | None = None, tabulate: bool = False,
+                      params: tuple[float, ...] = ()) -> None:
+        """``add`` with the friction law and footprint already made (rrbody's builder, benchmarks), the body
+        unchecked: any law of the law table with a plugin form (K.LAW_DRY with ``coeff`` mu g cos(tilt) in
+        m/s^2, K.LAW_VISCOUS with gamma in 1/s; ``params`` its further parameters per unit mass, if it has
+        any; another law is a ValueError naming it, :func:`rrbody.engine.admit.check_law`) and footprint
+        (:mod:`rrbody.engine.shapes`, a point mass, sampled elements); ``snap`` False leaves
         the rest rule to the joint that holds a driven body; ``history`` = (vx, vy, spin, gap) (m/s,
         rad/s, s) when the caller has made the half kick; ``v_eps`` the speed under which the body
         counts as at rest (m/s); ``staggered`` False for a body stepped without the half-step
@@ -155,7 +167,8 @@ class PlaneFriction(PlaneRows):
         table. A body already in the plugin is read again in place."""
         shapes, geo = footprint[0], footprint[1]
         row = body_row(body, law=law, coeff=coeff, footprint=footprint, snap=snap, history=history, v_eps=v_eps,
-                       staggered=staggered, static=static, g_plane=self._g_plane, feet=self._feet, tabulate=tabulate)
+                       staggered=staggered, static=static, g_plane=self._g_plane, feet=self._feet, tabulate=tabulate,
+                       params=params)
         j = self._slots.get(body)
         if j is None:
             j = self._rows.append_one(row)

@@ -79,7 +79,7 @@ def _friction_scale(scene: Scene) -> tuple[str, float] | None:
     fr = scene.friction
     if not fr.active:
         return None
-    if fr.law == "viscous":
+    if not fr.spec.load_scaled:  # a rate (the law table's): viscous friction's gamma
         return "viscous relaxation time 1/gamma", 1.0 / fr.coeff
     vs = scene.velocity_scale()
     return ("dry stopping time v/(mu g)", vs / fr.coeff) if vs > 0.0 else None

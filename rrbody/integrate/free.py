@@ -113,12 +113,13 @@ def simulate_free(scene: Scene, *, t_max: float, dt_out: float, rtol: float = 1e
     y = np.array([0.0, 0.0, body.alpha0, v0[0], v0[1], w0])
     f = np.empty(6)
     free_rhs(0.0, y, p, S, f)
-    # the rest rule (a stop in finite time) is dry friction's; an active body is driven on by its propulsion
-    dry = scene.friction.active and scene.friction.law == "dry" and scene.active is None
+    # the rest rule (a stop in finite time) is dry friction's, a law that sticks (the law table's); an active
+    # body is driven on by its propulsion
+    dry = scene.friction.active and scene.friction.spec.sticks and scene.active is None
     pull = math.hypot(p[P.GTX], p[P.GTY])  # gravity along a tilted plane (m/s^2)
     t_start = 0.0
     rests = False  # an active body static friction holds at rest: it stays there (its load is constant)
-    if a is not None and scene.friction.active and scene.friction.law == "dry" and v0[0] == v0[1] == w0 == 0.0:
+    if a is not None and scene.friction.active and scene.friction.spec.sticks and v0[0] == v0[1] == w0 == 0.0:
         # launched at rest: the propulsion is a load like a tilt's pull; static friction holds the sum or
         # the body breaks away along the maximum-dissipation acceleration (as on the plugin path)
         held = _held_at_rest(scene, p, active=True)

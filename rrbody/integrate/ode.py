@@ -38,7 +38,7 @@ from rrbody.integrate.chunks import run_in_chunks
 from rrbody.integrate.loop import STIFF_HLAMB, STIFF_METHOD, L_METH, L_NREJ, L_NROS, L_NSTEP, L_NSWITCH, L_NOUT, L_T, \
     STEP_METHODS, advance_for, new_loop_state
 from rrbody.integrate.rodas import spectral_radius
-from rrbody.model.friction import LAW_CODES
+from rrbody.model.laws import law_coded
 from rrbody.physics import params as P
 from rrbody.physics.dynamics import SYSTEM_DRIVEN, driven_kinematics, jacobian, rhs, system_from_params
 from rrbody.physics.effects import compiled_code
@@ -88,7 +88,8 @@ def _start_for(system: int) -> Any:
     tolerances."""
     code = compiled_code(system)
     if code not in _STARTS:
-        dry = (code // 10) % 10 == LAW_CODES["dry"]
+        # a law that sticks (dry): its force stays finite as the speed vanishes, the stiff start's cause
+        dry = law_coded((code // 10) % 10).sticks
 
         @njit(cache=True)
         def start(y, f, p, S, h0):  # noqa: ANN001

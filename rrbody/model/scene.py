@@ -18,15 +18,15 @@ from rrbody.model.checks import LIMITS, MAX_TIME, MissingParameters, check, chec
 from rrbody.model.bodies import BODY_KINDS, Body, Polygon, RodMass
 from rrbody.model.drive import CircularDrive
 from rrbody.model.friction import LAWS, Friction, check_mu_static
+from rrbody.model.laws import AREA_METHODS, LAW_PARAMS
 from rrbody.model.pressure import Pressure, as_pressure, pressure_from_description, uniform
 
 __all__ = ["Scene", "rod_mass_scene", "scene_from_params", "SCENE_PARAMS", "NUMERIC_SCENE_PARAMS", "FRICTION_METHODS",
            "NOISE_STEP_MAX", "MAX_SEED"]
 
-FRICTION_METHODS: tuple[str, ...] = ("auto", "sampled", "icr", "table", "contact")
-#: the largest noise_dt times the fastest linear rate (drag, rotational drag, viscous friction) a Scene
-#: takes: the fixed-step scheme's stationary variance is then off by < 5 % (docs/active.md), and it is
-#: unstable beyond 2
+FRICTION_METHODS: tuple[str, ...] = ("auto", *(m for m in AREA_METHODS if m != "point"))  # sampled, icr, table, contact
+#: the largest noise_dt times the fastest linear rate (drag, rotational drag, viscous friction) a Scene takes:
+#: the fixed-step scheme's stationary variance is then off by < 5 % (docs/active.md), and it is unstable beyond 2
 NOISE_STEP_MAX: float = 0.5
 
 
@@ -133,7 +133,7 @@ class Scene:
         object.__setattr__(self, "downhill", check("downhill", self.downhill))
         object.__setattr__(self, "g", check("g", self.g))
         if self.mu_static is not None:
-            if self.friction.law != "dry":
+            if not self.friction.spec.sticks:  # (the laws under which a body comes to rest: rrbody.model.laws)
                 raise ValueError(f"mu_static applies to dry friction only, got friction {self.friction.law!r}")
             object.__setattr__(self, "mu_static", check_mu_static(self.mu_static, self.friction.coeff / self.g,
                                                                        rounding=1e-12))  # mu = (mu g) / g
@@ -185,7 +185,7 @@ class Scene:
         if self.active is None:
             return 0.0
         rates = [self.active.drag, self.active.rot_drag if not self.body.is_point else 0.0]
-        if self.friction.active and self.friction.law == "viscous":
+        if self.friction.active and not self.friction.spec.load_scaled:  # a rate: viscous friction's gamma
             rates.append(self.friction.coeff)
         return max(rates)
 
@@ -244,7 +244,7 @@ class Scene:
         return {
             **self.body.describe(),
             "drive": None if self.drive is None else {"omega": self.drive.omega, "d": self.drive.d},
-            "friction": {"law": self.friction.law, "coeff": self.friction.coeff},
+            "friction": self.friction.describe(),
             "k": self.k if self.drive is not None else None,
             "H": self.H if self.drive is not None else None,
             "phi0": self.phi0,
@@ -302,16 +302,15 @@ def rod_mass_scene(H: float, k: float, omega: float, phi0: float = math.pi, *, f
                  t_max=t_max, phi_dot0=phi_dot0)
 
 
-
 #: The flat parameters of :func:`scene_from_params` (the CLI's scene options and a sweep's base and
-#: axes use these names); the numeric ones can be sweep axes.
-SCENE_PARAMS: tuple[str, ...] = ("body", "H", "l", "R0", "delta", "orientation", "omega", "d", "k", "mu", "g",
-                                 "friction", "phi0", "phi_dot0", "t_max", "friction_method", "samples", "no_drive",
-                                 "v0", "spin0", "pressure", "tilt", "downhill", "mu_static", "sides", "vertices")
+#: axes use these names; the law table's parameters last); the numeric ones can be sweep axes.
+SCENE_PARAMS: tuple[str, ...] = ("body", "H", "l", "R0", "delta", "orientation", "omega", "d", "k", "mu", "g", "friction",
+                                 "phi0", "phi_dot0", "t_max", "friction_method", "samples", "no_drive", "v0", "spin0",
+                                 "pressure", "tilt", "downhill", "mu_static", "sides", "vertices", *LAW_PARAMS)
 #: the body names scene_from_params takes (a box and a regular polygon are Polygon bodies)
 BODY_CHOICES: tuple[str, ...] = ("rod", "disk", "ellipse", "box", "polygon")
-NUMERIC_SCENE_PARAMS: tuple[str, ...] = ("H", "l", "R0", "delta", "omega", "d", "k", "mu", "g", "phi0", "phi_dot0",
-                                         "t_max", "samples", "spin0", "tilt", "downhill", "mu_static", "sides")
+NUMERIC_SCENE_PARAMS: tuple[str, ...] = ("H", "l", "R0", "delta", "omega", "d", "k", "mu", "g", "phi0", "phi_dot0", "t_max",
+                                         "samples", "spin0", "tilt", "downhill", "mu_static", "sides", *LAW_PARAMS)
 
 
 def scene_from_params(*, body: str = "rod", H: float | None = None, l: float | None = None,
@@ -322,7 +321,7 @@ def scene_from_params(*, body: str = "rod", H: float | None = None, l: float | N
                       no_drive: bool = False, v0: tuple[float, float] = (0.0, 0.0), spin0: float = 0.0,
                       pressure: Pressure | str = "uniform", tilt: float = 0.0, downhill: float = 0.0,
                       mu_static: float | None = None, sides: int | None = None,
-                      vertices: object = None) -> Scene:
+                      vertices: object = None, **law_params: float) -> Scene:
     """A Scene from flat parameters (the one mapping the CLI, batch mode and sweeps use).
 
     ``body``: ``rod`` (H = l/d, give ``H`` or ``l``), ``disk`` (radius ``R0``), ``ellipse``
@@ -333,6 +332,7 @@ def scene_from_params(*, body: str = "rod", H: float | None = None, l: float | N
     ``friction="none"``. ``no_drive``: a free body launched with ``v0`` (m/s) and ``spin0`` (rad/s).
     ``pressure``: a :class:`rrbody.model.pressure.Pressure` or its text form (``"ring:0.05"``);
     ``tilt``, ``downhill`` (rad) and ``mu_static``: a tilted plane and static friction (``g`` is the tilt's gravity).
+    ``law_params``: the friction law's further parameters by name (:data:`rrbody.model.laws.LAW_PARAMS`).
     Every parameter missing for the chosen body is named in one ValueError.
     """
     check_choice("body", body, BODY_CHOICES)
@@ -368,11 +368,11 @@ def scene_from_params(*, body: str = "rod", H: float | None = None, l: float | N
                          f"v0={tuple(v0)!r}, spin0={spin0!r}")
     d = float(check("d", d))
     if friction == "none":
-        fric = Friction("none")
+        fric = Friction("none", params=law_params)  # type: ignore[arg-type]
     elif k is not None:
-        fric = Friction.from_k(friction, k, d)
+        fric = Friction.from_k(friction, k, d, law_params)
     else:
-        fric = Friction.from_mu(friction, mu, g, d)  # type: ignore[arg-type]
+        fric = Friction.from_mu(friction, mu, g, d, law_params)  # type: ignore[arg-type]
     drive = None if no_drive else CircularDrive(omega=omega, d=d)  # type: ignore[arg-type]
     if body == "rod":
         if H is not None and l is not None:

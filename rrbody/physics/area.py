@@ -26,14 +26,16 @@ from rrbody.physics.icr import ECC_ETA
 from rrbody.physics.icr import icr_wrench as _icr_kernel
 from rrbody.physics.icr_panels import NODE_COUNTS
 from rrbody.model.bodies import Body, Disk, Ellipse
-from rrbody.model.friction import LAW_CODES
+from rrbody.model.laws import LAW_CODES, check_area, law_named
 
 __all__ = ["icr_supported", "icr_nodes", "area_samples", "icr_wrench", "sampled_wrench", "disk_closed_form",
            "disk_closed_form_ratio"]
 
 def icr_supported(body: Body, law: str) -> bool:
-    """Whether the instantaneous-centre quadrature applies: disks and ellipses, dry or viscous."""
-    return isinstance(body, (Disk, Ellipse)) and law in ("dry", "viscous")
+    """Whether the instantaneous-centre quadrature applies: disks and ellipses, under a law that exerts a force
+    and has an icr form (the law table: dry, viscous)."""
+    spec = law_named(law)
+    return isinstance(body, (Disk, Ellipse)) and bool(spec.module) and "icr" in spec.areas
 
 
 def icr_nodes(body: Body) -> int:
@@ -79,9 +81,10 @@ def area_samples(body: Body, n: int) -> np.ndarray:
     return np.ascontiguousarray(np.hstack([xy, w]))
 
 
-def _law_code(law: str) -> int:
-    if law not in LAW_CODES:
-        raise ValueError(f"law must be one of {', '.join(repr(k) for k in LAW_CODES)}, got {law!r}")
+def _law_code(law: str, area: str) -> int:
+    """The code of ``law`` for the area method ``area``: ValueError naming both where it has no form there."""
+    law_named(law, label="law")
+    check_area(law, area)
     return LAW_CODES[law]
 
 
@@ -99,7 +102,7 @@ def icr_wrench(body: Body, alpha: float, vx: float, vy: float, spin: float, *, l
     alpha, vx, vy, spin = _motion(alpha, vx, vy, spin)
     ra, rb = body.semi_axes
     n = icr_nodes(body) if nodes is None else check_int("nodes", nodes, 1, NODE_COUNTS[-1])
-    return tuple(float(v) for v in _icr_kernel(ra, rb, n, alpha, vx, vy, spin, _law_code(law), float(coeff), 0.0,
+    return tuple(float(v) for v in _icr_kernel(ra, rb, n, alpha, vx, vy, spin, _law_code(law, "icr"), float(coeff), 0.0,
                                                body.inertia_per_mass))  # type: ignore[return-value]
 
 
@@ -110,7 +113,7 @@ def sampled_wrench(body: Body, alpha: float, vx: float, vy: float, spin: float, 
 
     alpha, vx, vy, spin = _motion(alpha, vx, vy, spin)
     S = area_samples(body, samples)
-    return tuple(float(v) for v in _kernel(S, alpha, vx, vy, spin, _law_code(law), float(coeff), 0.0))  # type: ignore[return-value]
+    return tuple(float(v) for v in _kernel(S, alpha, vx, vy, spin, _law_code(law, "sampled"), float(coeff), 0.0))  # type: ignore[return-value]
 
 
 def disk_closed_form_ratio(eps: float) -> tuple[float, float]:

@@ -10,6 +10,7 @@ import math
 import numpy as np
 
 from rrbody.model.bodies import Polygon
+from rrbody.model.laws import AREA_METHODS, N_LAW_PARAMS, bound_params, check_area, law_named
 from rrbody.model.scene import Scene
 from rrbody.physics import params as P
 from rrbody.physics.area import area_samples, icr_nodes, icr_supported
@@ -34,7 +35,17 @@ FREE_DEAD_BAND: float = 1e-12
 
 def area_model(scene: Scene) -> int:
     """Which friction integration the kernels use for ``scene``: P.BODY_POINT, P.BODY_SAMPLED,
-    P.BODY_ICR, P.BODY_TABLE or P.BODY_CONTACT (any pressure but uniform)."""
+    P.BODY_ICR, P.BODY_TABLE or P.BODY_CONTACT (any pressure but uniform). ValueError naming the law and
+    the method if the scene's law has no form for the method it needs (the law table,
+    :func:`rrbody.model.laws.check_area`): the composition is checked here, before any kernel runs."""
+    model = _area_model(scene)
+    check_area(scene.friction.law, AREA_METHODS[model], where=f"body {scene.body.kind!r}, friction_method "
+                                                            f"{scene.friction_method!r}")
+    return model
+
+
+def _area_model(scene: Scene) -> int:
+    """:func:`area_model` before its check of the law."""
     method = scene.friction_method
     if scene.body.is_point and method in ("icr", "table", "contact"):
         raise ValueError(f"friction_method {method!r} needs an extended body (disk or ellipse), got body "
@@ -65,7 +76,8 @@ def area_model(scene: Scene) -> int:
         return P.BODY_SAMPLED
     # "auto": a dry disk uses the table (1-D, built in ~0.1 s, within 3e-14 of the quadrature and
     # about half its RHS cost); an ellipse keeps the quadrature, since its table costs 3-14 s to
-    # build per aspect ratio (delta 0.5-0.9), more than a typical run saves (docs/extended.md)
+    # build per aspect ratio (delta 0.5-0.9), more than a typical run saves (docs/extended.md); the
+    # table is dry friction's own (a viscous disk's quadrature is already a closed form)
     ra, rb = scene.body.semi_axes
     return P.BODY_TABLE if (ra == rb and scene.friction.law == "dry") else P.BODY_ICR
 
@@ -73,13 +85,18 @@ def area_model(scene: Scene) -> int:
 def friction_per_mass(scene: Scene) -> tuple[float, float]:
     """(kinetic, static) friction per unit mass of the scene's body, m/s^2 (dry: mu g and mu_static g,
     both times cos(tilt), the normal load of a tilted plane; viscous: gamma in 1/s and no static
-    friction; none: 0, 0). What both paths bind: the ODE path's ``p``, the engine path's plane."""
+    friction; none: 0, 0). What both paths bind: the ODE path's ``p``, the engine path's plane. The law's
+    declaration says which (:mod:`rrbody.model.laws`: a load-scaled coefficient, a law that sticks); an
+    unknown law raises ValueError."""
     fr = scene.friction
+    law = law_named(fr.law)
     if not fr.active:
         return 0.0, 0.0
-    if fr.law != "dry":
+    if not law.load_scaled:
         return fr.coeff, 0.0
     c = math.cos(scene.tilt)
+    if not law.sticks:
+        return fr.coeff * c, 0.0
     mu_s = fr.coeff / scene.g if scene.mu_static is None else scene.mu_static
     return fr.coeff * c, mu_s * scene.g * c
 
@@ -101,6 +118,8 @@ def kernel_params(scene: Scene) -> tuple[np.ndarray, np.ndarray]:
     p[P.SBETA] = math.sin(beta)
     p[P.LAW] = float(scene.friction.code if scene.friction.active else 0)
     p[P.COEFF], p[P.MUS] = friction_per_mass(scene)
+    p[P.LAWP:P.LAWP + N_LAW_PARAMS] = bound_params(scene.friction.law, scene.friction.params,
+                                                   scene.g * math.cos(scene.tilt))
     if scene.tilt != 0.0:  # gravity pulls along a tilted plane
         pull = scene.g * math.sin(scene.tilt)
         p[P.TILTED] = 1.0

@@ -33,7 +33,7 @@ import numpy as np
 from numba import njit
 
 from rrbody.physics.effects import area_sampled, law_dry
-from rrbody.physics.effects.laws import DRY
+from rrbody.physics.effects.laws import DRY, NO_PARAMS
 from rrbody.physics.icr import icr_wrench
 from rrbody.physics.polygon import polygon_wrench
 from rrbody.physics.polygon_linear import linear_polygon_wrench
@@ -77,7 +77,7 @@ def footprint_wrench(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int, vbx:
         uy = vby + w * ox
         if kind == ELLIPSE:
             gx, gy, gt = icr_wrench(shapes[k, RA], shapes[k, RB], int(shapes[k, NQ]), shapes[k, ORI], ux, uy, w,
-                                    1, 1.0, v_eps, 0.0)
+                                    DRY, 1.0, v_eps, 0.0)
             gt += ox * gy - oy * gx  # the kernels' torques are about the part's centre
         elif kind == POLYGON and shapes[k, KX] == 0.0 and shapes[k, KY] == 0.0:
             gx, gy, gt = polygon_wrench(geo, int(shapes[k, V0]), int(shapes[k, V1]), shapes[k, AREA], ox, oy,
@@ -99,7 +99,7 @@ def footprint_wrench(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int, vbx:
         else:  # SAMPLED: rows (x, y, weight) from the centre of gravity, the sampled area method's own sum
             # np.int64: literal constants would compile the sampled method's kernel once more
             gx, gy, gt = area_sampled.wrench(np.int64(DRY), geo[int(shapes[k, Q0]):int(shapes[k, Q1])], 0.0, 0.0,
-                                             np.int64(0), 0.0, vbx, vby, w, 1.0, v_eps)
+                                             np.int64(0), 0.0, vbx, vby, w, 1.0, v_eps, NO_PARAMS)
         wt = shapes[k, WEIGHT]
         fx += wt * gx
         fy += wt * gy

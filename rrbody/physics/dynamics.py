@@ -37,7 +37,7 @@ from rrbody._private import no_refcount
 from rrbody.physics import params as P
 from rrbody.physics.effects import DRIVEN, active, compiled_code, drive_circular, tangent, tilt
 from rrbody.physics.effects.areas import POINT, body_frame_wrench, body_wrench
-from rrbody.physics.effects.laws import NONE, element_perp
+from rrbody.physics.effects.laws import NONE, element_perp, law_params
 
 __all__ = ["rhs", "rhs_near", "rhs_for", "tangent_rhs_for", "driven_rhs", "driven_tangent", "driven_kinematics", "jacobian", "system_from_params", "SYSTEM_DRIVEN",
            "SYSTEM_FREE"]
@@ -58,7 +58,7 @@ def _driven_point(law, t, y, p, d, s0, c0):  # noqa: ANN001 (numba)
     torque = drive_circular.torque(s, p)
     if law != NONE:
         ve, vp = drive_circular.rod_velocity(s, c, y[1], p)
-        f_perp, _, _ = element_perp(law, ve, vp, p[P.COEFF], p[P.VEPS])
+        f_perp, _, _ = element_perp(law, ve, vp, p[P.COEFF], p[P.VEPS], law_params(p))
         torque -= p[P.L] * f_perp  # (r - P) x F with r - P = -l e
     # times 1/I_P: a division would sit on the critical path of every Runge-Kutta stage
     return y[1], torque * p[P.INV_IP]
@@ -81,7 +81,8 @@ def _driven_extended(law, area, t, phi, phid, p, S, d, s0, c0):  # noqa: ANN001 
         cb = p[P.CBETA]
         sb = p[P.SBETA]
         fbx, fby, tau_cm = body_frame_wrench(area, law, S, p[P.RA], p[P.RB], int(p[P.NQ]), p[P.ICM],
-                                             cb * ve - sb * vp, sb * ve + cb * vp, phid, p[P.COEFF], p[P.VEPS])
+                                             cb * ve - sb * vp, sb * ve + cb * vp, phid, p[P.COEFF], p[P.VEPS],
+                                             law_params(p))
         # torque about P: tau_cm + (r - P) x F with r - P = -l e, i.e. -l times F's e_perp component
         torque += tau_cm - p[P.L] * (cb * fby - sb * fbx)
     return phid, torque * p[P.INV_IP]
@@ -101,7 +102,7 @@ def _free_body(law, area, t, y, p, S):  # noqa: ANN001 (numba)
         fy += ay
     if law != NONE:
         gx, gy, tau = body_wrench(area, law, S, p[P.RA], p[P.RB], int(p[P.NQ]), p[P.ICM], y[2], y[3], y[4], y[5],
-                                  p[P.COEFF], p[P.VEPS])
+                                  p[P.COEFF], p[P.VEPS], law_params(p))
         fx += gx
         fy += gy
     return fx, fy, (tau / p[P.ICM] if p[P.ICM] > 0.0 else 0.0) + aw
@@ -126,7 +127,7 @@ def driven_tangent(law, area, t, y, p, S, out, row):  # noqa: ANN001 (numba)
         dtq_dphi = w * w * l * dd * c
         dtq_dphid = 0.0
         if law != NONE:
-            _, dfe, dfp = element_perp(law, dd * w * s, dd * w * c - l * y[1], p[P.COEFF], p[P.VEPS])
+            _, dfe, dfp = element_perp(law, dd * w * s, dd * w * c - l * y[1], p[P.COEFF], p[P.VEPS], law_params(p))
             # torque -= l f_p; dv_e/dphi = d w c, dv_p/dphi = -d w s, dv_p/dphi' = -l
             dtq_dphi -= l * (dfe * dd * w * c - dfp * dd * w * s)
             dtq_dphid += l * l * dfp
@@ -287,7 +288,7 @@ def jacobian(code, t, y, p, S, f0, J, fx):  # noqa: ANN001
         dtq_dphi = w * w * l * d * c
         dtq_dphid = 0.0
         if law != NONE:
-            _, dfe, dfp = element_perp(law, d * w * s, d * w * c - l * y[1], p[P.COEFF], p[P.VEPS])
+            _, dfe, dfp = element_perp(law, d * w * s, d * w * c - l * y[1], p[P.COEFF], p[P.VEPS], law_params(p))
             # torque -= l f_p; dv_e/dphi = d w c, dv_p/dphi = -d w s, dv_p/dphi' = -l
             dtq_dphi -= l * (dfe * d * w * c - dfp * d * w * s)
             dtq_dphid -= l * (-l * dfp)

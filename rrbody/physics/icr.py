@@ -29,7 +29,7 @@ sin(pi/2 - |phi|) = (kappa'/kappa) sinh(w), so that Delta = kappa' cosh(w) exact
 
 Pure translation (|Omega| R < 1e-8 |v|) uses the expansion F = -mu g v_hat,
 tau = -mu g (Omega/|v|) <(rho . v_hat)^2>, exact to O((Omega R/|v|)^2) < 1e-16. The viscous law is
-linear: F = -gamma v_cm, tau_cm = -gamma (I_cm/m) Omega exactly.
+linear: F = -gamma v_cm, tau_cm = -gamma (I_cm/m) Omega exactly (:func:`rrbody.physics.effects.law_viscous.rigid`).
 """
 
 from __future__ import annotations
@@ -38,6 +38,8 @@ import math
 
 from numba import njit
 
+from rrbody.physics.effects import law_viscous
+from rrbody.physics.effects.laws import DRY, VISCOUS
 from rrbody.physics.icr_panels import FULL_C, FULL_S, GW, GX, KAPPA_SWITCH, MID_C, MID_S, OFFS, SIZES, X_END, \
     eccentric_wrench, node_wrench
 
@@ -75,13 +77,16 @@ def icr_wrench_body(a: float, b: float, n: int, vbx: float, vby: float, spin: fl
     ellipse with semi-axes a (body x) and b (body y), all in the BODY frame: CM velocity
     (vbx, vby) (m/s, body frame), spin (rad/s), force returned in the body frame.
 
-    ``law``: 1 dry (``coeff`` = mu g, m/s^2), 2 viscous (``coeff`` = gamma, 1/s; ``icm`` = I_cm/m
-    in m^2), else no friction. ``n``: Gauss nodes per panel (rounded up to an allowed count).
-    Dry friction with every element slower than ``v_eps`` (m/s) gives zero (the impulsive start, docs/physics.md).
+    ``law`` (a code of the law table, rrbody.model.laws): dry (``coeff`` = mu g, m/s^2), viscous
+    (``coeff`` = gamma, 1/s; ``icm`` = I_cm/m in m^2), none. ``n``: Gauss nodes per panel (rounded up to an
+    allowed count). Dry friction with every element slower than ``v_eps`` (m/s) gives zero (the impulsive
+    start, docs/physics.md).
     """
-    if law == 2:
-        return -coeff * vbx, -coeff * vby, -coeff * icm * spin
-    if law != 1:
+    if law == VISCOUS:
+        return law_viscous.rigid(vbx, vby, spin, coeff, icm)
+    if law != DRY:
+        # the law "none": no other law has an icr or table form in the law table, and a scene or a call of
+        # rrbody.physics.area with one is refused before any kernel runs (rrbody.model.laws.check_area)
         return 0.0, 0.0, 0.0
     speed = math.hypot(vbx, vby)
     rmax = max(a, b)
@@ -179,7 +184,7 @@ def icr_wrench(a: float, b: float, n: int, alpha: float, vx: float, vy: float, s
     """:func:`icr_wrench_body` in the world frame: body angle ``alpha`` (rad), CM velocity (vx, vy)
     (m/s, world) and spin (rad/s); force (m/s^2, world frame) and torque about the CM (m^2/s^2)
     per unit mass. Other arguments as there."""
-    if law != 1:
+    if law != DRY:
         # viscous (or none) is isotropic: the body-frame formula holds in any frame, no rotation needed
         return icr_wrench_body(a, b, n, vx, vy, spin, law, coeff, v_eps, icm)
     ca = math.cos(alpha)

@@ -7,6 +7,7 @@ the stepping loop is compiled for its kind and LAW, and reads BODY (the area met
 as the engine's per-step hook (:func:`rrbody.physics.wrench.body_wrench`) reads both.
 """
 
+from rrbody.model.laws import N_LAW_PARAMS
 from rrbody.physics.effects import AREAS
 
 OMEGA = 0      # drive rate (rad/s); 0 for a free body
@@ -15,8 +16,8 @@ L = 2          # pivot offset |CM -> P| (m)
 IP = 3         # I_P / m = I_cm/m + l^2 (m^2)
 CBETA = 4      # cos beta, beta = phi - alpha the angle of CM->P in the body frame: the driven extended
                # body turns its rod frame into the body frame by beta
-LAW = 5        # friction law code (0 none, 1 dry, 2 viscous)
-COEFF = 6      # mu*g (m/s^2, dry) or gamma (1/s, viscous)
+LAW = 5        # friction law code (rrbody.model.laws.LAW_CODES: 0 none, 1 dry, 2 viscous)
+COEFF = 6      # the law's coefficient: mu*g (m/s^2, dry) or gamma (1/s, viscous)
 BODY = 7       # area model: 0 point, 1 sampled elements, 2 instantaneous-centre quadrature, 3 its table,
                # 4 the contact (any pressure distribution, the plugin's footprint kernel)
 VEPS = 8       # speed below which a dry element's direction counts as undefined (m/s)
@@ -39,7 +40,9 @@ ARDRAG = 24    # ... and its rotational one gamma_r (1/s)
 ANOISE = 25    # its Langevin noise on the velocity, gamma_t sqrt(2 D_t) (m s^-1.5, each world component;
                # 0: none); read by the fixed-step scheme of rrbody.integrate.sde, not by the right-hand side
 ARNOISE = 26   # ... and on the spin, gamma_r sqrt(2 D_r) (rad s^-1.5; 0: none)
-SIZE = 27
+LAWP = 27      # the law's further parameters per unit mass, N_LAW_PARAMS slots from here, in the order the law
+               # table declares them (rrbody.model.laws.bound_params; none while no law has parameters)
+SIZE = LAWP + N_LAW_PARAMS
 
 # area models: the effects registry's codes (one table; the system code carries the same number)
 BODY_POINT = AREAS["point"]

@@ -4,9 +4,10 @@ A scene lists its effects; each contributes one term through one signature:
 
 - drive: ``drive_circular`` (the pivot on a circle; its torque about P and the kinematics);
 - friction laws (force on a mass element, ``force(vx, vy, coeff, v_eps)``; and its component along
-  one axis with derivatives, ``perp``, for the point-mass Jacobian): ``law_dry``, ``law_viscous``;
+  one axis with derivatives, ``perp``, for the point-mass Jacobian): ``law_dry``, ``law_viscous``,
+  each declared in the law table (:mod:`rrbody.model.laws`), dispatched by :mod:`.laws`;
 - area integration (the wrench of the law over the body, in the BODY frame:
-  ``wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps) -> (Fbx, Fby, tau_cm)`` with the
+  ``wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps, lp) -> (Fbx, Fby, tau_cm)`` with the
   CM velocity and the force in body-frame components; :func:`.areas.body_wrench` is the world-frame
   wrapper): ``area_point``, ``area_sampled``, ``area_icr``, ``area_table``.
 
@@ -26,24 +27,27 @@ exponents, :mod:`rrbody.analysis.chaos`) rides along when a driven state carries
 after (phi, phi'); DOP853 steps them out of line (:func:`rrbody.integrate.dop853.tangent_stages`),
 so a plain run pays one branch per step and no loop is compiled for it.
 
-Adding an effect: one module with the signature of its kind plus its registration, a code here and
-one branch in :mod:`.laws` (a law) or :mod:`.areas` (an area method); a new law adds one compiled
-loop per kind, so it belongs in the prebuild's workload too.
+Adding an effect: one module with the signature of its kind plus its registration. A law is declared
+in the one law table, :data:`rrbody.model.laws.LAW_TABLE` (name, code, parameters, area methods, this
+package's module of its entry points), from which :mod:`.laws` builds the compiled dispatch; an area
+method takes a name in :data:`rrbody.model.laws.AREA_METHODS` and one branch in :mod:`.areas`. A new
+law adds one compiled loop per kind, which the prebuild's workload (:mod:`rrbody.cli.workload`) compiles
+at install: it runs each law of the table.
 """
 
 from __future__ import annotations
 
-from rrbody.model.friction import LAW_CODES
+from rrbody.model.laws import AREA_METHODS, LAW_CODES
 
 __all__ = ["KINDS", "LAWS", "AREAS", "system_code", "compiled_code", "describe_system", "DRIVEN", "FREE"]
 
 DRIVEN, FREE = 0, 1
 #: kinds of system: which equations (the drive is the effect that makes a body driven)
 KINDS: dict[str, int] = {"driven": DRIVEN, "free": FREE}
-#: friction laws -> code (modules law_<name>; "none" lists no friction effect)
-LAWS: dict[str, int] = LAW_CODES  # the model's table: one code per law everywhere
-#: area-integration methods -> code (modules area_<name>)
-AREAS: dict[str, int] = {"point": 0, "sampled": 1, "icr": 2, "table": 3, "contact": 4}
+#: friction laws -> code (modules law_<name>; "none" lists no friction effect): the law table's
+LAWS: dict[str, int] = LAW_CODES
+#: area-integration methods -> code (modules area_<name>), in the law table's order of the methods
+AREAS: dict[str, int] = {name: code for code, name in enumerate(AREA_METHODS)}
 
 
 def system_code(kind: str, law: str, area: str) -> int:

@@ -5,7 +5,9 @@ feet, sampled p(x, y), convex polygons, ellipses).
 ``S`` is the packed footprint (:func:`rrbody.physics.contact.pack`): a header row (parts, the
 load-weighted mean position and mean squared distance from the CM), the parts' rows, then their
 geo rows. Every element feels the law at its own velocity, weighted by its load: dry friction
-through the footprint kernel, viscous friction in closed form from the header's load moments.
+through the footprint kernel, any other law through its own footprint form
+(:func:`rrbody.physics.effects.laws.law_footprint`; viscous friction: the closed form of the header's load
+moments), which the plugin's kernel calls too.
 """
 
 from __future__ import annotations
@@ -14,7 +16,7 @@ import numpy as np
 from numba import njit
 
 from rrbody.physics.contact import H_GX, H_GY, H_J, H_PARTS, HEADER, footprint_wrench
-from rrbody.physics.effects.laws import DRY, VISCOUS
+from rrbody.physics.effects.laws import DRY, law_footprint
 
 __all__ = ["wrench"]
 
@@ -22,16 +24,13 @@ NAME = "contact"
 
 
 @njit(cache=True)
-def wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps):  # noqa: ANN001 (numba)
+def wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps, lp):  # noqa: ANN001 (numba)
     """(Fbx, Fby, tau_cm) per unit mass (m/s^2 body frame, m^2/s^2) at CM velocity (vbx, vby) (m/s, body frame)."""
     if law == DRY:
         # np.int64(HEADER): the plugin's call passes a variable; a literal would compile the kernel twice
         fx, fy, tq = footprint_wrench(S, S, np.int64(HEADER), HEADER + int(S[0, H_PARTS]), vbx, vby, spin, v_eps)
         return coeff * fx, coeff * fy, coeff * tq
-    if law == VISCOUS:
-        # -gamma v(s) weighted by the load: linear, so its mean position and spread suffice
-        gx = S[0, H_GX]
-        gy = S[0, H_GY]
-        return (-coeff * (vbx - spin * gy), -coeff * (vby + spin * gx),
-                -coeff * (gx * vby - gy * vbx + spin * S[0, H_J]))
-    return 0.0, 0.0, 0.0
+    # every other law: its own footprint form, from the law table (viscous: the load's moments). A law without
+    # one is refused when the scene is bound (rrbody.physics.bind.area_model), and "none" never calls friction
+    return law_footprint(law, S, S, np.int64(HEADER), HEADER + int(S[0, H_PARTS]), S[0, H_GX], S[0, H_GY],
+                         S[0, H_J], vbx, vby, spin, coeff, v_eps, lp)

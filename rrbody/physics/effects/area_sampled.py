@@ -17,7 +17,7 @@ NAME = "sampled"
 
 
 @njit(cache=True)
-def wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps):  # noqa: ANN001 (numba)
+def wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps, lp):  # noqa: ANN001 (numba)
     """(Fbx, Fby, tau_cm) per unit mass (m/s^2 body frame, m^2/s^2) from the area samples ``S`` at
     CM velocity (vbx, vby) (m/s, body frame)."""
     fx_t = 0.0
@@ -27,7 +27,7 @@ def wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps):  # noqa: ANN0
         rx = S[i, 0]
         ry = S[i, 1]
         w = S[i, 2]
-        fx, fy = element_force(law, vbx - spin * ry, vby + spin * rx, coeff, v_eps)
+        fx, fy = element_force(law, vbx - spin * ry, vby + spin * rx, coeff, v_eps, lp)
         fx_t += w * fx
         fy_t += w * fy
         tau += w * (rx * fy - ry * fx)

@@ -21,8 +21,9 @@ NAME = "table"
 
 
 @njit(cache=True, inline="always")
-def wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps):  # noqa: ANN001 (numba)
+def wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps, lp):  # noqa: ANN001 (numba)
     """(Fbx, Fby, tau_cm) per unit mass (m/s^2 body frame, m^2/s^2) at CM velocity (vbx, vby) (m/s, body frame)."""
     if law == DRY:
         return table_wrench_body(S, ra, rb, vbx, vby, spin, coeff, v_eps)
+    # every other law with a table form (the law table) is exact in the quadrature's closed forms
     return icr_wrench_body(ra, rb, nq, vbx, vby, spin, law, coeff, v_eps, icm)
