@@ -217,7 +217,7 @@ def scene_from_args(a: argparse.Namespace, *, required: tuple[str, ...] = ()) ->
     try:
         scene = scene_from_params(**scene_params(a))
     except MissingParameters as e:
-        names = [{"k": "--k (or --mu)"}.get(n, f"--{n}") for n in e.names] + missing
+        names = [{"k": "--k (or --mu)"}.get(n, "--" + n.replace("_", "-")) for n in e.names] + missing
         raise CliError(f"missing required options: {', '.join(names)}") from None
     except ValueError as e:
         raise CliError(option_message(str(e), extended=getattr(a, "body", "rod") != "rod")) from None

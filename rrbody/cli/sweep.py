@@ -284,7 +284,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                       options=options)
     except MissingParameters as e:
         given = set(axes)
-        names = [f"--{n} (or --axis {n}=...)" for n in e.names if n not in given]
+        names = [f"--{n.replace('_', '-')} (or --axis {n}=...)" for n in e.names if n not in given]
         raise CliError(f"missing required options: {', '.join(names)}") from None
     except ValueError as e:
         msg = str(e)

@@ -29,6 +29,13 @@ def _driven_job(law: Law) -> list[str]:
     return ["simulate", *_ROD, *coeff, "--friction", law.name, *params, "--t-max", "0.5", "--json"]
 
 
+def _free_contact_job(law: Law) -> list[str]:
+    """A free disk under ``law`` by the contact method (its footprint quadrature): that law's free loop."""
+    params = [x for q in law.params for x in ("--" + q.name.replace("_", "-"), repr(q.example))]
+    return ["simulate", "--body", "disk", "--R0", "0.3", "--no-drive", "--v0", "1,0", "--spin0", "3", "--k", "1",
+            "--friction", law.name, *params, "--friction-method", "contact", "--t-max", "0.5", "--json"]
+
+
 #: the command-line workload (each a tiny horizon), heaviest first: the first driven run of each law
 #: and the first free run compile a loop (15-30 s each), the rest mostly load them
 COMMANDS: tuple[list[str], ...] = (
@@ -40,6 +47,8 @@ COMMANDS: tuple[list[str], ...] = (
      "--t-max", "0.5", "--json"],
     # every other law of the table (dry's loop is the flip-time's above): viscous, none, ...
     *(_driven_job(law) for law in LAW_TABLE if law.name != "dry"),
+    # a law integrated over a footprint by quadrature (rrbody.physics.footprint_quad): a free disk's loop
+    *(_free_contact_job(law) for law in LAW_TABLE if law.params),
     ["simulate", "--body", "ellipse", "--R0", "0.3", "--delta", "0.3", "--no-drive", "--v0", "1,0", "--spin0", "3",
      "--k", "1", "--friction", "viscous", "--t-max", "0.5", "--json"],
     ["simulate", "--no-drive", "--H", "0.2", "--v0", "1,0", "--friction", "none", "--t-max", "0.5", "--json"],

@@ -14,7 +14,8 @@ from rrbody.contact.lean import NO_REFCOUNT
 from rrbody.physics import contact as C
 from rrbody.physics.contact import footprint_wrench
 from rrbody.physics.effects.drive_circular import sincos_reduced
-from rrbody.physics.effects.laws import law_footprint, law_params_at
+from rrbody.physics.effects.laws import law_params_at
+from rrbody.physics.footprint_quad import footprint_law_wrench
 from rrbody.physics.footprint_table import footprint_table_prefetch, footprint_table_wrench
 from rrbody.physics.icr_table import table_wrench_body
 
@@ -45,9 +46,9 @@ def accel_at(j: int, ca: float, sa: float, vx: float, vy: float, w: float, bodie
     if law != LAW_DRY:
         # every other law: its own footprint form from the law table, as the ODE path's contact method takes it
         # (viscous: every element feels -gamma v(s), linear, so the footprint's mean position and spread
-        # suffice). A body enters the plugin through rrbody.engine.admit.body_row, which refuses a law without
-        # one, and the law "none" has COEFF 0 (returned above)
-        fx, fy, tq = law_footprint(law, shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), bodies[j, VGX],
+        # suffice), or the quadrature of its element force (rrbody.physics.footprint_quad); the law "none" has
+        # COEFF 0 (returned above)
+        fx, fy, tq = footprint_law_wrench(law, shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), bodies[j, VGX],
                                    bodies[j, VGY], bodies[j, VJ], vbx, vby, w, c, bodies[j, VEPS],
                                    law_params_at(bodies, j, LAWP))
         return ca * fx - sa * fy, sa * fx + ca * fy, tq / bodies[j, IPM]

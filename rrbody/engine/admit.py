@@ -80,7 +80,8 @@ def add_law(law: object, params: object, method: str, mu_static: object) -> tupl
         raise ValueError(f"friction_method 'table' holds dry friction's wrench; friction {spec.name!r} has no form "
                          f"for it: use 'auto'")
     if mu_static is not None and not spec.sticks:
-        raise ValueError(f"mu_static applies to a law that sticks (dry friction), got friction {spec.name!r}")
+        sticky = ", ".join(repr(x.name) for x in LAW_TABLE if x.sticks)
+        raise ValueError(f"mu_static applies to a law that sticks ({sticky}), got friction {spec.name!r}")
     return spec, check_law_params(spec.name, {} if params is None else params)
 
 

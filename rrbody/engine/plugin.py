@@ -42,7 +42,7 @@ from rrbody.engine.structio import StructIO
 from rrbody.model.active import Active
 from rrbody.model.checks import check, check_choice
 from rrbody.model.friction import check_mu_static
-from rrbody.model.laws import bound_params
+from rrbody.model.laws import bound_params, zero_speed_mu
 from rrbody.model.pressure import PRESSURE_KINDS, Pressure, as_pressure
 from rrbody.physics.footprint import Footprint
 
@@ -135,9 +135,10 @@ class PlaneFriction(PlaneRows):
         the other bodies' data."""
         check_body(body, self.space, self._name)
         mu = float(check("mu", mu))
-        mu_s = mu if mu_static is None else check_mu_static(mu_static, mu)
         method = check_choice("friction_method", friction_method, FRICTION_METHODS)
         spec, lp = add_law(law, params, method, mu_static)
+        mu0 = zero_speed_mu(spec.name, mu, lp)  # the law's coefficient at zero speed: static friction's floor
+        mu_s = mu0 if mu_static is None else check_mu_static(mu_static, mu0, name=spec.rest or "mu")
         footprint = body_footprint(body, as_pressure(pressure), name=self._name, table=method == "table")
         g_n = self._g_normal
         self.add_footprint(body, law=K.LAW_CODE[spec.name], coeff=mu * g_n, footprint=footprint, snap=True,

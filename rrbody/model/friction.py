@@ -24,12 +24,15 @@ from rrbody.model.laws import LAW_CODES, LAWS, Law, check_law_params, law_named 
 __all__ = ["Friction", "LAWS", "LAW_CODES", "check_mu_static"]
 
 
-def check_mu_static(mu_static: object, mu: float, *, rounding: float = 0.0) -> float:
-    """``mu_static`` validated (a friction coefficient, and >= the kinetic ``mu``): static friction is
-    never below kinetic. ``rounding``: the relative error ``mu`` carries (a mu recovered as mu g / g)."""
+def check_mu_static(mu_static: object, mu: float, *, rounding: float = 0.0, name: str = "mu") -> float:
+    """``mu_static`` validated (a friction coefficient, and >= ``mu``, the law's coefficient at zero speed:
+    dry friction's kinetic mu, Stribeck's mu_s, :func:`rrbody.model.laws.zero_speed_mu`, called ``name``):
+    static friction is never below kinetic. ``rounding``: the relative error ``mu`` carries (a mu recovered
+    as mu g / g)."""
     mu_s = float(check("mu_static", mu_static))
     if mu_s < mu * (1.0 - rounding):
-        raise ValueError(f"mu_static must be >= mu ({mu:g}: static friction is never below kinetic), got {mu_static!r}")
+        raise ValueError(f"mu_static must be >= {name} ({mu:g}: static friction is never below kinetic), "
+                         f"got {mu_static!r}")
     return mu_s
 
 

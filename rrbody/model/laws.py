@@ -27,10 +27,11 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from rrbody.model.checks import Limit, MissingParameters, check_range
+from rrbody.model.checks import LIMITS, Limit, MissingParameters, check_range
 
 __all__ = ["AREA_METHODS", "PLUGIN_AREA", "LawParam", "Law", "LAW_TABLE", "LAWS", "LAW_CODES", "LAW_PARAMS",
-           "N_LAW_PARAMS", "law_named", "law_coded", "check_area", "check_law_params", "bound_params"]
+           "N_LAW_PARAMS", "law_named", "law_coded", "check_area", "check_law_params", "bound_params",
+           "zero_speed_mu"]
 
 #: the area-integration methods, in the order of their codes (rrbody.physics.effects.AREAS): friction at the
 #: CM, summed over area elements, the instantaneous-centre quadrature, its table, the footprint kernel
@@ -67,7 +68,9 @@ class Law:
     friction's limit surface, the zero-speed limit of such a law) and the zero-speed dead band apply;
     ``smooth``: the right-hand side is smooth, so the variational equations hold (Lyapunov spectra);
     ``areas``: the area methods with a form for it; ``params``: its further parameters; ``module``: the
-    module of its compiled entry points in rrbody.physics.effects ('' for a law that computes nothing)."""
+    module of its compiled entry points in rrbody.physics.effects ('' for a law that computes nothing);
+    ``rest``: for a law that sticks, the parameter that is its coefficient at zero speed (static friction's
+    default and floor, :func:`zero_speed_mu`), '' for the coefficient itself (dry friction)."""
 
     name: str
     code: int
@@ -79,6 +82,7 @@ class Law:
     areas: tuple[str, ...]
     params: tuple[LawParam, ...] = ()
     module: str = ""
+    rest: str = ""
 
 
 #: every friction law, in the order the command line lists them
@@ -111,6 +115,9 @@ def _check_table() -> None:
         if not 0 <= law.code <= 9:
             raise ValueError(f"LAW_TABLE: law {law.name!r} code must be in [0, 9] (a digit of the system code), "
                              f"got {law.code}")
+        if law.rest and (not law.sticks or law.rest not in {q.name for q in law.params}):
+            raise ValueError(f"LAW_TABLE: law {law.name!r} rest must name one of its parameters, and the law stick, "
+                             f"got {law.rest!r}")
         bad = [a for a in law.areas if a not in AREA_METHODS]
         if bad or not law.areas:
             raise ValueError(f"LAW_TABLE: law {law.name!r} areas must be among {AREA_METHODS}, got {law.areas}")
@@ -192,3 +199,12 @@ def bound_params(law: str, params: tuple[tuple[str, float], ...], g_normal: floa
     values = dict(params)
     out = [values[q.name] * g_normal if q.load else values[q.name] for q in spec.params]
     return tuple(out) + (0.0,) * (N_LAW_PARAMS - len(out))
+
+
+def zero_speed_mu(law: str, mu: float, params: tuple[tuple[str, float], ...]) -> float:
+    """The friction coefficient at zero speed of ``law`` with kinetic coefficient ``mu`` and validated ``params``
+    (dimensionless): its :attr:`Law.rest` parameter (Stribeck's mu_s), else ``mu``. Static friction's default
+    and its floor: a body the law holds at rest is held at least this hard (mu_static below it would let a body
+    break away that the law, at the smallest speed, pushes straight back)."""
+    spec = law_named(law)
+    return float(dict(params)[spec.rest]) if spec.rest else float(mu)

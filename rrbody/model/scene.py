@@ -18,7 +18,7 @@ from rrbody.model.checks import LIMITS, MAX_TIME, MissingParameters, check, chec
 from rrbody.model.bodies import BODY_KINDS, Body, Polygon, RodMass
 from rrbody.model.drive import CircularDrive
 from rrbody.model.friction import LAWS, Friction, check_mu_static
-from rrbody.model.laws import AREA_METHODS, LAW_PARAMS
+from rrbody.model.laws import AREA_METHODS, LAW_PARAMS, LAW_TABLE, zero_speed_mu
 from rrbody.model.pressure import Pressure, as_pressure, pressure_from_description, uniform
 
 __all__ = ["Scene", "rod_mass_scene", "scene_from_params", "SCENE_PARAMS", "NUMERIC_SCENE_PARAMS", "FRICTION_METHODS",
@@ -134,9 +134,12 @@ class Scene:
         object.__setattr__(self, "g", check("g", self.g))
         if self.mu_static is not None:
             if not self.friction.spec.sticks:  # (the laws under which a body comes to rest: rrbody.model.laws)
-                raise ValueError(f"mu_static applies to dry friction only, got friction {self.friction.law!r}")
-            object.__setattr__(self, "mu_static", check_mu_static(self.mu_static, self.friction.coeff / self.g,
-                                                                       rounding=1e-12))  # mu = (mu g) / g
+                sticky = ", ".join(repr(x.name) for x in LAW_TABLE if x.sticks)
+                raise ValueError(f"mu_static applies to a law that sticks ({sticky}), got friction {self.friction.law!r}")
+            # (at least the law's coefficient at zero speed: dry's mu = (mu g) / g, Stribeck's mu_s)
+            mu0 = zero_speed_mu(self.friction.law, self.friction.coeff / self.g, self.friction.params)
+            object.__setattr__(self, "mu_static", check_mu_static(self.mu_static, mu0, rounding=1e-12,
+                                                                       name=self.friction.spec.rest or "mu"))
         if self.active is not None:
             if not isinstance(self.active, Active):
                 raise ValueError(f"active must be an rrbody.model.active.Active or None, got {self.active!r}")

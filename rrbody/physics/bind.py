@@ -10,7 +10,7 @@ import math
 import numpy as np
 
 from rrbody.model.bodies import Polygon
-from rrbody.model.laws import AREA_METHODS, N_LAW_PARAMS, bound_params, check_area, law_named
+from rrbody.model.laws import AREA_METHODS, N_LAW_PARAMS, bound_params, check_area, law_named, zero_speed_mu
 from rrbody.model.scene import Scene
 from rrbody.physics import params as P
 from rrbody.physics.area import area_samples, icr_nodes, icr_supported
@@ -97,7 +97,8 @@ def friction_per_mass(scene: Scene) -> tuple[float, float]:
     c = math.cos(scene.tilt)
     if not law.sticks:
         return fr.coeff * c, 0.0
-    mu_s = fr.coeff / scene.g if scene.mu_static is None else scene.mu_static
+    # static friction's default: the law's coefficient at zero speed (dry: mu; Stribeck: mu_s)
+    mu_s = zero_speed_mu(fr.law, fr.coeff / scene.g, fr.params) if scene.mu_static is None else scene.mu_static
     return fr.coeff * c, mu_s * scene.g * c
 
 

@@ -7,7 +7,8 @@ load-weighted mean position and mean squared distance from the CM), the parts' r
 geo rows. Every element feels the law at its own velocity, weighted by its load: dry friction
 through the footprint kernel, any other law through its own footprint form
 (:func:`rrbody.physics.effects.laws.law_footprint`; viscous friction: the closed form of the header's load
-moments), which the plugin's kernel calls too.
+moments) or, for a law without one, the quadrature of its element force
+(:func:`rrbody.physics.footprint_quad.footprint_law_wrench`), which the plugin's kernel calls too.
 """
 
 from __future__ import annotations
@@ -16,7 +17,8 @@ import numpy as np
 from numba import njit
 
 from rrbody.physics.contact import H_GX, H_GY, H_J, H_PARTS, HEADER, footprint_wrench
-from rrbody.physics.effects.laws import DRY, law_footprint
+from rrbody.physics.effects.laws import DRY
+from rrbody.physics.footprint_quad import footprint_law_wrench
 
 __all__ = ["wrench"]
 
@@ -30,7 +32,7 @@ def wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps, lp):  # noqa: 
         # np.int64(HEADER): the plugin's call passes a variable; a literal would compile the kernel twice
         fx, fy, tq = footprint_wrench(S, S, np.int64(HEADER), HEADER + int(S[0, H_PARTS]), vbx, vby, spin, v_eps)
         return coeff * fx, coeff * fy, coeff * tq
-    # every other law: its own footprint form, from the law table (viscous: the load's moments). A law without
-    # one is refused when the scene is bound (rrbody.physics.bind.area_model), and "none" never calls friction
-    return law_footprint(law, S, S, np.int64(HEADER), HEADER + int(S[0, H_PARTS]), S[0, H_GX], S[0, H_GY],
+    # every other law: its own footprint form, from the law table (viscous: the load's moments), or the quadrature
+    # of its element force (rrbody.physics.footprint_quad); "none" never calls friction
+    return footprint_law_wrench(law, S, S, np.int64(HEADER), HEADER + int(S[0, H_PARTS]), S[0, H_GX], S[0, H_GY],
                          S[0, H_J], vbx, vby, spin, coeff, v_eps, lp)

@@ -16,7 +16,9 @@ The contact method of both paths (the ODE path's :mod:`.area_contact`, the plugi
 itself (:func:`rrbody.physics.contact.footprint_wrench`, with the plugin's wrench tables), every other law
 through its module's ``footprint(shapes, geo, s0, s1, gx, gy, jj, vbx, vby, w, coeff, v_eps[, lp])`` (the
 parts ``shapes[s0:s1]``, the load's mean position (gx, gy) and mean squared distance jj: the viscous law's
-closed form needs only these), dispatched by :func:`law_footprint` over the table. ``law_params_at(a, j,
+closed form needs only these), dispatched by :func:`law_footprint` over the table; a law whose module has no
+footprint form (:func:`law_has_footprint`) is integrated over the footprint by quadrature of its element force
+(:mod:`rrbody.physics.footprint_quad`, which both paths call for every law but dry). ``law_params_at(a, j,
 first)`` reads a law's parameters from row ``j`` of an array (the plugin's ``bodies``, from its column
 ``first``).
 
@@ -35,7 +37,9 @@ from numba import njit
 from rrbody.model.laws import LAW_CODES, LAW_TABLE, N_LAW_PARAMS
 from rrbody.physics import params as P
 
-__all__ = ["element_force", "element_perp", "law_footprint", "law_params", "law_params_at", "MODULES", "NO_PARAMS",
+__all__ = ["element_force", "element_perp", "law_footprint", "law_has_footprint", "law_rest_coeff", "law_params",
+           "law_params_at",
+           "MODULES", "NO_PARAMS",
            "NONE", "DRY", "VISCOUS"]
 
 #: the codes the area methods' closed forms branch on (rrbody.physics.effects.area_contact, area_table)
@@ -114,6 +118,56 @@ element_perp = _ladder("perp", _no_perp, _branch)
 #: per unit mass, force in the body frame (m/s^2) and torque about the centre of gravity (m^2/s^2), at the
 #: centre-of-gravity velocity (vbx, vby) (m/s, body frame) and spin w (rad/s)
 law_footprint = _ladder("footprint", _no_footprint, _footprint_branch)
+
+
+def _member(codes: tuple[int, ...]) -> Any:
+    """``has(law)``: whether ``law`` is one of ``codes`` (a chain of inlined comparisons, as :func:`_ladder`)."""
+    def no(law):  # noqa: ANN001, ANN202 (numba)
+        return False
+
+    fn = njit(inline="always")(no)
+    for code in codes:
+        fn = _or(code, fn)
+    return fn
+
+
+def _or(code: int, rest: Any) -> Any:
+    def has(law):  # noqa: ANN001, ANN202 (numba)
+        return law == code or rest(law)
+    return njit(inline="always")(has)
+
+
+#: law_has_footprint(law): whether law ``law``'s module has a footprint form of its own (the viscous law);
+#: the contact method integrates every other law but dry friction by quadrature
+#: (:func:`rrbody.physics.footprint_quad.footprint_law_wrench`)
+law_has_footprint = _member(tuple(law.code for law in LAW_TABLE
+                                  if law.module and hasattr(MODULES[law.name], "footprint")))
+
+
+def _rest_branch(code: int, impl: Any, with_params: bool, rest: Any) -> Any:
+    """``if law == code: return impl(coeff[, lp])``, else ``rest``."""
+    if with_params:
+        def step(law, coeff, lp):  # noqa: ANN001, ANN202 (numba)
+            if law == code:
+                return impl(coeff, lp)
+            return rest(law, coeff, lp)
+    else:
+        def step(law, coeff, lp):  # noqa: ANN001, ANN202 (numba)
+            if law == code:
+                return impl(coeff)
+            return rest(law, coeff, lp)
+    return njit(inline="always")(step)
+
+
+def _no_rest(law, coeff, lp):  # noqa: ANN001, ANN202 (numba)
+    return 0.0
+
+
+#: law_rest_coeff(law, coeff, lp): the element force's magnitude as the speed goes to zero (m/s^2 per unit
+#: mass: dry mu g, Stribeck's mu_s g), from the module's ``rest_coeff(coeff[, lp])``; 0 for a law without one.
+#: The footprint quadrature integrates that much of the law exactly, as dry friction
+#: (:mod:`rrbody.physics.footprint_quad`)
+law_rest_coeff = _ladder("rest_coeff", _no_rest, _rest_branch)
 
 
 def _reader(n: int) -> Any:
