@@ -33,7 +33,7 @@ def _restricted(monkeypatch: pytest.MonkeyPatch, name: str, areas: tuple[str, ..
     monkeypatch.setitem(L._BY_CODE, law.code, law)
 
 
-def _unknown(scene: object, law: str = "stribeck") -> object:
+def _unknown(scene: object, law: str = "bogus") -> object:
     """``scene`` with its Friction's law replaced by one the table does not have (as a stale object, or a
     table edited under it, would carry): what the old fallbacks turned into dry or no friction."""
     object.__setattr__(scene.friction, "law", law)  # type: ignore[attr-defined]
@@ -79,8 +79,9 @@ def test_each_law_module_declares_its_name_and_entry_points() -> None:
         mod = importlib.import_module(f"rrbody.physics.effects.{law.module}")
         assert mod.NAME == law.name and EL.MODULES[law.name] is mod
         assert callable(mod.force) and callable(mod.perp)
-        # the contact method of both paths: dry's footprint kernel, any other law's own footprint form
-        assert "contact" not in law.areas or law.name == "dry" or callable(mod.footprint), law.name
+        # the contact method of both paths: dry's footprint kernel, any other law's own footprint form, or the
+        # quadrature of its element force (rrbody.physics.footprint_quad), which needs nothing of the module
+        assert callable(getattr(mod, "footprint", None)) == (law.name == "viscous"), law.name
 
 
 def _friction_actions(parser: argparse.ArgumentParser) -> list[tuple[str, argparse.Action]]:
@@ -105,9 +106,9 @@ def test_the_command_line_offers_the_tables_laws() -> None:
 
 
 def test_the_table_checks_itself() -> None:
-    assert [law.code for law in L.LAW_TABLE] == [1, 2, 0]
-    with pytest.raises(ValueError, match=r"friction must be one of 'dry', 'viscous', 'none', got 'stribeck'"):
-        L.law_named("stribeck")
+    assert [law.code for law in L.LAW_TABLE] == [1, 2, 3, 0]
+    with pytest.raises(ValueError, match=r"friction must be one of 'dry', 'viscous', 'stribeck', 'none', got 'bogus'"):
+        L.law_named("bogus")
     with pytest.raises(ValueError, match=r"law must be one of the law codes .*got 7\.0"):
         L.law_coded(7.0)
     with pytest.raises(ValueError, match=r"law must be one of the law codes .*got 1\.5"):
@@ -146,7 +147,7 @@ def test_builder_refuses_a_law_the_plugin_has_no_form_for(monkeypatch: pytest.Mo
     from rrbody.engine import attach
 
     space = pymunk.Space()
-    with pytest.raises(ValueError, match="friction must be one of 'dry', 'viscous', 'none', got 'stribeck'"):
+    with pytest.raises(ValueError, match="friction must be one of 'dry', 'viscous', 'stribeck', 'none', got 'bogus'"):
         attach(space, _unknown(_free_disk()))
     _restricted(monkeypatch, "viscous", ("point", "sampled"))
     with pytest.raises(ValueError, match=r"friction 'viscous' has no form for the area method 'contact' \(the "
@@ -160,7 +161,7 @@ def test_bind_refuses_an_unknown_law() -> None:
     from rrbody.physics.bind import friction_per_mass, kernel_params
 
     for fn in (friction_per_mass, kernel_params):
-        with pytest.raises(ValueError, match="friction must be one of .*got 'stribeck'"):
+        with pytest.raises(ValueError, match="friction must be one of .*got 'bogus'"):
             fn(_unknown(_disk(omega=0.6)))
 
 
@@ -182,10 +183,10 @@ def test_the_quadrature_refuses_a_law_without_its_form(monkeypatch: pytest.Monke
     from rrbody.physics.area import icr_wrench, sampled_wrench
     from rrbody.physics.bind import kernel_params
 
-    with pytest.raises(ValueError, match="law must be one of .*got 'stribeck'"):
-        icr_wrench(Disk(R=0.1), 0.0, 1.0, 0.0, 0.0, law="stribeck")
-    with pytest.raises(ValueError, match="law must be one of .*got 'stribeck'"):
-        sampled_wrench(Disk(R=0.1), 0.0, 1.0, 0.0, 0.0, law="stribeck")
+    with pytest.raises(ValueError, match="law must be one of .*got 'bogus'"):
+        icr_wrench(Disk(R=0.1), 0.0, 1.0, 0.0, 0.0, law="bogus")
+    with pytest.raises(ValueError, match="law must be one of .*got 'bogus'"):
+        sampled_wrench(Disk(R=0.1), 0.0, 1.0, 0.0, 0.0, law="bogus")
     _restricted(monkeypatch, "viscous", ("point", "sampled", "contact"))
     with pytest.raises(ValueError, match="friction 'viscous' has no form for the area method 'icr'"):
         icr_wrench(Disk(R=0.1), 0.0, 1.0, 0.0, 0.0, law="viscous")
@@ -212,7 +213,7 @@ def test_the_plugin_refuses_a_law_without_its_form(monkeypatch: pytest.MonkeyPat
     space.add(body, shape)
     fp = body_footprint(body, uniform())
     kw = {"coeff": 1.0, "footprint": fp, "snap": True, "history": None}
-    with pytest.raises(ValueError, match=r"law must be one of the law codes 1 \(dry\), 2 \(viscous\), 0 \(none\), "
+    with pytest.raises(ValueError, match=r"law must be one of the law codes 1 \(dry\), 2 \(viscous\), 3 \(stribeck\), 0 \(none\), "
                                          r"got 7\.0"):
         pf.add_footprint(body, law=7.0, **kw)
     with pytest.raises(ValueError, match=r"coeff must be 0 for friction 'none'"):
@@ -220,9 +221,9 @@ def test_the_plugin_refuses_a_law_without_its_form(monkeypatch: pytest.MonkeyPat
     with pytest.raises(ValueError, match=r"params must be 0 numbers for friction 'dry'"):
         pf.add_footprint(body, law=K.LAW_DRY, params=(0.1,), **kw)
     # pf.add: the law by name, checked before the body is added
-    with pytest.raises(ValueError, match="law must be one of 'dry', 'viscous', 'none', got 'stribeck'"):
-        pf.add(body, mu=0.4, law="stribeck")
-    with pytest.raises(ValueError, match=r"law must be one with a friction coefficient mu \('dry'\) for add, got "
+    with pytest.raises(ValueError, match="law must be one of 'dry', 'viscous', 'stribeck', 'none', got 'bogus'"):
+        pf.add(body, mu=0.4, law="bogus")
+    with pytest.raises(ValueError, match=r"law must be one with a friction coefficient mu \('dry', 'stribeck'\) for add, got "
                                          r"'viscous'"):
         pf.add(body, mu=0.4, law="viscous")
     with pytest.raises(ValueError, match="friction 'dry' has no parameter 'v_s'"):
@@ -248,8 +249,9 @@ def test_every_declared_form_exists_in_the_kernels() -> None:
     from rrbody.physics.wrench import body_wrench
 
     for law in L.LAW_TABLE:
-        for method in FRICTION_METHODS[1:]:
-            sc = _disk(law.name, omega=0.6, friction_method=method, samples=64) if law.name != "none" else \
+        for method in (m for m in FRICTION_METHODS[1:] if m in law.areas):
+            ex = {q.name: q.example for q in law.params}
+            sc = _disk(law.name, omega=0.6, friction_method=method, samples=64, **ex) if law.name != "none" else \
                 scene_from_params(body="disk", R0=0.1, omega=0.6, friction="none", friction_method=method)
             p, S = kernel_params(sc)
             f = body_wrench(p, S, 0.3, 0.2, -0.1, 1.5)

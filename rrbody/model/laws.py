@@ -91,6 +91,14 @@ LAW_TABLE: tuple[Law, ...] = (
         smooth=False, areas=AREA_METHODS, module="law_dry"),
     Law("viscous", 2, "linear: f = -gamma v on each mass element", "1/s", load_scaled=False, sticks=False,
         smooth=True, areas=AREA_METHODS, module="law_viscous"),
+    Law("stribeck", 3, "Stribeck: f = -mu(v) g v_hat, mu(v) = mu_k + (mu_s - mu_k) exp(-(v / v_s)^2), mu_k = mu",
+        "m/s^2", load_scaled=True, sticks=True, smooth=False, areas=("point", "sampled", "contact"),
+        params=(LawParam("mu_s", LIMITS["mu"],
+                         "the friction coefficient at rest (mu(0); mu, the kinetic one, is mu(v >> v_s))", 0.5,
+                         load=True),
+                LawParam("v_s", Limit(1e-9, 1e9, "m/s"), "the Stribeck speed, over which mu falls from mu_s to mu",
+                         0.01)),
+        module="law_stribeck", rest="mu_s"),
     # no friction: no kernel runs (a scene binds it to the point method; every method has its form: zero)
     Law("none", 0, "no friction", "", load_scaled=False, sticks=False, smooth=True, areas=AREA_METHODS),
 )
