@@ -57,7 +57,9 @@ def test_friction_k(v: object) -> None:
 
 
 def test_unknown_names_list_valid_ones() -> None:
-    with pytest.raises(ValueError, match="'dry', 'viscous', 'none'"):
+    from rrbody.model.laws import LAWS
+
+    with pytest.raises(ValueError, match=", ".join(repr(n) for n in LAWS)):  # every law of the table, listed
         Friction("wet")
     with pytest.raises(ValueError, match="'x', 'y'"):
         Ellipse(R0=0.3, orientation="z")  # type: ignore[arg-type]

@@ -23,7 +23,7 @@ from rrbody.physics import params as P
 from rrbody.physics.bind import kernel_params
 from rrbody.physics.icr import icr_wrench
 from rrbody.physics.effects.areas import TABLE, body_wrench
-from rrbody.physics.effects.laws import DRY
+from rrbody.physics.effects.laws import DRY, NO_PARAMS
 from rrbody.physics.icr_fit import NM, NT, OCTAVES
 from rrbody.physics.icr_table import _HEADER, build_table
 from rrbody.physics.icr_table import _horner2 as _full_inline
@@ -59,7 +59,7 @@ def _errors(S, ra, rb, V, coeff):  # noqa: ANN001
     L = max(ra, rb)
     for i in range(V.shape[0]):
         al, vx, vy, w = V[i, 0], V[i, 1], V[i, 2], V[i, 3]
-        f = body_wrench(TABLE, DRY, S, ra, rb, 0, 0.0, al, vx, vy, w, coeff, 0.0)
+        f = body_wrench(TABLE, DRY, S, ra, rb, 0, 0.0, al, vx, vy, w, coeff, 0.0, NO_PARAMS)
         g = icr_wrench(ra, rb, 256, al, vx, vy, w, 1, coeff, 0.0, 0.0)
         out[i, 0] = abs(f[0] - g[0]) / coeff
         out[i, 1] = abs(f[1] - g[1]) / coeff
@@ -135,11 +135,11 @@ def test_spin_sign_and_reflection_symmetry() -> None:
     ra, rb = 0.15, 0.05
     S = build_table(ra, rb)
     for vx, vy, w in [(0.3, 0.1, 2.0), (-0.02, 0.07, 0.5), (0.0, 0.4, -3.0)]:
-        f = np.array(body_wrench(TABLE, DRY, S, ra, rb, 0, 0.0, 0.0, vx, vy, w, 1.0, 0.0))
-        g = np.array(body_wrench(TABLE, DRY, S, ra, rb, 0, 0.0, 0.0, -vx, -vy, -w, 1.0, 0.0))
+        f = np.array(body_wrench(TABLE, DRY, S, ra, rb, 0, 0.0, 0.0, vx, vy, w, 1.0, 0.0, NO_PARAMS))
+        g = np.array(body_wrench(TABLE, DRY, S, ra, rb, 0, 0.0, 0.0, -vx, -vy, -w, 1.0, 0.0, NO_PARAMS))
         assert np.allclose(f, -g, rtol=0.0, atol=1e-15)
         # mirror y -> -y of the motion: v -> (vx, -vy), spin -> -spin; F mirrors, tau flips
-        m = np.array(body_wrench(TABLE, DRY, S, ra, rb, 0, 0.0, 0.0, vx, -vy, -w, 1.0, 0.0))
+        m = np.array(body_wrench(TABLE, DRY, S, ra, rb, 0, 0.0, 0.0, vx, -vy, -w, 1.0, 0.0, NO_PARAMS))
         assert np.allclose(m, [f[0], -f[1], -f[2]], rtol=0.0, atol=2e-11)
 
 
@@ -147,7 +147,7 @@ def test_translation_and_dead_band_are_those_of_icr() -> None:
     for ra, rb in [(0.1, 0.1), (0.15, 0.05)]:
         S = build_table(ra, rb)
         for args in [(0.3, 0.2, 0.0), (0.3, 0.2, 1e-11), (0.0, 0.0, 0.0), (1e-13, 0.0, 1e-13)]:
-            f = body_wrench(TABLE, DRY, S, ra, rb, 0, 0.0, 0.4, *args, 2.0, 1e-12)
+            f = body_wrench(TABLE, DRY, S, ra, rb, 0, 0.0, 0.4, *args, 2.0, 1e-12, NO_PARAMS)
             g = icr_wrench(ra, rb, 64, 0.4, *args, 1, 2.0, 1e-12, 0.0)
             assert f == pytest.approx(g, abs=1e-15)
 

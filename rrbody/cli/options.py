@@ -8,7 +8,7 @@ import math
 from typing import Any
 
 from rrbody.cli.args import (CliError, angle, check_options, float_list, given, integer, number, option_help,
-                             option_message)
+                             option_message, ranged)
 from rrbody.model.checks import number_rows
 from rrbody.model.laws import LAW_PARAMS, LAW_TABLE, LAWS
 from rrbody.model.scene import FRICTION_METHODS, SCENE_PARAMS
@@ -96,8 +96,8 @@ def add_friction_options(g: Any, *, params: bool = False) -> None:
     for q in LAW_PARAMS.values() if params else ():
         owners = ", ".join(law.name for law in LAW_TABLE if q in law.params)
         opt = "--" + q.name.replace("_", "-")
-        g.add_argument(opt, type=number(opt, valid=" " + q.limit.text()), default=None,
-                       help=f"--friction {owners}: {q.help}, {q.limit.text()}")
+        ranged(g.add_argument(opt, type=number(opt, valid=" " + q.limit.text()), default=None,
+                              help=f"--friction {owners}: {q.help}, {q.limit.text()}"), q.limit.text())
 
 
 def add_accuracy_options(g: Any) -> None:

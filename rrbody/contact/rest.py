@@ -10,7 +10,6 @@ maximum-dissipation wrench). All compiled; units SI, loads per unit mass in m/s^
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 from numba import njit
@@ -18,34 +17,16 @@ from numba import njit
 from rrbody.contact.columns import *  # noqa: F403 (the columns of the bodies array)
 from rrbody.contact.lean import NO_REFCOUNT
 from rrbody.model.laws import LAW_TABLE
+from rrbody.physics.effects.laws import one_of
 from rrbody.physics.limit import at_rest
 
 __all__ = ["law_sticks", "is_static", "modes", "evaluated", "may_hold", "slow_enough", "stop", "held", "hold_or_break",
            "no_held", "no_break"]
 
 
-def _one_of(codes: tuple[float, ...]) -> Any:
-    """``law -> law in codes``, compiled as a chain of inlined comparisons (numba builds no set of constants)."""
-    def none(law):  # noqa: ANN001, ANN202 (numba)
-        return False
-
-    fn = njit(inline="always")(none)
-    for code in codes:
-        fn = _or(code, fn)
-    return fn
-
-
-def _or(code: float, rest: Any) -> Any:
-    def step(law):  # noqa: ANN001, ANN202 (numba)
-        if law == code:
-            return True
-        return rest(law)
-    return njit(inline="always")(step)
-
-
-#: law_sticks(law): whether the LAW column's ``law`` sticks (rrbody.model.laws.Law.sticks: dry): its force
+#: law_sticks(law): whether the LAW column's ``law`` sticks (rrbody.model.laws.Law.sticks: dry, Stribeck): its force
 #: stays finite at zero speed, so the rest rule and static friction act on a body under it
-law_sticks = _one_of(tuple(LAW_CODE[law.name] for law in LAW_TABLE if law.sticks))
+law_sticks = one_of(tuple(LAW_CODE[law.name] for law in LAW_TABLE if law.sticks))
 
 
 @njit(cache=True, inline="always")

@@ -37,7 +37,7 @@ from numba import njit
 from rrbody.model.laws import LAW_CODES, LAW_TABLE, N_LAW_PARAMS
 from rrbody.physics import params as P
 
-__all__ = ["element_force", "element_perp", "law_footprint", "law_has_footprint", "law_rest_coeff", "law_params",
+__all__ = ["element_force", "element_perp", "law_footprint", "law_has_footprint", "law_rest_coeff", "one_of", "law_params",
            "law_params_at",
            "MODULES", "NO_PARAMS",
            "NONE", "DRY", "VISCOUS"]
@@ -120,8 +120,9 @@ element_perp = _ladder("perp", _no_perp, _branch)
 law_footprint = _ladder("footprint", _no_footprint, _footprint_branch)
 
 
-def _member(codes: tuple[int, ...]) -> Any:
-    """``has(law)``: whether ``law`` is one of ``codes`` (a chain of inlined comparisons, as :func:`_ladder`)."""
+def one_of(codes: tuple[float, ...]) -> Any:
+    """A compiled ``has(law)``: whether ``law`` (an int, or the plugin's float column) is one of ``codes``, as a
+    chain of inlined comparisons (numba builds no set of constants; as :func:`_ladder`)."""
     def no(law):  # noqa: ANN001, ANN202 (numba)
         return False
 
@@ -140,7 +141,7 @@ def _or(code: int, rest: Any) -> Any:
 #: law_has_footprint(law): whether law ``law``'s module has a footprint form of its own (the viscous law);
 #: the contact method integrates every other law but dry friction by quadrature
 #: (:func:`rrbody.physics.footprint_quad.footprint_law_wrench`)
-law_has_footprint = _member(tuple(law.code for law in LAW_TABLE
+law_has_footprint = one_of(tuple(law.code for law in LAW_TABLE
                                   if law.module and hasattr(MODULES[law.name], "footprint")))
 
 
