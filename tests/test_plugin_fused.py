@@ -61,7 +61,7 @@ def _run(tilt: float, fused: bool, check_idle: bool = False) -> tuple[list, list
     and plane_step are run on copies of the step's arrays and compared (the count of idle steps returned)."""
     space, pf, bodies = _scene(tilt)
     if not fused:
-        pf._sio.step = lambda dt, act: -1  # the compiled call declines: the separate calls take the step
+        pf._sio.step = lambda plane, t, dt, act: -1  # the compiled call declines: the separate calls take the step
     n_idle = 0
     for n in range(600):
         if n >= 300:

@@ -246,7 +246,8 @@ class PlaneFriction(PlaneRows):
             acts = self._act
             if self._sio is not None and not self._fresh and (acts is None or not acts.pending):
                 act = NO_ACTIVE if acts is None else acts.arrays(self)
-                n_flag = self._sio.step(dt, act)
+                n_flag = self._sio.step((self._k_lookup, self._cache, self._bodies, self._k_shapes, self._k_geo,
+                                         self._k_tables), self.t, dt, act)
                 if n_flag < 0:  # a step the compiled call does not take: the separate calls
                     n_flag = self._step_apart(dt, act)
             else:

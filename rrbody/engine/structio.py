@@ -137,18 +137,18 @@ class StructIO:
         self._ids = pf._idrows.view.copy()
         self._members = pf.members
 
-    def step(self, dt: float, act: tuple[np.ndarray, np.ndarray]) -> int:
-        """The plugin's step by ``dt`` (s) with ``act``, the active rows and this step's noise: read, kernel
-        and write in one call (:func:`struct_step`, its answer). A negative answer wrote nothing: the plugin
-        then takes its separate calls, which refuse the step, enlarge the row cache and go on, or (-1 here,
-        nothing read: a space with sleeping enabled) take the bulk route."""
+    def step(self, plane: tuple[np.ndarray, ...], t: float, dt: float, act: tuple[np.ndarray, np.ndarray]) -> int:
+        """The plugin's step from its time ``t`` by ``dt`` (s): read, kernel and write in one call
+        (:func:`struct_step`, its answer). ``plane``: the plugin's own arrays of the kernel (id lookup, row
+        cache, rows, shapes, geo, tables, in :func:`~rrbody.contact.kernel.plane_step`'s order), ``act`` the
+        active rows and this step's noise. A negative answer wrote nothing: the plugin then takes its
+        separate calls, which refuse the step, enlarge the row cache and go on, or (-1 here, nothing read: a
+        space with sleeping enabled) take the bulk route."""
         if self._threshold(self._cp_space) != math.inf:
             return -1
-        pf = self._pf
-        if self._members != pf.members:
+        if self._members != self._pf.members:
             self._relink()
-        args = (self._addr, self._offs, self._space, self._got, self._ids, pf._k_lookup, pf._cache, pf._bodies,
-                pf._k_shapes, pf._k_geo, pf._k_tables, pf.t, dt, self._out, *act)
+        args = (self._addr, self._offs, self._space, self._got, self._ids, *plane, t, dt, self._out, *act)
         if self._entry is None:
             self._entry, n = fast_entry(struct_step, *args)  # runs this step once
             return int(n)
