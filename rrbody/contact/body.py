@@ -21,7 +21,7 @@ from rrbody.contact.feet import feet_step
 from rrbody.physics.effects import active as act
 from rrbody.physics.effects.drive_circular import sincos_reduced
 
-__all__ = ["extrapolated", "load", "settle", "step_one", "friction", "evaluate", "commit", "driver"]
+__all__ = ["extrapolated", "load", "settle", "step_one", "friction", "evaluate", "commit", "driver", "idle"]
 
 
 @njit(cache=True, inline="always")
@@ -241,3 +241,38 @@ def driver(j: int, bodies: np.ndarray, t: float, dt: float) -> None:
     bodies[j, DVY] = vy
     bodies[j, DPX] = d * c1 - dt * vx
     bodies[j, DPY] = d * s1 - dt * vy
+
+
+@njit(cache=True, inline="always")
+def _same(x: float, y: float) -> bool:
+    """x and y are the same float64, sign of a zero included (never for a NaN)."""
+    return x == y and math.copysign(1.0, x) == math.copysign(1.0, y)
+
+
+@njit(cache=True, inline="always")
+def idle(i: int, j: int, got: np.ndarray, bodies: np.ndarray, dt: float) -> bool:
+    """Whether :func:`step_one` would leave plugin body j (row i of the read) exactly as it is and apply no
+    force (the limit-set loop is where :func:`rrbody.contact.kernel.plane_step` steps a body at rest under
+    static friction): at rest (velocity and spin exactly zero) under static friction, no driver, no
+    stop pending, the load (its own force and torque, a tilt's pull; no active load, which the caller
+    checks) held by static friction by the answer kept for that load at that angle
+    (:func:`~rrbody.contact.rest.held`), and every number :func:`commit` and :func:`settle` would write
+    already there, bit for bit. The conditions are the branches step_one takes for such a body, written
+    out; False wherever any of them does not hold."""
+    static, was, resting, _ = R.modes(i, j, got, bodies)
+    if not (static and resting) or not _same(was, 0.0) or bodies[j, DRV] > 0.0 or not _same(bodies[j, DEFR], 0.0):
+        return False
+    m = bodies[j, MASS]
+    lx = got[i, 4] + m * bodies[j, GTX]  # the load as load() makes it (no active load)
+    ly = got[i, 5] + m * bodies[j, GTY]
+    lt = got[i, 6]
+    # held(): its kept answer for this load at this angle (the test it would otherwise run writes the rows)
+    if not (R.may_hold(j, bodies, lx, ly) and lx / m == bodies[j, HX] and ly / m == bodies[j, HY]
+            and lt / m == bodies[j, HT] and got[i, 0] == bodies[j, HA] and bodies[j, HELD] > 0.0):
+        return False
+    _, _, ew = extrapolated(i, j, got, bodies, dt)
+    # commit()'s history and settle()'s friction kept (held: out becomes 0, the friction minus the load)
+    return (_same(bodies[j, PVX], got[i, 1]) and _same(bodies[j, PVY], got[i, 2]) and _same(bodies[j, PW], got[i, 3])
+            and _same(bodies[j, GAP], dt) and _same(bodies[j, EA], got[i, 0] + got[i, 3] * dt)
+            and _same(bodies[j, EW], ew) and _same(bodies[j, FFX], 0.0 - lx) and _same(bodies[j, FFY], 0.0 - ly)
+            and _same(bodies[j, FFT], 0.0 - lt))

@@ -121,6 +121,39 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.n
 
 
 
+@njit(cache=True, **NO_REFCOUNT)
+def plane_idle(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.ndarray, bodies: np.ndarray, dt: float,
+               out: np.ndarray, active: np.ndarray) -> bool:
+    """Whether :func:`plane_step` (same arguments) would change nothing: every plugin body of the read
+    exactly at rest and held as it was (:func:`rrbody.contact.body.idle`), no active load. If so, writes
+    ``out`` as plane_step would (zero for the plugin bodies, a body's own force and torque for the
+    others), having changed nothing else but ``cache`` as plane_step's check does, and returns True: the
+    caller skips plane_step, whose answer would be 0. Else False, having changed nothing but ``cache``.
+
+    The check costs a few loads per body; a scene at rest (gym-pusht's T between pushes) then skips
+    plane_step's passes, its work array and its limit-set loop (about 0.8 of 1.1 us per step for one
+    body, measured)."""
+    if active.shape[0] > 0 or got.shape[0] > cache.shape[1]:
+        return False
+    if not plane_check(got, ids, lookup, cache, bodies.shape[0]):
+        return False
+    rowmap = cache[ROWMAP]
+    for i in range(got.shape[0]):
+        j = rowmap[i]
+        if j >= 0 and not B.idle(i, j, got, bodies, dt):
+            return False
+    for i in range(got.shape[0]):
+        if rowmap[i] >= 0:
+            out[i, 0] = 0.0
+            out[i, 1] = 0.0
+            out[i, 2] = 0.0
+        else:
+            out[i, 0] = got[i, 4]
+            out[i, 1] = got[i, 5]
+            out[i, 2] = got[i, 6]
+    return True
+
+
 #: columns of :func:`_sweep`'s work array (a row per row of the read): the angle friction is evaluated at
 #: (rad), its cosine and sine, the velocity (m/s, world) and spin (rad/s) it is evaluated at, and the
 #: friction there (per unit mass, world: :func:`rrbody.contact.accel.accel_at`)

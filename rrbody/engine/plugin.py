@@ -13,8 +13,8 @@ segments with a radius, several per body), each shape pressing with its own weig
 (centred on the centre of gravity: docs/plugin.md): exact for circles and convex polygons, or
 under a pressure distribution you choose (``pf.add(body, mu=0.4, pressure=rrbody.pressure.ring(0.05))``:
 a rim, an annulus, a Hertz patch, feet, any p(x, y); :mod:`rrbody.physics.contact`).
-One compiled call per step reads every body through ``pymunk.batch``, computes all wrenches and
-writes the forces back; then ``space.step`` runs. The contract (what is read, when it acts, what is
+One compiled call per step reads every body (from their structs, :mod:`rrbody.engine.structio`; else
+through ``pymunk.batch``), computes all wrenches and writes the forces back; then ``space.step`` runs. The contract (what is read, when it acts, what is
 guaranteed at rest) is in docs/plugin.md.
 
 The plugin's table of bodies, and the read-only accessors through which the rest of rrbody reads
@@ -243,35 +243,16 @@ class PlaneFriction(PlaneRows):
         if self._dirty:
             self._relink()
         if self._list:
-            io, read = self._route()
-            got, ids, out = read
-            if self._fresh:
-                # the half kicks change velocities: check every body first, so a refused step changes nothing
-                self._grow_caches(got.shape[0])
-                if not K.plane_check(got, ids, self._k_lookup, self._cache, self._rows.n):
-                    self._refuse(got)
-                self._kick(dt)
-                got, ids, out = io.read()
-            if self._act is not None and self._act.pending:  # newly active bodies: their half kick, checked first
-                self._grow_caches(got.shape[0])
-                if not K.plane_check(got, ids, self._k_lookup, self._cache, self._rows.n):
-                    self._refuse(got)
-                self._act.kick(self, dt)
-                got, ids, out = io.read()
-            act = NO_ACTIVE if self._act is None else self._act.arrays(self)
-            args = (got, ids, self._k_lookup, self._cache, self._bodies, self._k_shapes, self._k_geo, self._k_tables,
-                    self.t, dt, out, *act)
-            if self._kernel is None:
-                self._kernel, n_flag = fast_entry(K.plane_step, *args)  # runs this step's kernel once
+            # the common step (no half kick due; the bodies' structs, where sleeping is off): one compiled call
+            acts = self._act
+            if self._sio is not None and not self._fresh and (acts is None or not acts.pending):
+                act = NO_ACTIVE if acts is None else acts.arrays(self)
+                n_flag = self._sio.step((self._k_lookup, self._cache, self._bodies, self._k_shapes, self._k_geo,
+                                         self._k_tables), self.t, dt, act)
+                if n_flag < 0:  # a step the compiled call does not take: the separate calls
+                    n_flag = self._step_apart(dt, act)
             else:
-                n_flag = self._kernel(*args)
-            if n_flag < 0:  # rare: the space grew past the caches, or the check failed
-                if n_flag == -2:
-                    self._grow_caches(got.shape[0])
-                    n_flag = self._kernel(got, ids, self._k_lookup, self._cache, *args[4:])
-                if n_flag < 0:
-                    self._refuse(got)
-            io.write_forces()
+                n_flag = self._step_apart(dt, None)
             for f in self.pre_step:
                 f(dt)
             if n_flag:
@@ -302,6 +283,43 @@ class PlaneFriction(PlaneRows):
             self._act = ActiveSet(seed)
         else:
             self._act.seed(seed)
+
+    def _step_apart(self, dt: float, act: tuple[np.ndarray, np.ndarray] | None) -> int:
+        """The step's read, half kicks, compiled step and write as separate calls (the bulk read, half kicks
+        due, or a step :meth:`StructIO.step` handed back); ``act``: this step's active rows and noise if they
+        were drawn already. Returns the kernel's count of bodies the rest rule acts on; raises the
+        refusal's ValueError having changed nothing."""
+        io, read = self._route()
+        got, ids, out = read
+        if self._fresh:
+            # the half kicks change velocities: check every body first, so a refused step changes nothing
+            self._grow_caches(got.shape[0])
+            if not K.plane_check(got, ids, self._k_lookup, self._cache, self._rows.n):
+                self._refuse(got)
+            self._kick(dt)
+            got, ids, out = io.read()
+        if self._act is not None and self._act.pending:  # newly active bodies: their half kick, checked first
+            self._grow_caches(got.shape[0])
+            if not K.plane_check(got, ids, self._k_lookup, self._cache, self._rows.n):
+                self._refuse(got)
+            self._act.kick(self, dt)
+            got, ids, out = io.read()
+        if act is None:
+            act = NO_ACTIVE if self._act is None else self._act.arrays(self)
+        args = (got, ids, self._k_lookup, self._cache, self._bodies, self._k_shapes, self._k_geo, self._k_tables,
+                self.t, dt, out, *act)
+        if self._kernel is None:
+            self._kernel, n_flag = fast_entry(K.plane_step, *args)  # runs this step's kernel once
+        else:
+            n_flag = self._kernel(*args)
+        if n_flag < 0:  # rare: the space grew past the caches, or the check failed
+            if n_flag == -2:
+                self._grow_caches(got.shape[0])
+                n_flag = self._kernel(got, ids, self._k_lookup, self._cache, *args[4:])
+            if n_flag < 0:
+                self._refuse(got)
+        io.write_forces()
+        return n_flag
 
     def _route(self) -> tuple[Any, tuple[np.ndarray, np.ndarray, np.ndarray]]:
         """This step's reader and writer and its first read: the plugin bodies' structs

@@ -7,6 +7,14 @@ reads and writes only the plugin's bodies, in the plugin's row order, at the off
 per body. It hands :func:`rrbody.contact.kernel.plane_step` the same columns ``BatchIO`` does (angle,
 vx, vy, spin, fx, fy, torque), so the kernel and its checks are the same on both routes.
 
+:meth:`StructIO.step` makes the read, the kernel and the write one compiled call (:func:`struct_step`),
+without numba's reference counting: a Python call of the kernel costs about 1 us for its
+arguments alone (numba wraps each array it is handed in a counted handle; 0.15 us without), and three
+calls per step cost more than the friction of a few bodies (inside gym-pusht's loop, measured: the
+read 1.3 us, the kernel's call 2.4, the write 0.7, per physics step). The numbers are the kernel's:
+:func:`struct_step` calls the same compiled :func:`~rrbody.contact.kernel.plane_step` on the same
+arrays (``tests/test_plugin_io.py`` steps a scene both ways and compares the bits).
+
 What it leaves to ``BatchIO`` (the plugin decides per step, :meth:`PlaneFriction.step`):
 
 - a body no longer in the space (its struct's ``space`` field is not this space): the bulk read
@@ -19,16 +27,21 @@ What it leaves to ``BatchIO`` (the plugin decides per step, :meth:`PlaneFriction
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
 from numba import njit
 
+from rrbody.contact import kernel as K
+from rrbody.contact.lean import NO_REFCOUNT, fast_entry
 from rrbody.engine.bodymem import (ANGLE, FX, FY, SPACE, SPIN, TORQUE, VX, VY, address, addresses, f64_at, i64_at,
                                    layout, set_f64)
-from rrbody.contact.lean import NO_REFCOUNT
 
-__all__ = ["StructIO", "gather", "scatter"]
+__all__ = ["StructIO", "gather", "scatter", "struct_step", "GONE"]
+
+#: :func:`struct_step`'s answer when a plugin body is not in the space (nothing read is used, nothing written)
+GONE = -3
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -59,6 +72,26 @@ def scatter(addr: np.ndarray, offs: np.ndarray, out: np.ndarray) -> None:
         set_f64(a + offs[TORQUE], out[k, 2])
 
 
+@njit(cache=True, **NO_REFCOUNT)
+def struct_step(addr: np.ndarray, offs: np.ndarray, space: int, got: np.ndarray, ids: np.ndarray, lookup: np.ndarray,
+                cache: np.ndarray, bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray, tables: np.ndarray,
+                t: float, dt: float, out: np.ndarray, active: np.ndarray, noise: np.ndarray) -> int:
+    """:func:`gather`, :func:`rrbody.contact.kernel.plane_step` (from the plugin's time t, s, by dt, s;
+    skipped where :func:`~rrbody.contact.kernel.plane_idle` finds it would change nothing) and, if it
+    stepped, :func:`scatter`, in one call. Returns plane_step's answer (the bodies the rest rule
+    acts on, or -1 / -2 having written nothing), or :data:`GONE` if a body is not in ``space``."""
+    if gather(addr, offs, space, got) >= 0:
+        return GONE
+    if K.plane_idle(got, ids, lookup, cache, bodies, dt, out, active):
+        n = 0  # every body at rest and held as it was: plane_step would change nothing (its forces are in out)
+    else:
+        # (plane_step allocates its work array: it keeps its reference counting, which needs none from here)
+        n = K.plane_step(got, ids, lookup, cache, bodies, shapes, geo, tables, t, dt, out, active, noise)
+    if n >= 0:
+        scatter(addr, offs, out)
+    return n
+
+
 class StructIO:
     """Reader and force writer for the bodies of plugin ``pf`` (a PlaneFriction), in its row order,
     through their structs. Construct it only where ``layout()`` is not None."""
@@ -70,7 +103,16 @@ class StructIO:
         self._pf = pf
         self._offs = offs
         self._space = address(pf.space._space)
+        # space.sleep_time_threshold as its property reads it (Chipmunk's getter), without the property's
+        # two Python calls (0.16 against 0.42 us, measured: this runs every step); else the property itself
+        try:
+            from pymunk._chipmunk import lib
+
+            self._threshold, self._cp_space = lib.cpSpaceGetSleepTimeThreshold, pf.space._space
+        except (ImportError, AttributeError):  # pragma: no cover - a pymunk without these names
+            self._threshold, self._cp_space = type(pf.space).sleep_time_threshold.fget, pf.space
         self._members = -1
+        self._entry: Any = None  # struct_step's compiled entry point (fast_entry), found on the first step
         self._addr = np.zeros(0, dtype=np.int64)
         self._got = np.zeros((0, 7))
         self._out = np.zeros((0, 3))
@@ -79,17 +121,38 @@ class StructIO:
     def read(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
         """(got, ids, out) as :meth:`BatchIO.read` gives them, for the plugin's bodies in row order; None
         if one of them is not in the space (the caller then reads the space in bulk)."""
-        pf = self._pf
-        if self._members != pf.members:  # membership changed: the addresses again (O(n), once per change)
-            self._addr = addresses(pf._list)
-            n = self._addr.shape[0]
-            self._got = np.zeros((n, 7))
-            self._out = np.zeros((n, 3))
-            self._ids = pf._idrows.view.copy()
-            self._members = pf.members
+        if self._members != self._pf.members:
+            self._relink()
         if gather(self._addr, self._offs, self._space, self._got) >= 0:
             return None
         return self._got, self._ids, self._out
+
+    def _relink(self) -> None:
+        """After the plugin's membership changed: the bodies' addresses and the arrays (O(n), once per change)."""
+        pf = self._pf
+        self._addr = addresses(pf._list)
+        n = self._addr.shape[0]
+        self._got = np.zeros((n, 7))
+        self._out = np.zeros((n, 3))
+        self._ids = pf._idrows.view.copy()
+        self._members = pf.members
+
+    def step(self, plane: tuple[np.ndarray, ...], t: float, dt: float, act: tuple[np.ndarray, np.ndarray]) -> int:
+        """The plugin's step from its time ``t`` by ``dt`` (s): read, kernel and write in one call
+        (:func:`struct_step`, its answer). ``plane``: the plugin's own arrays of the kernel (id lookup, row
+        cache, rows, shapes, geo, tables, in :func:`~rrbody.contact.kernel.plane_step`'s order), ``act`` the
+        active rows and this step's noise. A negative answer wrote nothing: the plugin then takes its
+        separate calls, which refuse the step, enlarge the row cache and go on, or (-1 here, nothing read: a
+        space with sleeping enabled) take the bulk route."""
+        if self._threshold(self._cp_space) != math.inf:
+            return -1
+        if self._members != self._pf.members:
+            self._relink()
+        args = (self._addr, self._offs, self._space, self._got, self._ids, *plane, t, dt, self._out, *act)
+        if self._entry is None:
+            self._entry, n = fast_entry(struct_step, *args)  # runs this step once
+            return int(n)
+        return self._entry(*args)
 
     def write_forces(self) -> None:
         """Set every plugin body's force (N, at its centre of gravity) and torque (N m) from ``out``."""
