@@ -179,32 +179,17 @@ def test_kernels_compile_without_numbas_private_option(monkeypatch: pytest.Monke
     assert np.array_equal(got[0], got[1]) and got[0][0, 1] == bodies[0].velocity.x
 
 
-@pytest.mark.private
-def test_the_struct_route_without_chipmunks_threshold_getter(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The struct route reads space.sleep_time_threshold through Chipmunk's own getter
-    (pymunk._chipmunk.lib); a pymunk without it gets the property's getter: the same run, bit for bit,
-    and sleeping still sends the step to pymunk.batch."""
-    import sys
-    import types
-
-    import pymunk._chipmunk as chipmunk
-
-    def run() -> tuple[list, Any]:
-        space, pf, bodies = _sliding()
-        for n in range(200):
-            if n == 100:
-                space.sleep_time_threshold = 0.5
-            pf.step(1e-3)
-            if n == 100:
-                assert pf._route()[0] is pf._io
-        return [(tuple(b.position), b.angle, tuple(b.velocity), b.angular_velocity) for b in bodies], pf._sio
-
-    want, sio = run()
-    assert sio._threshold is chipmunk.lib.cpSpaceGetSleepTimeThreshold
-    monkeypatch.setitem(sys.modules, "pymunk._chipmunk", types.SimpleNamespace(ffi=chipmunk.ffi))  # no lib
-    got, sio = run()
-    assert sio._threshold is pymunk.Space.sleep_time_threshold.fget
-    assert got == want
+def test_sleeping_turned_on_sends_the_step_to_the_bulk_route() -> None:
+    """The one-call struct step runs only while sleeping is off (pymunk's space.sleep_time_threshold is inf):
+    turned on mid-run, the step goes through pymunk.batch, and the run goes on."""
+    space, pf, bodies = _sliding()
+    for n in range(200):
+        if n == 100:
+            space.sleep_time_threshold = 0.5
+        pf.step(1e-3)
+        if n == 100:
+            assert pf._route()[0] is pf._io
+    assert all(math.isfinite(b.position.x) for b in bodies)
 
 
 def test_fast_entry_falls_back_to_the_dispatcher() -> None:
