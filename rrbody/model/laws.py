@@ -36,7 +36,7 @@ __all__ = ["AREA_METHODS", "PLUGIN_AREA", "LawParam", "Law", "LAW_TABLE", "LAWS"
 #: the area-integration methods, in the order of their codes (rrbody.physics.effects.AREAS): friction at the
 #: CM, summed over area elements, the instantaneous-centre quadrature, its table, the footprint kernel
 AREA_METHODS: tuple[str, ...] = ("point", "sampled", "icr", "table", "contact")
-#: the area method of the plugin path (PlaneFriction, the MuJoCo adapter): the wrench of a footprint
+#: the area method of the plugin path (the pymunk plugin, the MuJoCo adapter): the wrench of a footprint
 PLUGIN_AREA = "contact"
 
 

@@ -5,7 +5,7 @@ A scene lists its effects; each contributes one term through one signature:
 - drive: ``drive_circular`` (the pivot on a circle; its torque about P and the kinematics);
 - friction laws (force on a mass element, ``force(vx, vy, coeff, v_eps)``; and its component along
   one axis with derivatives, ``perp``, for the point-mass Jacobian): ``law_dry``, ``law_viscous``,
-  each declared in the law table (:mod:`rrbody.model.laws`), dispatched by :mod:`.laws`;
+  each declared in the law table (:mod:`rrbody.model.laws`), dispatched by :mod:`rrbody.physics.effects.laws`;
 - area integration (the wrench of the law over the body, in the BODY frame:
   ``wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps, lp) -> (Fbx, Fby, tau_cm)`` with the
   CM velocity and the force in body-frame components; :func:`.areas.body_wrench` is the world-frame
@@ -29,7 +29,7 @@ so a plain run pays one branch per step and no loop is compiled for it.
 
 Adding an effect: one module with the signature of its kind plus its registration. A law is declared
 in the one law table, :data:`rrbody.model.laws.LAW_TABLE` (name, code, parameters, area methods, this
-package's module of its entry points), from which :mod:`.laws` builds the compiled dispatch; an area
+package's module of its entry points), from which :mod:`rrbody.physics.effects.laws` builds the compiled dispatch; an area
 method takes a name in :data:`rrbody.model.laws.AREA_METHODS` and one branch in :mod:`.areas`. A new
 law adds one compiled loop per kind, which the prebuild's workload (:mod:`rrbody.cli.workload`) compiles
 at install: it runs each law of the table.

@@ -12,7 +12,7 @@ velocities: the free body, :mod:`rrbody.physics.wrench`, the render path.
 
 Adding a method: a module with ``wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps, lp)
 -> (Fbx, Fby, tau_cm)`` in the body frame (see :mod:`.area_point`; ``lp``: the law's further parameters,
-:mod:`.laws`), a name in :data:`rrbody.model.laws.AREA_METHODS` (its code) with the laws that have a form
+:mod:`rrbody.physics.effects.laws`), a name in :data:`rrbody.model.laws.AREA_METHODS` (its code) with the laws that have a form
 for it in the law table, and one branch in :func:`body_frame_wrench`. The methods' codes are the law
 table's order of their names: an unknown code cannot come from a bound scene (the final branch).
 """
@@ -34,7 +34,7 @@ POINT, SAMPLED, ICR, TABLE, CONTACT = AREAS["point"], AREAS["sampled"], AREAS["i
 def body_frame_wrench(area, law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps, lp):  # noqa: ANN001 (numba)
     """(Fbx, Fby, tau_cm): friction force (m/s^2, body frame) and torque about the CM (m^2/s^2) per
     unit mass by area method ``area`` and law ``law`` with coefficient ``coeff`` and further parameters
-    ``lp`` (:mod:`.laws`) (CM velocity (vbx, vby) m/s in the body frame, spin rad/s)."""
+    ``lp`` (:mod:`rrbody.physics.effects.laws`) (CM velocity (vbx, vby) m/s in the body frame, spin rad/s)."""
     if area == TABLE:
         return area_table.wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps, lp)
     if area == ICR:
