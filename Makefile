@@ -18,16 +18,16 @@ DOCS_EXTRAS := docs,movie,envs
 E :=
 unq = $(filter-out <!--q$(E):%,$(subst -->,--> ,$(subst <!--/q$(E)-->,,$(1))))
 T_VENV := <!--q:setup.demo.venv-->10 s<!--/q-->
-T_REQS := <!--q:setup.demo.build-reqs-->10 s<!--/q-->
-T_DEMO_PKGS := <!--q:setup.demo.install-->4 s<!--/q-->
-T_TEST_PKGS := <!--q:setup.test.install-->28 s<!--/q-->
-T_KERNELS := <!--q:setup.demo.kernels-->185 s<!--/q-->
-T_LOAD := <!--q:setup.demo.load-->0.2-1.7<!--/q-->
-T_MOVIE := <!--q:setup.demo.demo-->86 s<!--/q-->
-T_LOWEST := <!--q:setup.test.lowest-venv-->29 s<!--/q-->
-T_SUITE := <!--q:setup.test.suite-->566 s<!--/q-->
-T_SUITE_LOWEST := <!--q:setup.test.suite-lowest-->196 s<!--/q-->
-T_SUITE_PUBLIC := <!--q:setup.test.suite-public-->191 s<!--/q-->
+T_REQS := <!--q:setup.demo.build-reqs-->8 s<!--/q-->
+T_DEMO_PKGS := <!--q:setup.demo.install-->3 s<!--/q-->
+T_TEST_PKGS := <!--q:setup.test.install-->18 s<!--/q-->
+T_KERNELS := <!--q:setup.demo.kernels-->225 s<!--/q-->
+T_LOAD := <!--q:setup.demo.load-->1.8-2.3<!--/q-->
+T_MOVIE := <!--q:setup.demo.demo-->73 s<!--/q-->
+T_LOWEST := <!--q:setup.test.lowest-venv-->11 s<!--/q-->
+T_SUITE := <!--q:setup.test.suite-->544 s<!--/q-->
+T_SUITE_LOWEST := <!--q:setup.test.suite-lowest-->272 s<!--/q-->
+T_SUITE_PUBLIC := <!--q:setup.test.suite-public-->236 s<!--/q-->
 
 # The venv's packages are installed by uv (from PyPI, like pip; the test venv's packages in 17 s
 # against pip's 35-39 s), itself installed into the venv by the venv's pip: a fresh machine needs
