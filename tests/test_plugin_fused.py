@@ -19,6 +19,7 @@ from rrbody.contact import kernel as K
 from rrbody.contact.active import NO_ACTIVE
 from rrbody.engine import PlaneFriction
 from rrbody.engine.bodymem import layout
+from rrbody.engine.structio import gather, struct_still
 
 G = 9.81
 
@@ -113,3 +114,100 @@ def test_plane_idle_answers_true_only_where_plane_step_changes_nothing() -> None
     got = _run(0.15, True, check_idle=True)
     assert got[3] > 100
     assert got[:3] == _run(0.15, True)[:3]
+
+
+def _would_be_still(pf: PlaneFriction, dt: float) -> bool:
+    """Whether the coming step finds the record of the last idle step standing (an independent reading:
+    gather into a spare array, compared with the record bit for bit in numpy)."""
+    sio = pf._sio
+    if sio._snap[-1, 0] != 1.0 or sio._snap[-1, 1] != dt:
+        return False
+    now = np.zeros_like(sio._got)
+    if gather(sio._addr, sio._offs, sio._space, now) >= 0:
+        return False
+    return bool(np.array_equal(_bits(now), _bits(sio._snap[:-1])))
+
+
+@pytest.mark.private
+@pytest.mark.parametrize("tilt", [0.0, 0.15])
+def test_the_still_check_skips_only_steps_that_change_nothing(tilt: float) -> None:
+    """The same run with the record of idle steps and with it cleared before every step (so that every
+    step reads the kernel's arrays and asks plane_idle): the same bits. The record stood, and the compiled
+    call skipped plane_idle's check, at more than 100 steps (the scene at rest, the held push included)."""
+    runs, stood = [], 0
+    for keep in (True, False):
+        space, pf, bodies = _scene(tilt)
+        dt = 1.0 / 120.0
+        for n in range(600):
+            if n >= 300:
+                bodies[1].force = (0.05, -0.02)
+            if n == 450:
+                bodies[2].apply_impulse_at_local_point((0.02, 0.0))
+            if keep:
+                stood += _would_be_still(pf, dt)
+            else:
+                pf._sio.forget()
+            pf.step(dt)
+        state = [(tuple(b.position), b.angle, tuple(b.velocity), b.angular_velocity) for b in bodies]
+        runs.append((state, [pf.friction(b) for b in pf.bodies], pf.n_stopped, pf.t))
+    assert stood > 100
+    assert runs[0] == runs[1]
+
+
+def _at_rest() -> tuple[pymunk.Space, PlaneFriction, pymunk.Body]:
+    """A box at rest under static friction, a held load on it, stepped until struct_step has recorded an idle step."""
+    space = pymunk.Space()
+    pf = PlaneFriction(space, g=G)
+    b = pymunk.Body()
+    s = pymunk.Poly.create_box(b, (0.2, 0.1))
+    s.density = 10.0
+    space.add(b, s)
+    pf.add(b, mu=0.5)
+    for _ in range(4):
+        b.force = (0.3, 0.0)  # well inside mu m g = 0.98 N
+        pf.step(0.01)
+    assert pf._plan is not None and pf._sio._snap[-1, 0] == 1.0
+    return space, pf, b
+
+
+def _still(pf: PlaneFriction, dt: float) -> bool:
+    sio = pf._sio
+    return bool(struct_still(sio._addr, sio._offs, sio._space, sio._snap, sio._out, dt))
+
+
+@pytest.mark.private
+def test_the_still_check_says_false_for_any_change() -> None:
+    """struct_still says True for the recorded step again, False for a changed load (by one ulp), a zero of
+    the other sign, another dt, or a body gone from the space; the compiled call clears the record where
+    sleeping is on; every write of a row outside a step and every change of the arrays clears it."""
+    space, pf, b = _at_rest()
+    b.force = (0.3, 0.0)
+    assert _still(pf, 0.01)
+    for change in ({"force": (math.nextafter(0.3, 1.0), 0.0)}, {"velocity": (-0.0, 0.0)}, {"angular_velocity": -0.0}):
+        _, pf2, b2 = _at_rest()
+        b2.force = (0.3, 0.0)
+        for k, v in change.items():
+            setattr(b2, k, v)
+        assert not _still(pf2, 0.01), change
+    b.force = (0.3, 0.0)
+    assert not _still(pf, 0.02)
+    space.remove(b, *b.shapes)
+    assert not _still(pf, 0.01)
+    space.add(b, *b.shapes)
+    space.sleep_time_threshold = 1.0
+    b.force = (0.3, 0.0)
+    pf.step(0.01)  # the bulk route: the compiled call said ASLEEP having cleared the record
+    assert pf._sio._snap[-1, 0] == 0.0
+    space.sleep_time_threshold = math.inf
+    for _ in range(3):
+        b.force = (0.3, 0.0)
+        pf.step(0.01)
+    assert pf._sio._snap[-1, 0] == 1.0
+    pf.drive(b, omega=1.0, d=0.1, anchor=(0.0, 0.0), t0=0.0)
+    assert pf._plan is None and pf._sio._snap[-1, 0] == 0.0
+    _, pf3, b3 = _at_rest()
+    pf3.activate(b3, None)
+    assert pf3._sio._snap[-1, 0] == 0.0
+    _, pf4, b4 = _at_rest()
+    pf4.add(b4, mu=0.4)  # read again: new rows
+    assert pf4._plan is None and pf4._sio._snap[-1, 0] == 0.0

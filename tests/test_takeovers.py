@@ -192,6 +192,57 @@ def test_sleeping_turned_on_sends_the_step_to_the_bulk_route() -> None:
     assert all(math.isfinite(b.position.x) for b in bodies)
 
 
+@pytest.mark.private
+def test_the_space_probe_reads_what_pymunk_says() -> None:
+    """bodymem.sleep_offset: found on the suite's pymunk, and a compiled read at that place of a space's
+    struct gives what pymunk's property gives, through values set by its setter (its other settings moved
+    too); the plugin's one call reads it there."""
+    from numba import njit
+
+    from rrbody.engine.bodymem import address, f64_at, sleep_offset
+
+    @njit
+    def read(a: int) -> float:
+        return f64_at(a)
+
+    off = sleep_offset()
+    assert off is not None
+    space, pf, _ = _sliding()
+    pf.step(1e-3)
+    assert pf._sio._sleep_at == address(space._space) + off
+    for v in (0.5, math.inf, 2.0, 1e-9, math.inf):
+        space.sleep_time_threshold = v
+        space.idle_speed_threshold, space.damping = 0.25 * v if v < math.inf else 0.0, 0.5
+        assert read(address(space._space) + off) == v == space.sleep_time_threshold
+
+
+def test_without_the_space_probe_the_property_decides_the_route(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Where the probe of cpSpace finds nothing (bodymem.sleep_offset None) the plugin reads pymunk's
+    property each step and keeps no plan: sleeping turned on mid-run still sends the step to the bulk
+    route, and the run is the one with the probe, bit for bit."""
+    import rrbody.engine.structio as sio_module
+
+    runs = []
+    for probe in (True, False):
+        if not probe:
+            monkeypatch.setattr(sio_module, "sleep_offset", lambda: None)
+        space, pf, bodies = _sliding()
+        if pf._sio is None:  # RRBODY_NO_PRIVATE: no struct route at all, nothing to compare
+            pytest.skip("the struct route is off (RRBODY_NO_PRIVATE)")
+        assert (pf._sio._sleep_at == 0) is not probe
+        for n in range(200):
+            if n == 100:
+                space.sleep_time_threshold = 0.5
+                assert pf._route()[0] is pf._io
+            if n == 150:
+                space.sleep_time_threshold = math.inf
+            pf.step(1e-3)
+            if not probe:
+                assert pf._plan is None
+        runs.append([(tuple(b.position), b.angle, tuple(b.velocity), b.angular_velocity) for b in bodies])
+    assert runs[0] == runs[1]
+
+
 def test_fast_entry_falls_back_to_the_dispatcher() -> None:
     """rrbody.contact.lean.fast_entry reads numba's compiled entry point (dispatcher.overloads, not
     documented); a dispatcher without it is called itself, with the same result."""

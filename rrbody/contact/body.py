@@ -21,7 +21,8 @@ from rrbody.contact.feet import feet_step
 from rrbody.physics.effects import active as act
 from rrbody.physics.effects.drive_circular import sincos_reduced
 
-__all__ = ["extrapolated", "load", "settle", "step_one", "friction", "evaluate", "commit", "driver", "idle"]
+__all__ = ["extrapolated", "load", "settle", "step_one", "friction", "evaluate", "commit", "driver", "idle",
+           "same_bits"]
 
 
 @njit(cache=True, inline="always")
@@ -244,7 +245,7 @@ def driver(j: int, bodies: np.ndarray, t: float, dt: float) -> None:
 
 
 @njit(cache=True, inline="always")
-def _same(x: float, y: float) -> bool:
+def same_bits(x: float, y: float) -> bool:
     """x and y are the same float64, sign of a zero included (never for a NaN)."""
     return x == y and math.copysign(1.0, x) == math.copysign(1.0, y)
 
@@ -260,7 +261,8 @@ def idle(i: int, j: int, got: np.ndarray, bodies: np.ndarray, dt: float) -> bool
     already there, bit for bit. The conditions are the branches step_one takes for such a body, written
     out; False wherever any of them does not hold."""
     static, was, resting, _ = R.modes(i, j, got, bodies)
-    if not (static and resting) or not _same(was, 0.0) or bodies[j, DRV] > 0.0 or not _same(bodies[j, DEFR], 0.0):
+    if (not (static and resting) or not same_bits(was, 0.0) or bodies[j, DRV] > 0.0
+            or not same_bits(bodies[j, DEFR], 0.0)):
         return False
     m = bodies[j, MASS]
     lx = got[i, 4] + m * bodies[j, GTX]  # the load as load() makes it (no active load)
@@ -272,7 +274,8 @@ def idle(i: int, j: int, got: np.ndarray, bodies: np.ndarray, dt: float) -> bool
         return False
     _, _, ew = extrapolated(i, j, got, bodies, dt)
     # commit()'s history and settle()'s friction kept (held: out becomes 0, the friction minus the load)
-    return (_same(bodies[j, PVX], got[i, 1]) and _same(bodies[j, PVY], got[i, 2]) and _same(bodies[j, PW], got[i, 3])
-            and _same(bodies[j, GAP], dt) and _same(bodies[j, EA], got[i, 0] + got[i, 3] * dt)
-            and _same(bodies[j, EW], ew) and _same(bodies[j, FFX], 0.0 - lx) and _same(bodies[j, FFY], 0.0 - ly)
-            and _same(bodies[j, FFT], 0.0 - lt))
+    return (same_bits(bodies[j, PVX], got[i, 1]) and same_bits(bodies[j, PVY], got[i, 2])
+            and same_bits(bodies[j, PW], got[i, 3]) and same_bits(bodies[j, GAP], dt)
+            and same_bits(bodies[j, EA], got[i, 0] + got[i, 3] * dt) and same_bits(bodies[j, EW], ew)
+            and same_bits(bodies[j, FFX], 0.0 - lx) and same_bits(bodies[j, FFY], 0.0 - ly)
+            and same_bits(bodies[j, FFT], 0.0 - lt))

@@ -1,7 +1,8 @@
 """Raw access to pymunk's C structs in compiled code: an object's address, the float64 or int64 at a
 byte address, a float64 stored there, and where a body's state lies in pymunk's ``cpBody``
 (:func:`layout`), for the recorder's capture (:mod:`rrbody.engine.capture`) and the plugin's reads
-and writes (:mod:`rrbody.engine.structio`).
+and writes (:mod:`rrbody.engine.structio`); and where a space keeps its sleeping threshold in
+pymunk's ``cpSpace`` (:func:`sleep_offset`), which the plugin's compiled step reads each step.
 
 ``pymunk.batch`` reads every body of a space field by field, with a bounds check per number (about
 15 us per 1,000 bodies, and as much to write their forces back, measured); a body's state is a
@@ -19,6 +20,7 @@ their bodies), so an access never touches freed memory.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -29,8 +31,8 @@ from numba.extending import intrinsic
 
 from rrbody._private import private_allowed
 
-__all__ = ["address", "addresses", "f64_at", "i64_at", "set_f64", "layout", "X", "Y", "ANGLE", "VX", "VY", "SPIN",
-           "SPACE", "FX", "FY", "TORQUE"]
+__all__ = ["address", "addresses", "f64_at", "i64_at", "set_f64", "layout", "sleep_offset", "X", "Y", "ANGLE", "VX",
+           "VY", "SPIN", "SPACE", "FX", "FY", "TORQUE"]
 
 #: the entries of :func:`layout`'s offsets: position (m), angle (rad), velocity (m/s), spin (rad/s),
 #: the body's space (a pointer; null once removed), force (N) and torque (N m)
@@ -167,3 +169,48 @@ def layout() -> np.ndarray | None:
         except Exception:  # pragma: no cover - any surprise in pymunk's internals: keep pymunk.batch
             _layout = None
     return _layout
+
+
+def _find_sleep() -> int | None:
+    """:func:`sleep_offset`'s answer, or None (the value found other than exactly once, or the check failed)."""
+    import pymunk
+    from pymunk._chipmunk import ffi
+
+    space = pymunk.Space()
+    space.sleep_time_threshold = 1234.5625  # exact in binary, nothing else of a new space holds it
+    raw = np.frombuffer(bytes(ffi.buffer(space._space, _WINDOW)), dtype=np.float64)
+    hit = np.flatnonzero(raw == 1234.5625)
+    if len(hit) != 1:
+        return None
+    off = 8 * int(hit[0])
+    # the check, on another space: every value set through pymunk's setter reads back here, and
+    # nothing else it is given (idle speed, damping, collision slop) lands there
+    other = pymunk.Space()
+    a = address(other._space)
+    got = np.zeros(1)
+    for v in (0.5, math.inf, 7.25, math.inf):
+        other.sleep_time_threshold = v
+        other.idle_speed_threshold, other.damping, other.collision_slop = 3.0, 0.75, 0.125
+        _read(a, np.array([off], dtype=np.int64), got)
+        if got[0] != v or other.sleep_time_threshold != v:
+            return None
+    return off
+
+
+_sleep: Any = False  # not probed yet
+
+
+def sleep_offset() -> int | None:
+    """Byte offset of ``sleepTimeThreshold`` (s; inf: sleeping off, pymunk's default) in pymunk's
+    ``cpSpace``, found and checked once per process, so that compiled code reads what
+    ``space.sleep_time_threshold`` would return; None where it cannot be trusted (the caller then
+    reads the property)."""
+    global _sleep
+    if not private_allowed():  # RRBODY_NO_PRIVATE: the public property (rrbody._private)
+        return None
+    if _sleep is False:
+        try:
+            _sleep = _find_sleep()
+        except Exception:  # pragma: no cover - any surprise in pymunk's internals: keep the property
+            _sleep = None
+    return _sleep

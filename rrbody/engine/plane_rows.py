@@ -31,6 +31,10 @@ class PlaneRows:
     added or removed (arrays that double their capacity)."""
 
     def __init__(self) -> None:
+        #: the plugin's steady step (StructIO.plan: its compiled call and its arguments), or None;
+        #: dropped (_unplan) by every change of the arrays or the membership and every write of a row
+        #: outside a step, made again by the next step
+        self._plan: tuple[Any, tuple[Any, ...]] | None = None
         self._slots: dict[Any, int] = {}  # body -> row; its keys keep the order bodies were added in
         self._list: list[Any] = []  # row -> body
         self._rows = Rows(K.N_BODY)  # the kernel's ``bodies`` rows
@@ -50,6 +54,7 @@ class PlaneRows:
 
     def _views(self) -> None:
         """The kernel's arrays: views of the rows in use (no copy)."""
+        self._unplan()  # the plugin's steady step holds the old arrays: made again at the next step
         self._bodies = self._rows.view
         self._k_shapes, self._k_geo, self._k_tables = self._feet.arrays
         # the readers' view (rows): made once per change here, so that a hot reader pays no view per call
@@ -63,6 +68,11 @@ class PlaneRows:
         self._k_lookup = np.ascontiguousarray(np.vstack([ids[order], order.astype(np.int64)]))
         self._cache[K.ROW_ID] = 0  # ids are pointers, never 0: every cached row is looked up again
         self._dirty = False
+        self._unplan()
+
+    def _unplan(self) -> None:
+        """Drop the plugin's steady step (the plugin also clears its record of an idle step)."""
+        self._plan = None
 
     # ---- read-only accessors -------------------------------------------------------------------
     @property
@@ -98,6 +108,7 @@ class PlaneRows:
         time ``t0``, s): the compiled step then computes the driver's state with the friction (columns
         DPX..DVY, :meth:`drive_target`). For rrbody's builder; a user's joints need none."""
         self._bodies[self._slots[body], [K.DRV, K.OMG, K.DD, K.ANX, K.ANY, K.T0]] = 1.0, omega, d, *anchor, t0
+        self._unplan()  # a row written outside a step: the record of the last idle step no longer holds
 
     def drive_target(self, body: Any) -> list[float]:
         """Where the step just computed that the driver of a driven ``body`` (:meth:`drive`) must go: [x, y,

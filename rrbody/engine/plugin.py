@@ -38,7 +38,7 @@ from rrbody.engine.batchio import BatchIO, body_uid
 from rrbody.engine.bodymem import layout
 from rrbody.engine.plane_rows import PlaneRows
 from rrbody.engine.shapes import body_footprint
-from rrbody.engine.structio import StructIO
+from rrbody.engine.structio import IDLE, StructIO
 from rrbody.model.active import Active
 from rrbody.model.checks import check, check_choice
 from rrbody.model.friction import check_mu_static
@@ -240,28 +240,58 @@ class PlaneFriction(PlaneRows):
         if not 0.0 < dt < math.inf:  # (also refuses NaN; no check helper: this is the hot path)
             raise ValueError(f"dt must be > 0 s and finite, got {dt!r}")
         dt = float(dt)
-        if self._dirty:
-            self._relink()
-        if self._list:
+        plan = self._plan
+        if plan is not None:
+            # the steady step: the compiled call with the arguments the last step built (inside
+            # gym-pusht's loop the Python around it was half the table's cost at rest)
+            n_flag = plan[0](*plan[1], self.t, dt)
+            if n_flag < 0:
+                if n_flag == IDLE:  # nothing to do: every body at rest and held as in the step before
+                    n_flag = 0
+                else:  # sleeping turned on, a body gone, the check failed: the steps below
+                    self._plan = None
+                    n_flag = self._step_apart(dt, NO_ACTIVE)
+            if self.pre_step:
+                for f in self.pre_step:
+                    f(dt)
+            if n_flag:
+                self._rest(dt)
+        elif self._list:
+            if self._dirty:
+                self._relink()
             # the common step (no half kick due; the bodies' structs, where sleeping is off): one compiled call
             acts = self._act
             if self._sio is not None and not self._fresh and (acts is None or not acts.pending):
                 act = NO_ACTIVE if acts is None else acts.arrays(self)
-                n_flag = self._sio.step((self._k_lookup, self._cache, self._bodies, self._k_shapes, self._k_geo,
-                                         self._k_tables), self.t, dt, act)
+                arrays = (self._k_lookup, self._cache, self._bodies, self._k_shapes, self._k_geo, self._k_tables)
+                n_flag = self._sio.step(arrays, self.t, dt, act)
+                if n_flag == IDLE:
+                    n_flag = 0
                 if n_flag < 0:  # a step the compiled call does not take: the separate calls
                     n_flag = self._step_apart(dt, act)
+                elif acts is None:  # the next steps: the same call, until something changes (_unplan)
+                    self._plan = self._sio.plan(arrays)
             else:
                 n_flag = self._step_apart(dt, None)
             for f in self.pre_step:
                 f(dt)
             if n_flag:
                 self._rest(dt)
+        elif self._dirty:
+            self._relink()
         self.space.step(dt)
         y = dt - self._tc
         t = self.t + y
         self._tc = (t - self.t) - y
         self.t = t
+
+    def _unplan(self) -> None:
+        """Drop the steady step and clear the struct route's record of an idle step: every change of the
+        plugin's arrays or membership, every write of a row outside a step, every step outside the one call."""
+        self._plan = None
+        sio = getattr(self, "_sio", None)  # (PlaneRows.__init__ calls this before or after it is made)
+        if sio is not None:
+            sio.forget()
 
     # ---- active bodies (rrbody.contact.active) -------------------------------------------------
     def activate(self, body: Any, active: Active | None) -> None:
@@ -275,6 +305,7 @@ class PlaneFriction(PlaneRows):
         if self._act is None:
             self._act = ActiveSet()
         self._act.set(body, active)
+        self._unplan()  # the active bodies' arrays and noise are drawn each step
 
     def seed(self, seed: int) -> None:
         """Restart the active bodies' noise from ``seed`` (integer in [0, 2^63 - 1]; the default is 0):
@@ -283,12 +314,14 @@ class PlaneFriction(PlaneRows):
             self._act = ActiveSet(seed)
         else:
             self._act.seed(seed)
+        self._unplan()
 
     def _step_apart(self, dt: float, act: tuple[np.ndarray, np.ndarray] | None) -> int:
         """The step's read, half kicks, compiled step and write as separate calls (the bulk read, half kicks
         due, or a step :meth:`StructIO.step` handed back); ``act``: this step's active rows and noise if they
         were drawn already. Returns the kernel's count of bodies the rest rule acts on; raises the
         refusal's ValueError having changed nothing."""
+        self._unplan()  # a step outside struct_step: its record of an idle step no longer holds
         io, read = self._route()
         got, ids, out = read
         if self._fresh:
@@ -336,6 +369,7 @@ class PlaneFriction(PlaneRows):
         """Room in the kernel's row cache for ``n`` bodies of the space (doubling: amortised O(1))."""
         if n > self._cache.shape[1]:
             self._cache = np.zeros((3, max(n, 2 * self._cache.shape[1])), dtype=np.int64)  # ROW_ID 0: all stale
+            self._unplan()
 
     def _refuse(self, got: np.ndarray) -> None:
         """Raise the ValueError for what :func:`rrbody.contact.kernel.plane_check` found (error path only)."""

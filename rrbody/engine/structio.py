@@ -21,7 +21,10 @@ What it leaves to ``BatchIO`` (the plugin decides per step, :meth:`PlaneFriction
   then finds it missing and the plugin refuses the step with its usual message;
 - a space with sleeping enabled (``space.sleep_time_threshold`` finite): pymunk's force setter
   also wakes a sleeping body (``cpBodyActivate``), which a raw store does not; without sleeping
-  that call only resets an idle timer nobody reads;
+  that call only resets an idle timer nobody reads. The compiled call reads the threshold from the
+  space's struct (:func:`rrbody.engine.bodymem.sleep_offset`, probed and checked like the body
+  layout; 0.5 us less per step than pymunk's property), or :meth:`StructIO.step` reads the property
+  where the probe failed;
 - a pymunk whose body layout the probe could not establish (``layout()`` is None).
 """
 
@@ -34,14 +37,21 @@ import numpy as np
 from numba import njit
 
 from rrbody.contact import kernel as K
+from rrbody.contact.active import NO_ACTIVE
+from rrbody.contact.body import same_bits
 from rrbody.contact.lean import NO_REFCOUNT, fast_entry
 from rrbody.engine.bodymem import (ANGLE, FX, FY, SPACE, SPIN, TORQUE, VX, VY, address, addresses, f64_at, i64_at,
-                                   layout, set_f64)
+                                   layout, set_f64, sleep_offset)
 
-__all__ = ["StructIO", "gather", "scatter", "struct_step", "GONE"]
+__all__ = ["StructIO", "gather", "scatter", "struct_step", "struct_still", "GONE", "ASLEEP", "IDLE"]
 
 #: :func:`struct_step`'s answer when a plugin body is not in the space (nothing read is used, nothing written)
 GONE = -3
+#: :func:`struct_step`'s answer when the space has sleeping enabled (nothing read, nothing written)
+ASLEEP = -1
+#: :func:`struct_step`'s answer when plane_step was skipped as idle (forces written; no body stopped):
+#: the next step may ask :func:`struct_still` first
+IDLE = -4
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -72,21 +82,69 @@ def scatter(addr: np.ndarray, offs: np.ndarray, out: np.ndarray) -> None:
         set_f64(a + offs[TORQUE], out[k, 2])
 
 
+#: the struct fields of a body in the order of a row of ``got`` (and of the snapshot, :func:`struct_still`)
+_READ = (ANGLE, VX, VY, SPIN, FX, FY, TORQUE)
+
+
 @njit(cache=True, **NO_REFCOUNT)
-def struct_step(addr: np.ndarray, offs: np.ndarray, space: int, got: np.ndarray, ids: np.ndarray, lookup: np.ndarray,
-                cache: np.ndarray, bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray, tables: np.ndarray,
-                t: float, dt: float, out: np.ndarray, active: np.ndarray, noise: np.ndarray) -> int:
+def struct_still(addr: np.ndarray, offs: np.ndarray, space: int, snap: np.ndarray, out: np.ndarray, dt: float) -> bool:
+    """Whether this step is the last one again: that step was idle (:func:`struct_step` kept its read in
+    ``snap``), and every plugin body is still in ``space``, its angle, velocity, spin, force and torque
+    the same bits (a zero's sign included), with the same ``dt`` (s). Then
+    :func:`~rrbody.contact.kernel.plane_idle` would say True again and write the same ``out``: its answer
+    depends on nothing else that can change while the record stands (the rows it reads are written only
+    by steps that are not idle and by the plugin's own methods, which clear the record:
+    :meth:`StructIO.forget`; the caller checks sleeping and that no body is active). Writes ``out`` as
+    that step did and returns True, having read a few numbers per body and none of the kernel's arrays.
+    Else returns False having changed nothing."""
+    n_rows = addr.shape[0]
+    if snap[n_rows, 0] != 1.0 or snap[n_rows, 1] != dt:
+        return False
+    for k in range(n_rows):
+        a = addr[k]
+        if i64_at(a + offs[SPACE]) != space:
+            return False
+        for c in range(7):
+            if not same_bits(f64_at(a + offs[_READ[c]]), snap[k, c]):
+                return False
+    scatter(addr, offs, out)
+    return True
+
+
+@njit(cache=True, **NO_REFCOUNT)
+def struct_step(addr: np.ndarray, offs: np.ndarray, space: int, sleep_at: int, got: np.ndarray, ids: np.ndarray,
+                lookup: np.ndarray, cache: np.ndarray, bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray,
+                tables: np.ndarray, out: np.ndarray, active: np.ndarray, noise: np.ndarray, snap: np.ndarray, t: float,
+                dt: float) -> int:
     """:func:`gather`, :func:`rrbody.contact.kernel.plane_step` (from the plugin's time t, s, by dt, s;
-    skipped where :func:`~rrbody.contact.kernel.plane_idle` finds it would change nothing) and, if it
-    stepped, :func:`scatter`, in one call. Returns plane_step's answer (the bodies the rest rule
-    acts on, or -1 / -2 having written nothing), or :data:`GONE` if a body is not in ``space``."""
+    skipped where :func:`~rrbody.contact.kernel.plane_idle` finds it would change nothing, and, after
+    such a step, where :func:`struct_still` finds nothing it read has changed) and, if it stepped,
+    :func:`scatter`, in one call. Returns plane_step's answer (the bodies the rest rule acts on, or
+    -1 / -2 having written nothing), :data:`IDLE` where it skipped plane_step (its forces written, no
+    body stopped), :data:`GONE` if a body is not in ``space``, or :data:`ASLEEP` if the float64 at
+    address ``sleep_at`` (the space's sleeping threshold, s; 0: the caller checked it) is not inf.
+    ``snap`` (n + 1 rows of 7) is the record of an idle step: the rows of ``got`` and, in its last
+    row, 1 and dt; its last row starts with 0 after any other step."""
+    n_rows = addr.shape[0]
+    if sleep_at != 0 and f64_at(sleep_at) != math.inf:
+        snap[n_rows, 0] = 0.0
+        return ASLEEP
+    if active.shape[0] == 0 and struct_still(addr, offs, space, snap, out, dt):
+        return IDLE  # (the record stands)
+    snap[n_rows, 0] = 0.0
     if gather(addr, offs, space, got) >= 0:
         return GONE
     if K.plane_idle(got, ids, lookup, cache, bodies, dt, out, active):
-        n = 0  # every body at rest and held as it was: plane_step would change nothing (its forces are in out)
-    else:
-        # (plane_step allocates its work array: it keeps its reference counting, which needs none from here)
-        n = K.plane_step(got, ids, lookup, cache, bodies, shapes, geo, tables, t, dt, out, active, noise)
+        # every body at rest and held as it was: plane_step would change nothing (its forces are in out)
+        for k in range(n_rows):  # (a loop: a slice assignment needs numba's reference counting)
+            for c in range(7):
+                snap[k, c] = got[k, c]
+        snap[n_rows, 0] = 1.0
+        snap[n_rows, 1] = dt
+        scatter(addr, offs, out)
+        return IDLE
+    # (plane_step allocates its work array: it keeps its reference counting, which needs none from here)
+    n = K.plane_step(got, ids, lookup, cache, bodies, shapes, geo, tables, t, dt, out, active, noise)
     if n >= 0:
         scatter(addr, offs, out)
     return n
@@ -103,11 +161,15 @@ class StructIO:
         self._pf = pf
         self._offs = offs
         self._space = address(pf.space._space)
+        off = sleep_offset()
+        # where the compiled call reads the space's sleeping threshold (0: step() reads pymunk's property)
+        self._sleep_at = 0 if off is None else self._space + off
         self._members = -1
         self._entry: Any = None  # struct_step's compiled entry point (fast_entry), found on the first step
         self._addr = np.zeros(0, dtype=np.int64)
         self._got = np.zeros((0, 7))
         self._out = np.zeros((0, 3))
+        self._snap = np.zeros((1, 7))  # struct_step's record of an idle step, for struct_still
         self._ids = np.zeros(0, dtype=np.int64)
 
     def read(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
@@ -126,27 +188,46 @@ class StructIO:
         n = self._addr.shape[0]
         self._got = np.zeros((n, 7))
         self._out = np.zeros((n, 3))
+        self._snap = np.zeros((n + 1, 7))
         self._ids = pf._idrows.view.copy()
         self._members = pf.members
 
     def step(self, plane: tuple[np.ndarray, ...], t: float, dt: float, act: tuple[np.ndarray, np.ndarray]) -> int:
         """The plugin's step from its time ``t`` by ``dt`` (s): read, kernel and write in one call
-        (:func:`struct_step`, its answer). ``plane``: the plugin's own arrays of the kernel (id lookup, row
-        cache, rows, shapes, geo, tables, in :func:`~rrbody.contact.kernel.plane_step`'s order), ``act`` the
-        active rows and this step's noise. A negative answer wrote nothing: the plugin then takes its
+        (:func:`struct_step`, its answer; :data:`IDLE` is a step taken). ``plane``: the plugin's own arrays
+        of the kernel (id lookup, row cache, rows, shapes, geo, tables, in
+        :func:`~rrbody.contact.kernel.plane_step`'s order), ``act`` the active rows and this step's noise. A negative answer wrote nothing: the plugin then takes its
         separate calls, which refuse the step, enlarge the row cache and go on, or (-1 here, nothing read: a
         space with sleeping enabled) take the bulk route."""
-        # (pymunk's public property, every step: Chipmunk's own getter would save 0.26 us of a step of
-        # several, not worth a private name)
-        if self._pf.space.sleep_time_threshold != math.inf:
-            return -1
+        if self._sleep_at == 0 and self._pf.space.sleep_time_threshold != math.inf:
+            return ASLEEP
         if self._members != self._pf.members:
             self._relink()
-        args = (self._addr, self._offs, self._space, self._got, self._ids, *plane, t, dt, self._out, *act)
+        args = (*self._head(plane), self._out, *act, self._snap, t, dt)  # (t, dt last: the plan's call appends them)
         if self._entry is None:
             self._entry, n = fast_entry(struct_step, *args)  # runs this step once
             return int(n)
         return self._entry(*args)
+
+    def _head(self, plane: tuple[np.ndarray, ...]) -> tuple[Any, ...]:
+        """:func:`struct_step`'s first arguments (this reader's, then ``plane``'s)."""
+        return (self._addr, self._offs, self._space, self._sleep_at, self._got, self._ids, *plane)
+
+    def plan(self, plane: tuple[np.ndarray, ...]) -> tuple[Any, tuple[Any, ...]] | None:
+        """The plugin's next steps as one call while nothing changes: (entry, args) with
+        ``entry(*args, t, dt)`` the call :meth:`step` would make for ``plane`` (the same arrays) and no
+        active bodies. None where :meth:`step` must run instead: before its first call, and where the
+        compiled call cannot read the sleeping threshold itself. Valid until the plugin's membership or
+        any of its arrays changes (the plugin drops it then)."""
+        if self._entry is None or self._sleep_at == 0 or self._members != self._pf.members:
+            return None
+        return self._entry, (*self._head(plane), self._out, *NO_ACTIVE, self._snap)
+
+    def forget(self) -> None:
+        """Clear the record of the last idle step (:func:`struct_still` then says False until
+        :func:`struct_step` makes one again): the plugin calls it whenever it writes a row, changes its
+        arrays or steps outside :func:`struct_step`."""
+        self._snap[-1, 0] = 0.0
 
     def write_forces(self) -> None:
         """Set every plugin body's force (N, at its centre of gravity) and torque (N m) from ``out``."""

@@ -40,22 +40,20 @@ BodyPicker = Callable[[Any], Iterable[Any]]
 class TableSpace:
     """The environment's space with the table under it: what the wrapper puts in ``env.unwrapped.space``.
 
-    ``step(dt)`` (dt in s) is ``plane.step(dt)``: the table's friction on its bodies, then the real
-    space's ``step(dt)``. Every other attribute is read from, written to and deleted on the real
-    ``pymunk.Space`` (``bodies``, ``add``, ``debug_draw``, ``add_collision_handler``, ``damping``, ...).
-    It is not itself a ``pymunk.Space``: ``body.space`` is the real one (``plane.space``).
+    ``step(dt)`` (dt in s, > 0) is ``plane.step(dt)`` itself (the bound method, kept in a slot: no call of
+    this class's in between, as the environment calls it ten times per ``env.step``): the table's friction
+    on its bodies, then the real space's ``step(dt)``. Every other attribute is read from, written to and
+    deleted on the real ``pymunk.Space`` (``bodies``, ``add``, ``debug_draw``, ``add_collision_handler``,
+    ``damping``, ...). It is not itself a ``pymunk.Space``: ``body.space`` is the real one (``plane.space``).
     """
 
-    __slots__ = ("_space", "_plane")
+    __slots__ = ("_space", "_plane", "step")
 
     def __init__(self, plane: Any) -> None:  # a rrbody.engine.plugin.PlaneFriction (no name clash in the docs)
         # object.__setattr__: this class's own __setattr__ writes to the real space
         object.__setattr__(self, "_space", plane.space)
         object.__setattr__(self, "_plane", plane)
-
-    def step(self, dt: float) -> None:
-        """Advance the space by ``dt`` (s, > 0) with the table's friction on its bodies."""
-        self._plane.step(dt)
+        object.__setattr__(self, "step", plane.step)
 
     def __getattr__(self, name: str) -> Any:
         # only names this class does not define arrive here; object.__getattribute__ so that a half-built
