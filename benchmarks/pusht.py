@@ -12,8 +12,9 @@ within its run, and the study reports the median over the runs and every run's r
 block of one instance of gym-pusht's own env was 595-610 us in some processes and 680-770 us in
 others, the same code and actions, and the best of more rounds does not remove that (an instance's
 speed is set when it is made): with one instance per env the wrapper's at-rest ratio moved between
-1.00x and 1.17x from run to run; with four, between 1.05x and 1.07x, the same code. Also reported: rrbody/PushT-v0 without its table (the
-table's own cost) and two ``gymnasium.vector.AsyncVectorEnv`` workers stepping rrbody/PushT-v0.
+1.00x and 1.17x from run to run; with four, between 1.05x and 1.07x, the same code. Also reported:
+rrbody/PushT-v0 without its table (the table's own cost) and two ``gymnasium.vector.AsyncVectorEnv``
+workers stepping rrbody/PushT-v0.
 
 Runs where gym-pusht is installed (it pins pymunk < 7: make bench runs this study in the
 oldest-versions venv, pymunk 6.6, beside it); elsewhere it is recorded as skipped.

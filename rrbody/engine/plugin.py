@@ -240,41 +240,36 @@ class PlaneFriction(PlaneRows):
         if not 0.0 < dt < math.inf:  # (also refuses NaN; no check helper: this is the hot path)
             raise ValueError(f"dt must be > 0 s and finite, got {dt!r}")
         dt = float(dt)
-        plan = self._plan
-        if plan is not None:
-            # the steady step: the compiled call with the arguments the last step built (inside
-            # gym-pusht's loop the Python around it was half the table's cost at rest)
-            n_flag = plan[0](*plan[1], self.t, dt)
-            if n_flag < 0:
+        if self._list:
+            plan = self._plan
+            if plan is not None:
+                # the steady step: the compiled call with the arguments the last step built (inside
+                # gym-pusht's loop the Python around it was half the table's cost at rest)
+                n_flag = plan[0](*plan[1], self.t, dt)
                 if n_flag == IDLE:  # nothing to do: every body at rest and held as in the step before
                     n_flag = 0
-                else:  # sleeping turned on, a body gone, the check failed: the steps below
-                    self._plan = None
+                elif n_flag < 0:  # sleeping turned on, a body gone, the check failed (it drops the plan)
                     n_flag = self._step_apart(dt, NO_ACTIVE)
+            else:
+                if self._dirty:
+                    self._relink()
+                # the common step (no half kick due; the bodies' structs, where sleeping is off): one compiled call
+                acts = self._act
+                if self._sio is not None and not self._fresh and (acts is None or not acts.pending):
+                    act = NO_ACTIVE if acts is None else acts.arrays(self)
+                    arrays = (self._k_lookup, self._cache, self._bodies, self._k_shapes, self._k_geo, self._k_tables)
+                    n_flag = self._sio.step(arrays, self.t, dt, act)
+                    if n_flag == IDLE:
+                        n_flag = 0
+                    if n_flag < 0:  # a step the compiled call does not take: the separate calls
+                        n_flag = self._step_apart(dt, act)
+                    elif acts is None:  # the next steps: the same call, until something changes (_unplan)
+                        self._plan = self._sio.plan(arrays)
+                else:
+                    n_flag = self._step_apart(dt, None)
             if self.pre_step:
                 for f in self.pre_step:
                     f(dt)
-            if n_flag:
-                self._rest(dt)
-        elif self._list:
-            if self._dirty:
-                self._relink()
-            # the common step (no half kick due; the bodies' structs, where sleeping is off): one compiled call
-            acts = self._act
-            if self._sio is not None and not self._fresh and (acts is None or not acts.pending):
-                act = NO_ACTIVE if acts is None else acts.arrays(self)
-                arrays = (self._k_lookup, self._cache, self._bodies, self._k_shapes, self._k_geo, self._k_tables)
-                n_flag = self._sio.step(arrays, self.t, dt, act)
-                if n_flag == IDLE:
-                    n_flag = 0
-                if n_flag < 0:  # a step the compiled call does not take: the separate calls
-                    n_flag = self._step_apart(dt, act)
-                elif acts is None:  # the next steps: the same call, until something changes (_unplan)
-                    self._plan = self._sio.plan(arrays)
-            else:
-                n_flag = self._step_apart(dt, None)
-            for f in self.pre_step:
-                f(dt)
             if n_flag:
                 self._rest(dt)
         elif self._dirty:

@@ -49,8 +49,8 @@ __all__ = ["StructIO", "gather", "scatter", "struct_step", "struct_still", "GONE
 GONE = -3
 #: :func:`struct_step`'s answer when the space has sleeping enabled (nothing read, nothing written)
 ASLEEP = -1
-#: :func:`struct_step`'s answer when plane_step was skipped as idle (forces written; no body stopped):
-#: the next step may ask :func:`struct_still` first
+#: :func:`struct_step`'s answer when it skipped plane_step as idle (forces written, no body stopped; the
+#: record of what it read kept for :func:`struct_still`)
 IDLE = -4
 
 
@@ -196,9 +196,10 @@ class StructIO:
         """The plugin's step from its time ``t`` by ``dt`` (s): read, kernel and write in one call
         (:func:`struct_step`, its answer; :data:`IDLE` is a step taken). ``plane``: the plugin's own arrays
         of the kernel (id lookup, row cache, rows, shapes, geo, tables, in
-        :func:`~rrbody.contact.kernel.plane_step`'s order), ``act`` the active rows and this step's noise. A negative answer wrote nothing: the plugin then takes its
-        separate calls, which refuse the step, enlarge the row cache and go on, or (-1 here, nothing read: a
-        space with sleeping enabled) take the bulk route."""
+        :func:`~rrbody.contact.kernel.plane_step`'s order), ``act`` the active rows and this step's noise.
+        Any other negative answer wrote nothing: the plugin then takes its separate calls, which refuse the
+        step, enlarge the row cache and go on, or (:data:`ASLEEP`, nothing read: a space with sleeping
+        enabled) take the bulk route."""
         if self._sleep_at == 0 and self._pf.space.sleep_time_threshold != math.inf:
             return ASLEEP
         if self._members != self._pf.members:
