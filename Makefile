@@ -108,7 +108,7 @@ LOWEST_EXTRAS := test engine mujoco movie envs
 # gym-pusht pins pymunk < 7: it lives here, beside pymunk 6.6, for the fidelity checks of rrbody.envs
 # against the real package (RRBODY_REQUIRE_PUSHT=1 turns their skip, where it is missing, into a failure)
 PUSHT := gym-pusht==0.1.8
-LOWEST_TESTS := tests/test_flip.py tests/test_plugin_io.py tests/test_takeovers.py tests/test_plugin.py \
+LOWEST_TESTS := tests/test_flip.py tests/test_plugin_io.py tests/test_plugin_fused.py tests/test_takeovers.py tests/test_plugin.py \
 	tests/test_recorder.py tests/test_mujoco.py tests/test_tableaus.py tests/test_envs_pusht.py tests/test_envs_table.py tests/test_envs_draw.py \
 	tests/test_overlap.py
 LOWEST_RUN = PYTHONPATH=$(CURDIR) RRBODY_REQUIRE_PUSHT=1 RRBODY_CACHE_DIR=$(CURDIR)/$(LOWEST)/cache RRBODY_NO_SEED=1 MPLBACKEND=Agg \

@@ -129,6 +129,54 @@ def _measure(instances: int = INSTANCES) -> dict[str, dict[str, list[float]]]:
     return got
 
 
+def _physics_steps(n_steps: int = 200) -> dict[str, list[float]]:
+    """Where the wrapper's time goes at rest: inside gym-pusht's loop, each of the 10 physics steps of an
+    ``env.step`` timed alone, gym-pusht's own ``space.step`` against the wrapper's ``plane.step`` (the
+    table's step, then the same ``space.step``). Returns {which: the lower
+    quartile over ``n_steps`` env steps of each physics step's time, us}; both are timed through the
+    same Python wrapper, whose cost (about 0.1 us) both figures include; blocks of BLOCK env steps of each
+    env in turn, as in :func:`_measure`."""
+    import gymnasium as gym
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        import gym_pusht  # noqa: F401 (registers gym_pusht/PushT-v0)
+    from rrbody.envs import table
+
+    spent: dict[str, list[list[int]]] = {}
+    where = {"k": 0}
+
+    def timed(name: str, step: Callable[[float], None]) -> Callable[[float], None]:
+        got = spent.setdefault(name, [[] for _ in range(10)])
+
+        def run(dt: float) -> None:
+            t0 = time.perf_counter_ns()
+            step(dt)
+            got[where["k"] % 10].append(time.perf_counter_ns() - t0)
+            where["k"] += 1
+        return run
+
+    class Timed:  # gym-pusht's own space, its step timed (gym-pusht reads nothing else of it in step)
+        __slots__ = ("_space", "step")
+
+        def __init__(self, space: Any) -> None:
+            self._space, self.step = space, timed("gym-pusht: space.step", space.step)
+
+    hold = np.array([40.0, 40.0], dtype=np.float32)
+    bare, wrapped = gym.make("gym_pusht/PushT-v0"), table(gym.make("gym_pusht/PushT-v0"))
+    for env in (bare, wrapped):
+        _stepper(env, None, 0)  # reset, the agent and the T at rest, settled (as in the timing above)
+    bare.unwrapped.space = Timed(bare.unwrapped.space)
+    proxy = wrapped.unwrapped.space
+    object.__setattr__(proxy, "step", timed("wrapper: plane.step", proxy.step))
+    for _ in range(n_steps // BLOCK):  # blocks of BLOCK steps of each env in turn, as the timing above
+        for env in (bare, wrapped):
+            for _ in range(BLOCK):
+                where["k"] = 0
+                env.step(hold)
+    return {k: [float(np.percentile(v, 25)) / 1e3 for v in lists] for k, lists in spent.items()}
+
+
 def _runs(n: int) -> list[dict[str, dict[str, list[float]]]]:
     """:func:`_measure` in ``n`` fresh processes, one after the other (this interpreter, this environment)."""
     runs = []
@@ -164,6 +212,15 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     vec = _vector(20 if quick else 100)
     print(f"[pusht] AsyncVectorEnv, 2 workers: {vec * 1e6:.0f} us per vector step", flush=True)
     write_csv(out / "pusht.csv", rows)
+    phys = _physics_steps(50 if quick else 200)
+    gym_s, plane_s = phys["gym-pusht: space.step"], phys["wrapper: plane.step"]
+    write_csv(out / "pusht_physics.csv", [{"physics_step": i + 1, "gym_pusht_space_step_us": g, "wrapper_plane_step_us": w,
+                                           "added_us": w - g} for i, (g, w) in enumerate(zip(gym_s, plane_s))])
+    added = [w - g for g, w in zip(gym_s, plane_s)]
+    rest_gym = next(r["us_per_step"] for r in rows if r["phase"] == "at rest" and r["env"] == "gym-pusht")
+    print(f"[pusht] at rest, per physics step: space.step {gym_s[0]:.2f} us on the first of 10, "
+          f"{float(np.median(gym_s[1:])):.2f} on the others; the table adds {added[0]:.2f} and "
+          f"{float(np.median(added[1:])):.2f} us ({sum(added):.1f} us per env.step)", flush=True)
 
     targets = []
     for k in ("rrbody/PushT-v0", "gym-pusht + rrbody.envs.table"):
@@ -183,5 +240,13 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
           f"spends most of its step in shapely's overlay for the coverage; rrbody's exact clipping "
           f"(rrbody.physics.overlap) takes about a microsecond, which pays for the table in rrbody/PushT-v0; the "
           f"wrapper keeps gym-pusht's own coverage.\n\n{table_md}\n\n"
-          f"Two AsyncVectorEnv workers: {vec * 1e6:.0f} us per vector step (two env steps).\n")
-    return StudyResult(NAME, TITLE, targets=targets, markdown=md, files=["pusht.csv"])
+          f"Two AsyncVectorEnv workers: {vec * 1e6:.0f} us per vector step (two env steps).\n\n"
+          f"Where the wrapper's time goes at rest (pusht_physics.csv): each of the 10 physics steps of an "
+          f"env.step timed alone inside gym-pusht's loop, the lower quartile over {50 if quick else 200} env "
+          f"steps. gym-pusht's space.step takes {gym_s[0]:.2f} us on the first (after its observation and "
+          f"coverage) and {float(np.median(gym_s[1:])):.2f} us (median) on the others; the wrapper's "
+          f"plane.step adds {added[0]:.2f} and {float(np.median(added[1:])):.2f} us to them: "
+          f"{sum(added):.1f} us per env.step, {sum(added) / rest_gym:.1%} "
+          f"of gym-pusht's step (the whole step's ratio above also holds what these timers cannot see: the "
+          f"caches the table's work takes from gym-pusht's own code).\n")
+    return StudyResult(NAME, TITLE, targets=targets, markdown=md, files=["pusht.csv", "pusht_physics.csv"])

@@ -19,7 +19,7 @@ from rrbody.contact import kernel as K
 from rrbody.contact.active import NO_ACTIVE
 from rrbody.engine import PlaneFriction
 from rrbody.engine.bodymem import layout
-from rrbody.engine.structio import gather, struct_still
+from rrbody.engine.structio import gather, still_entry, struct_still
 
 G = 9.81
 
@@ -132,12 +132,22 @@ def _would_be_still(pf: PlaneFriction, dt: float) -> bool:
 @pytest.mark.parametrize("tilt", [0.0, 0.15])
 def test_the_still_check_skips_only_steps_that_change_nothing(tilt: float) -> None:
     """The same run with the record of idle steps and with it cleared before every step (so that every
-    step reads the kernel's arrays and asks plane_idle): the same bits. The record stood, and the compiled
-    call skipped plane_idle's check, at more than 100 steps (the scene at rest, the held push included)."""
-    runs, stood = [], 0
+    step reads the kernel's arrays and asks plane_idle): the same bits. The record stood at more than 100
+    steps (the scene at rest, the held push included), and at exactly those steps the plugin's separate
+    still call (struct_still) said True and took the step."""
+    runs, stood, taken = [], 0, [0]
     for keep in (True, False):
         space, pf, bodies = _scene(tilt)
         dt = 1.0 / 120.0
+        if keep:  # count the still call's True answers (the plugin finds this entry when it makes its plan)
+            real = still_entry()
+
+            def counted(*a: object) -> bool:
+                r = real(*a)
+                taken[0] += bool(r)
+                return r
+
+            pf._sio._still_entry = counted
         for n in range(600):
             if n >= 300:
                 bodies[1].force = (0.05, -0.02)
@@ -150,7 +160,7 @@ def test_the_still_check_skips_only_steps_that_change_nothing(tilt: float) -> No
             pf.step(dt)
         state = [(tuple(b.position), b.angle, tuple(b.velocity), b.angular_velocity) for b in bodies]
         runs.append((state, [pf.friction(b) for b in pf.bodies], pf.n_stopped, pf.t))
-    assert stood > 100
+    assert stood > 100 and taken[0] == stood
     assert runs[0] == runs[1]
 
 
@@ -172,15 +182,27 @@ def _at_rest() -> tuple[pymunk.Space, PlaneFriction, pymunk.Body]:
 
 def _still(pf: PlaneFriction, dt: float) -> bool:
     sio = pf._sio
-    return bool(struct_still(sio._addr, sio._offs, sio._space, sio._snap, sio._out, dt))
+    keys = sio.keys()
+    return bool(struct_still(keys.ctypes.data, dt))
 
 
 @pytest.mark.private
 def test_the_still_check_says_false_for_any_change() -> None:
     """struct_still says True for the recorded step again, False for a changed load (by one ulp), a zero of
-    the other sign, another dt, or a body gone from the space; the compiled call clears the record where
-    sleeping is on; every write of a row outside a step and every change of the arrays clears it."""
+    the other sign, another dt, a body gone from the space, or sleeping turned on; the compiled call clears
+    the record where sleeping is on; every write of a row outside a step and every change of the arrays
+    clears it and drops the plugin's still call."""
     space, pf, b = _at_rest()
+    assert pf._still is not None  # the plugin's next step starts with the still call
+    b.force = (0.3, 0.0)
+    for bad in (0.0, -0.01, math.nan, math.inf):  # the still call says no: refused as on any step
+        with pytest.raises(ValueError, match="dt must be > 0"):
+            pf.step(bad)
+    assert _still(pf, 0.01)  # (it writes the forces: the load is set again before each call)
+    t = pf.t
+    b.force = (0.3, 0.0)
+    pf.step(np.float64(0.01))  # taken by the still call, with the float it recorded
+    assert pf._still is not None and type(pf.t) is float and pf.t == t + 0.01
     b.force = (0.3, 0.0)
     assert _still(pf, 0.01)
     for change in ({"force": (math.nextafter(0.3, 1.0), 0.0)}, {"velocity": (-0.0, 0.0)}, {"angular_velocity": -0.0}):
@@ -194,20 +216,23 @@ def test_the_still_check_says_false_for_any_change() -> None:
     space.remove(b, *b.shapes)
     assert not _still(pf, 0.01)
     space.add(b, *b.shapes)
-    space.sleep_time_threshold = 1.0
     b.force = (0.3, 0.0)
+    assert _still(pf, 0.01)
+    space.sleep_time_threshold = 1.0
+    assert not _still(pf, 0.01)  # read from the space's struct, as struct_step reads it
     pf.step(0.01)  # the bulk route: the compiled call said ASLEEP having cleared the record
-    assert pf._sio._snap[-1, 0] == 0.0
+    assert pf._sio._snap[-1, 0] == 0.0 and pf._still is None
     space.sleep_time_threshold = math.inf
     for _ in range(3):
         b.force = (0.3, 0.0)
         pf.step(0.01)
     assert pf._sio._snap[-1, 0] == 1.0
+    assert pf._still is not None
     pf.drive(b, omega=1.0, d=0.1, anchor=(0.0, 0.0), t0=0.0)
-    assert pf._plan is None and pf._sio._snap[-1, 0] == 0.0
+    assert pf._plan is None and pf._still is None and pf._sio._snap[-1, 0] == 0.0
     _, pf3, b3 = _at_rest()
     pf3.activate(b3, None)
-    assert pf3._sio._snap[-1, 0] == 0.0
+    assert pf3._still is None and pf3._sio._snap[-1, 0] == 0.0
     _, pf4, b4 = _at_rest()
     pf4.add(b4, mu=0.4)  # read again: new rows
-    assert pf4._plan is None and pf4._sio._snap[-1, 0] == 0.0
+    assert pf4._plan is None and pf4._still is None and pf4._sio._snap[-1, 0] == 0.0

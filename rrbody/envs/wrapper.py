@@ -89,6 +89,7 @@ class TableWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
         self._pick = bodies
         self._plane: PlaneFriction | None = None
         self._proxy: TableSpace | None = None
+        self._base: Any = None  # env.unwrapped at the last reset (step reads its space without the wrapper chain)
         self._env_damping = 0.0  # the damping the environment set, restored before its next reset
 
     @property
@@ -125,7 +126,7 @@ class TableWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
         reset (the new space would have no table)."""
         if self._proxy is None:
             raise gymnasium.error.ResetNeeded("cannot step a table wrapper before reset: call env.reset() first")
-        space = getattr(self.env.unwrapped, "space", None)
+        space = getattr(self._base, "space", None)
         if space is not self._proxy:
             raise ValueError(f"env.unwrapped.space was replaced outside reset (it is now {space!r}), so the table "
                              f"is no longer under it: {CONTRACT}")
@@ -153,7 +154,7 @@ class TableWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
         if space.damping == 0.0:
             # the velocity wipe: the table now takes the velocity away, over the time friction needs
             space.damping = 1.0
-        self._plane, self._proxy = plane, proxy
+        self._plane, self._proxy, self._base = plane, proxy, u
 
     def _carried(self, u: Any, space: pymunk.Space) -> list[pymunk.Body]:
         """The bodies the table carries: ``bodies(u)``, or every dynamic body of ``space`` with a shape."""
