@@ -244,36 +244,35 @@ class PlaneFriction(PlaneRows):
             # the last step was idle and nothing it read has changed, dt included: taken again, its forces
             # written (a call of two numbers, not the step's eighteen arguments: inside gym-pusht's loop
             # about 0.3 against 2.3 us per physics step, measured; docs/plugin.md). dt was checked then.
-            dt = still[5]
-            if self.pre_step:
-                for f in self.pre_step:
-                    f(dt)
+            dt, n_flag = still[5], 0
         else:
             if not 0.0 < dt < _INF:  # (also refuses NaN; no check helper: this is the hot path)
                 raise ValueError(f"dt must be > 0 s and finite, got {dt!r}")
             dt = float(dt)
-            if self._list:
-                plan = self._plan
-                if plan is not None:
-                    # the steady step: the compiled call with the arguments the last step built (inside
-                    # gym-pusht's loop the Python around it was half the table's cost at rest)
-                    n_flag = plan[0](*plan[1], self.t, dt)
-                    if n_flag == IDLE:  # nothing to do: every body at rest and held as it was
-                        n_flag = 0
-                        self._still = (*plan[2], dt)
-                    else:
-                        self._still = None  # (a step that moved something: the next one is not still)
-                        if n_flag < 0:  # sleeping turned on, a body gone, the check failed (drops the plan)
-                            n_flag = self._step_apart(dt, NO_ACTIVE)
+            plan = self._plan
+            if not self._list:
+                if self._dirty:
+                    self._relink()
+                n_flag = None  # no bodies: no friction, no pre_step callbacks
+            elif plan is not None:
+                # the steady step: the compiled call with the arguments the last step built (inside
+                # gym-pusht's loop the Python around it was half the table's cost at rest)
+                n_flag = plan[0](*plan[1], self.t, dt)
+                if n_flag == IDLE:  # nothing to do: every body at rest and held as it was
+                    n_flag = 0
+                    self._still = (*plan[2], dt)
                 else:
-                    n_flag = self._step_first(dt)
-                if self.pre_step:
-                    for f in self.pre_step:
-                        f(dt)
-                if n_flag:
-                    self._rest(dt)
-            elif self._dirty:
-                self._relink()
+                    self._still = None  # (a step that moved something: the next one is not still)
+                    if n_flag < 0:  # sleeping turned on, a body gone, the check failed (drops the plan)
+                        n_flag = self._step_apart(dt, NO_ACTIVE)
+            else:
+                n_flag = self._step_first(dt)
+        if n_flag is not None:
+            if self.pre_step:
+                for f in self.pre_step:
+                    f(dt)
+            if n_flag:
+                self._rest(dt)
         self.space.step(dt)
         y = dt - self._tc
         t = self.t + y
@@ -304,7 +303,7 @@ class PlaneFriction(PlaneRows):
     def _unplan(self) -> None:
         """Drop the steady step and clear the struct route's record of an idle step: every change of the
         plugin's arrays or membership, every write of a row outside a step, every step outside the one call."""
-        self._plan = self._still = None
+        super()._unplan()
         sio = getattr(self, "_sio", None)  # (PlaneRows.__init__ calls this before or after it is made)
         if sio is not None:
             sio.forget()

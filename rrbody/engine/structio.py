@@ -261,8 +261,8 @@ class StructIO:
         (True: the step is taken, as the idle step before it; ``at`` is the address of ``keys``
         (:meth:`keys`), kept alive with ``snap`` and ``out``, whose addresses it holds). None where
         :meth:`step` must run instead: before its first call, and where the compiled calls cannot read the
-        sleeping threshold themselves. Valid until the plugin's membership or any of its arrays changes (the plugin drops it
-        then)."""
+        sleeping threshold themselves. Valid until the plugin's membership or any of its arrays changes
+        (the plugin drops it then)."""
         if self._entry is None or self._sleep_at == 0 or self._members != self._pf.members:
             return None
         if self._still_entry is None:
@@ -278,7 +278,7 @@ class StructIO:
         arrays are this reader's: until its membership changes)."""
         head = [self._addr.shape[0], self._space, self._sleep_at, self._snap.ctypes.data, self._out.ctypes.data,
                 self._offs.shape[0]]
-        return np.concatenate((np.array(head, dtype=np.int64), self._offs, self._addr)).astype(np.int64)
+        return np.concatenate((np.array(head, dtype=np.int64), self._offs, self._addr), dtype=np.int64)
 
     def forget(self) -> None:
         """Clear the record of the last idle step (:func:`struct_still` then says False until
