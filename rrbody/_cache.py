@@ -5,7 +5,8 @@ Layout (``cache_dir()``, by default the platform's user cache folder, ``~/.cache
 
     kernels/<version>-<sources>/   numba's compiled kernels for this exact source tree
     tables/                        quadrature rules (``.npz``), keyed by their own parameters
-    locks/                         one advisory lock file per output in use (rrbody.model.outlock)
+    locks/                         output locks of earlier rrbody versions (they now live beside
+                                   each output: rrbody.model.outlock); nothing new is written here
 
 ``<sources>`` hashes every ``.py`` file of the layers that hold kernels and of those below them
 (``KERNEL_LAYERS``: a kernel inlines only what it imports, and imports go only downward, which
@@ -19,8 +20,9 @@ Kernels compiled at install: the build backend compiles every kernel once
 rrbody copies that folder into the cache folder (``seed_kernels``), where numba loads it like
 kernels of its own (its version, the CPU and every function's bytecode are still checked: a kernel
 that does not match is compiled again, never used). The first run of new sources removes the kernel
-folders of other sources beyond the four newest that have gone unused for an hour. ``rrbody cache clear`` empties the folder;
-``rrbody cache info`` shows it.
+folders of other sources beyond the four newest that have gone unused for an hour. ``rrbody cache
+clear`` removes what rrbody wrote there (:data:`LAYOUT`, :func:`entries`) and nothing else: the folder
+may be one other programs use too (``RRBODY_CACHE_DIR=~/.cache``); ``rrbody cache info`` shows it.
 
 A damaged or foreign file in the folder (truncated, garbage, a folder in a file's place) is rebuilt:
 numba's files of a kernel it cannot read are removed and the kernel compiled again (``_guard_numba``),
@@ -37,6 +39,7 @@ import errno
 import functools
 import hashlib
 import os
+import re
 import sys
 from pathlib import Path
 from typing import Any
@@ -46,7 +49,7 @@ from rrbody._version import __version__
 
 __all__ = ["ENV", "BUILD_FILE", "cache_dir", "kernels_dir", "shipped_kernels_dir", "tables_dir", "stored_arrays",
            "locks_dir", "source_hash", "use_for_kernels", "kernel_sources", "KERNEL_LAYERS", "prune_kernels",
-           "seed_kernels", "built_by_numba", "NO_SEED", "CacheDamaged", "remove_damaged"]
+           "seed_kernels", "built_by_numba", "NO_SEED", "CacheDamaged", "remove_damaged", "LAYOUT", "entries"]
 
 #: the environment variable that moves the cache folder
 ENV = "RRBODY_CACHE_DIR"
@@ -280,8 +283,38 @@ def stored_arrays(path: Path, build: Any, *, valid: Any = None) -> tuple[Any, ..
 
 
 def locks_dir() -> Path:
-    """The folder of the output locks: ``locks/``."""
+    """The folder where rrbody versions before the locks moved beside the outputs kept them: ``locks/``
+    (read by ``rrbody cache clear`` only)."""
     return cache_dir() / "locks"
+
+
+#: what rrbody writes in the cache folder: each folder of its own, and the names (regular expressions)
+#: of what rrbody puts in it. The writers: :func:`kernels_dir` (``<version>-<16 hex digits>``) and
+#: :func:`seed_kernels`'s temporary copies (``.seed-``); :func:`stored_arrays` in :func:`tables_dir`
+#: (``.npz``, through ``tmp*.tmp``); earlier versions' output locks (a hash, ``.lock``).
+LAYOUT: dict[str, tuple[str, ...]] = {
+    "kernels": (r".+-[0-9a-f]{16}", r"\.seed-.+"),
+    "tables": (r".+\.npz", r"tmp[a-z0-9_]+\.tmp"),
+    "locks": (r"[0-9a-f]{32}\.lock",),
+}
+
+
+def entries(root: Path | None = None) -> tuple[list[Path], list[Path]]:
+    """What of the cache folder ``root`` (default :func:`cache_dir`) rrbody wrote, and what it did not:
+    ``(ours, foreign)``. Ours: the entries of :data:`LAYOUT`'s folders whose names it gives (a kernel
+    folder whole); foreign: everything else at the top and in those folders, including a file, or a
+    link, in the place of one of them (rrbody makes folders there)."""
+    root = cache_dir() if root is None else root
+    ours: list[Path] = []
+    foreign: list[Path] = []
+    for top in sorted(root.iterdir()) if root.is_dir() else ():
+        names = LAYOUT.get(top.name)
+        if names is None or not top.is_dir() or top.is_symlink():
+            foreign.append(top)
+            continue
+        for p in sorted(top.iterdir()):
+            (ours if any(re.fullmatch(n, p.name) for n in names) else foreign).append(p)
+    return ours, foreign
 
 
 @functools.lru_cache(maxsize=1)

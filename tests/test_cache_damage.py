@@ -2,13 +2,16 @@
 
 Every kind of file the folder holds (rrbody._cache, docs/compile.md): numba's index (``.nbi``) and data
 (``.nbc``) files of a kernel, the kernel folder's ``BUILD.json``, the quadrature tables
-(``tables/*.npz``), the plugin's wrench tables (``kernels/<version>-<hash>/tables/*.npz``) and the output
-locks (``locks/*.lock``), each truncated, overwritten with garbage, replaced by a folder, made
-unreadable (not as root, who reads anything) or, for the tables, replaced by another table's file. The
-real command (``python -m rrbody.cli``, with ``RRBODY_CACHE_DIR`` set to a copy of a filled cache) then
-succeeds with the answer of the undamaged cache, and the file is rebuilt: the next run loads it. A
-damaged file that cannot even be removed ends the command with one line naming it and ``rrbody cache
-clear``, exit status 1.
+(``tables/*.npz``) and the plugin's wrench tables (``kernels/<version>-<hash>/tables/*.npz``), each
+truncated, overwritten with garbage, replaced by a folder, made unreadable (not as root, who reads
+anything) or, for the tables, replaced by another table's file. The real command (``python -m
+rrbody.cli``, with ``RRBODY_CACHE_DIR`` set to a copy of a filled cache) then succeeds with the answer
+of the undamaged cache, and the file is rebuilt: the next run loads it. A damaged file that cannot even
+be removed ends the command with one line naming it and ``rrbody cache clear``, exit status 1.
+
+The output locks live beside the outputs (rrbody.model.outlock), not in the cache folder: a lock a killed
+writer left is taken over, and a file in a lock's place that rrbody did not write is never replaced (one
+line naming it, exit 2).
 """
 
 from __future__ import annotations
@@ -164,44 +167,56 @@ def test_a_damaged_table_is_built_again(filled: dict, tmp_path: Path, which: str
         assert str(z["stamp"][()]) == target.relative_to(cache).as_posix()
 
 
-def _lock(cache: Path, work: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+def _lock(work: Path) -> Path:
     from rrbody.model import outlock
 
-    monkeypatch.setenv(_cache.ENV, str(cache))
-    return outlock._lock_file(outlock.lock_key(work / "x.csv"))
+    return outlock.lock_path(work / "x.csv")
 
 
-@pytest.mark.parametrize("how", ["garbage", "folder", "locks folder a file"])
-def test_a_damaged_lock_file_is_replaced(filled: dict, tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
-                                         how: str) -> None:
+@pytest.mark.parametrize("left", ["", "process 1 (rrbody simulate ...)\n", "proc"])
+def test_a_lock_file_a_killed_writer_left_is_taken_over(filled: dict, tmp_path: Path, left: str) -> None:
+    """Empty (killed while claiming), whole, or cut short: the next writer takes it and removes it."""
     cache, work = _copy(filled, tmp_path)
-    lock = _lock(cache, work, monkeypatch)
-    lock.parent.mkdir(parents=True, exist_ok=True)
-    if how == "locks folder a file":
-        shutil.rmtree(lock.parent)
-        lock.parent.write_text("not a folder")
-    else:
-        lock.write_text("process 1 (x)\n")
-        _damage(lock, how)
+    _lock(work).write_text(left)
     r = _run(cache, SIMULATE, cwd=work)
     _clean(r)
     assert (work / "x.csv").read_text() == filled["answers"]["simulate"]
+    assert sorted(p.name for p in work.iterdir()) == ["x.csv"]
 
 
-def test_a_damaged_file_that_cannot_be_removed_is_one_line_and_exit_1(filled: dict, tmp_path: Path,
-                                                                      monkeypatch: pytest.MonkeyPatch) -> None:
-    """A folder in a lock file's place that cannot be removed (a removal that fails, injected: as root
+@pytest.mark.parametrize("how", ["garbage", "folder", "link"])
+def test_a_file_in_a_locks_place_that_rrbody_did_not_write_is_left_alone(filled: dict, tmp_path: Path,
+                                                                         how: str) -> None:
+    """It may be the user's: one line naming it, exit 2, nothing written, and it is as it was."""
+    cache, work = _copy(filled, tmp_path)
+    lock = _lock(work)
+    if how == "link":
+        (work / "target").write_text("the user's notes\n")
+        lock.symlink_to(work / "target")
+    else:
+        lock.write_text("the user's notes\n")
+        _damage(lock, how)
+    before = {p.name: (p.read_bytes() if p.is_file() else None) for p in work.iterdir()}
+    r = _run(cache, SIMULATE, cwd=work)
+    lines = r.stderr.strip().splitlines()
+    assert r.returncode == 2 and len(lines) == 1 and str(lock) in lines[0] and "--out" in lines[0], r.stderr
+    assert {p.name: (p.read_bytes() if p.is_file() else None) for p in work.iterdir()} == before
+
+
+def test_a_damaged_file_that_cannot_be_removed_is_one_line_and_exit_1(filled: dict, tmp_path: Path) -> None:
+    """A folder in a table's place that cannot be removed (a removal that fails, injected: as root
     nothing here resists it): one line naming it and ``rrbody cache clear``, exit 1, nothing written."""
     cache, work = _copy(filled, tmp_path)
-    lock = _lock(cache, work, monkeypatch)
-    lock.mkdir(parents=True)
-    (lock / "inside").write_text("x")
+    quad, _ = _tables(cache)
+    quad.unlink()
+    quad.mkdir()
+    (quad / "inside").write_text("x")
     fail = "import shutil\ndef _no(*a, **k): raise PermissionError(13, 'Permission denied')\nshutil.rmtree = _no"
-    r = _run(cache, SIMULATE, cwd=work, prelude=fail)
+    r = _run(cache, FLIP, cwd=work, prelude=fail)
     lines = r.stderr.strip().splitlines()
     assert r.returncode == 1 and len(lines) == 1, r.stderr
-    assert str(lock) in lines[0] and "rrbody cache clear" in lines[0] and "Traceback" not in r.stderr
-    assert not (work / "x.csv").exists()
+    assert str(quad) in lines[0] and "rrbody cache clear" in lines[0] and "Traceback" not in r.stderr
+    assert r.stdout == "" and list(work.iterdir()) == []
 
 
 def test_cache_clear_removes_what_is_no_lock_file(tmp_path: Path) -> None:

@@ -135,18 +135,15 @@ def test_the_shell_is_told_force_and_python_force_true(tmp_path: Path) -> None:
     assert "--force" in r.err and "force=True" not in r.err
 
 
-def _lock_seen(pid: int) -> bool:
-    """True once process ``pid`` has taken an output lock (rrbody.model.outlock writes its pid into the
-    lock file it holds, in rrbody's cache folder)."""
-    from rrbody._cache import locks_dir
+def _lock_seen(pid: int, out: Path) -> bool:
+    """True once process ``pid`` has taken the lock of ``out`` (rrbody.model.outlock writes its pid into the
+    lock file it holds, beside the output)."""
+    from rrbody.model.outlock import lock_path
 
-    for f in locks_dir().glob("*.lock") if locks_dir().is_dir() else ():
-        try:
-            if f.read_text().startswith(f"process {pid} "):
-                return True
-        except OSError:
-            continue
-    return False
+    try:
+        return lock_path(out).read_text().startswith(f"process {pid} ")
+    except OSError:
+        return False
 
 
 def _start(argv: list[str], cwd: Path) -> subprocess.Popen[str]:
@@ -154,9 +151,9 @@ def _start(argv: list[str], cwd: Path) -> subprocess.Popen[str]:
                             stderr=subprocess.PIPE)
 
 
-def _wait_for_lock(p: subprocess.Popen[str]) -> None:
+def _wait_for_lock(p: subprocess.Popen[str], out: Path) -> None:
     deadline = time.monotonic() + 120  # the first run of a fresh tree compiles its kernels after the claim
-    while not _lock_seen(p.pid):
+    while not _lock_seen(p.pid, out):
         assert p.poll() is None, ("the first writer ended before it was seen holding its lock", p.communicate())
         assert time.monotonic() < deadline, "the first writer never took its lock"
         time.sleep(0.05)
@@ -165,7 +162,7 @@ def _wait_for_lock(p: subprocess.Popen[str]) -> None:
 def test_one_writer_per_output(tmp_path: Path) -> None:
     first = _start([*LONG_SIM, "--out", "same.csv"], tmp_path)
     try:
-        _wait_for_lock(first)
+        _wait_for_lock(first, tmp_path / "same.csv")
         # the second writer, with other parameters and --force, another spelling of the same path
         (second,) = run_many([[*SIM, "--out", "./same.csv", "--force"]], cwd=tmp_path)
         out, err = first.communicate(timeout=300)
@@ -185,7 +182,7 @@ def test_one_writer_per_output(tmp_path: Path) -> None:
 def test_a_killed_writers_lock_is_taken_over(tmp_path: Path) -> None:
     first = _start([*LONG_SIM, "--out", "same.csv"], tmp_path)
     try:
-        _wait_for_lock(first)
+        _wait_for_lock(first, tmp_path / "same.csv")
         os.kill(first.pid, signal.SIGKILL)
         first.wait(timeout=60)
     finally:

@@ -1,7 +1,8 @@
 """Issue 29, sweeps: one writer per output, faults end in one line, nothing written before refused.
 
 - two sweeps to one output at once: the second is refused (exit 2, one line naming the first
-  process), whatever --force or --resume say, and the first finishes with its own numbers;
+  process), whatever --force or --resume say, and whatever cache folder each uses, and the first
+  finishes with its own numbers;
 - a lock left by a sweep killed with kill -9 is taken over by --resume;
 - a worker killed with kill -9, a lost Dask scheduler, a full disk: one line naming what happened,
   the points saved and the exact --resume command, exit 1, no traceback, no process left;
@@ -18,6 +19,7 @@ import errno
 import math
 import os
 import shlex
+import shutil
 import signal
 import subprocess
 import sys
@@ -34,7 +36,7 @@ import rrbody.analysis.sweep_store as store
 from rrbody.analysis.sweep import SweepFault, checkpoint_path, load_sweep, read_meta, run_sweep
 from rrbody.analysis.sweep_spec import Sweep
 
-from .clirun import RRBODY, alive, assert_bad_input, children, env, run_here, run_many
+from .clirun import RRBODY, Run, alive, assert_bad_input, children, env, run_here, run_many
 
 LINUX = pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs Linux /proc")
 #: a flip-time point of ~1e6 steps (about 2 s warm), and one of a few ms
@@ -125,6 +127,54 @@ def test_second_sweep_to_the_same_output_is_refused_and_the_first_finishes(tmp_p
     assert not ck.exists() and _all_gone(kids)
 
 
+def _own_cache(folder: Path) -> dict[str, str]:
+    """The environment of an rrbody whose cache folder is ``folder`` (``RRBODY_CACHE_DIR``), seeded with a
+    copy of this session's kernels for these sources where it has them (nothing to compile)."""
+    from rrbody import _cache
+
+    mine = _cache.kernels_dir()
+    if mine.is_dir():
+        shutil.copytree(mine, folder / "kernels" / mine.name, ignore=shutil.ignore_patterns("*.tmp.*"))
+    folder.mkdir(parents=True, exist_ok=True)
+    return {**env(), _cache.ENV: str(folder)}
+
+
+@LINUX
+def test_two_cache_folders_do_not_make_two_writers(tmp_path: Path) -> None:
+    """Two sweeps to one output, both with --force, each with its own cache folder (two shells, or a
+    scheduler that gives each job its own cache): the second is refused while the first runs (exit 2,
+    one line naming the first process), writes and removes nothing, and the table is the first's grid."""
+    work = tmp_path / "work"
+    work.mkdir()
+    out = work / "f.csv"
+    ck = checkpoint_path(out)
+    a = subprocess.Popen([*RRBODY, "sweep", *SLOW, "--axis", f"k={SLOW_K},{SLOW_K},{SLOW_K},{SLOW_K}", "--workers",
+                          "1", "--out", str(out), "--force"], cwd=work, env=_own_cache(tmp_path / "cache-a"),
+                         text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE, start_new_session=True)
+    kids: set[int] = set()
+    try:
+        _wait_for(ck.exists, "A's checkpoint", a)
+        kids = children(a.pid)
+        before = sorted(p.name for p in work.iterdir())
+        argv = ["sweep", "--H", "0.25", "--k", "7.5", "--axis", "omega=0.5,1", "--workers", "0", "--out", str(out),
+                "--force"]
+        b = subprocess.run([*RRBODY, *argv], cwd=work, env=_own_cache(tmp_path / "cache-b"), text=True,
+                           capture_output=True, timeout=300)
+        assert a.poll() is None, "A ended before B was tried: the test did not overlap the two sweeps"
+        assert_bad_input(Run(argv, b.returncode, b.stdout, b.stderr), "--out")
+        line = _one_line(b.stderr)
+        assert f"process {a.pid}" in line and "being written" in line, line
+        assert sorted(p.name for p in work.iterdir()) == before  # B wrote and removed nothing
+        _, err = a.communicate(timeout=600)
+        assert a.returncode == 0, err
+    finally:
+        _reap(a, kids)
+    meta = read_meta(out)
+    assert meta["spec"]["base"]["H"] == 0.2 and meta["spec"]["axes"] == {"k": [1e-9] * 4}  # A's grid
+    assert len(load_sweep(out)) == 4 and _all_gone(kids)
+    assert sorted(p.name for p in work.iterdir()) == ["f.csv", "f.csv.json"]  # no lock file left beside it
+
+
 @LINUX
 def test_lock_of_a_killed_sweep_is_taken_over_by_resume(tmp_path: Path) -> None:
     out = tmp_path / "k.csv"
@@ -154,12 +204,13 @@ def test_python_api_refuses_an_output_another_process_writes(tmp_path: Path) -> 
                               env=env(), text=True, stdout=subprocess.PIPE)
     try:
         assert holder.stdout is not None and holder.stdout.readline().strip() == "held"
+        before = sorted(tmp_path.iterdir())  # the holder's lock file, beside the output
         for kw in ({}, {"force": True}, {"resume": True}):
             with pytest.raises(ValueError, match=rf"being written by process {holder.pid}\b"):
                 run_sweep(small_sweep(), out, workers=0, progress=False, **kw)  # type: ignore[arg-type]
         with pytest.raises(ValueError, match=f"process {holder.pid}"):
             sw.run_fresh_or_resume(small_sweep(), out)
-        assert list(tmp_path.iterdir()) == []
+        assert sorted(tmp_path.iterdir()) == before
     finally:
         holder.kill()
         holder.communicate(timeout=60)

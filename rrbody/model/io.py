@@ -1,10 +1,13 @@
 """Safe output: every file is written to a temporary sibling and renamed into place.
 
 A crash or Ctrl-C mid-write leaves any previous file intact, and an existing file is never
-clobbered unless ``force=True``. Every output path is checked before any work is done
-(:func:`check_writable`: a regular file or absent, not empty, not too long for the file system),
-and the outputs of one run are checked to be distinct files, none of them an input
-(:func:`check_distinct`).
+clobbered unless ``force=True``. The temporary sibling (``.NAME.XXXXXXXX.part.SUFFIX``) is written
+under the output's lock (:mod:`rrbody.model.outlock`), so one that a killed process left behind is
+known to be stale by the next writer of the same output, which removes it; a writer that does not
+get the lock (another process writes the output) is refused and removes nothing. Every output path
+is checked before any work is done (:func:`check_writable`: a regular file or absent, not empty, not
+too long for the file system), and the outputs of one run are checked to be distinct files, none of
+them an input (:func:`check_distinct`).
 
 Messages name the output as the caller calls it: an option (``--out``), whose hints speak the
 command line's words (``pass --force``), or a Python parameter (``out``: ``pass force=True``).
@@ -14,6 +17,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
 import stat
 import tempfile
 from collections.abc import Callable, Iterator, Mapping
@@ -24,8 +28,8 @@ __all__ = ["atomic_path", "atomic_write_text", "atomic_write_with", "check_writa
            "NAME_RESERVE"]
 
 #: bytes of a file name kept free for what rrbody writes beside an output: its temporary sibling
-#: ``.NAME.XXXXXXXX.part.SUFFIX`` and a sweep's ``NAME.checkpoint.jsonl`` (whose own temporary name is
-#: the longest, NAME plus 38 bytes)
+#: ``.NAME.XXXXXXXX.part.SUFFIX``, its lock file ``.NAME.rrbody-lock`` and a sweep's
+#: ``NAME.checkpoint.jsonl`` (whose own temporary name is the longest, NAME plus 38 bytes)
 NAME_RESERVE = 48
 #: the limits assumed where the file system does not say (POSIX NAME_MAX and Linux PATH_MAX), bytes
 _NAME_MAX, _PATH_MAX = 255, 4096
@@ -173,34 +177,74 @@ def check_distinct(outputs: Mapping[str, str | os.PathLike[str] | None],
                                  "being read: choose another path")
 
 
+#: the temporary siblings this process is writing now (their names): never taken for stale ones
+_WRITING: set[str] = set()
+
+
+def _part_affixes(final: Path) -> tuple[str, str]:
+    """The prefix and suffix of ``final``'s temporary siblings (``tempfile.mkstemp`` puts eight
+    characters of its own between them)."""
+    return f".{final.name}.", ".part" + final.suffix
+
+
+def _remove_stale_parts(final: Path) -> None:
+    """Remove the temporary siblings of ``final`` that an earlier writer left (killed mid-write).
+    Called with ``final``'s lock held, so no other process is writing one of them; this process's
+    own (another thread's) are kept. Other files, links and folders are never touched."""
+    prefix, suffix = _part_affixes(final)
+    mine = re.compile(re.escape(prefix) + r"[a-z0-9_]{8}" + re.escape(suffix) + r"\Z")
+    try:
+        names = os.listdir(final.parent)
+    except OSError:
+        return
+    for n in names:
+        if mine.match(n) and n not in _WRITING:
+            p = final.parent / n
+            with contextlib.suppress(OSError):
+                if stat.S_ISREG(p.lstat().st_mode):
+                    p.unlink()
+
+
 @contextlib.contextmanager
 def atomic_path(path: str | os.PathLike[str], *, force: bool = False, name: str = "out") -> Iterator[Path]:
     """Yield a temporary path beside ``path``; on success it is renamed onto ``path``.
 
     On any exception (including KeyboardInterrupt) the temporary file is removed and ``path``
-    is left as it was.
+    is left as it was. The output's lock (:func:`rrbody.model.outlock.claimed`) is held from
+    before the temporary file exists until it is renamed or removed (already held by a command
+    that claimed its outputs first: kept), and the stale temporary siblings an earlier, killed
+    writer left are removed under it. Another process writing ``path`` raises
+    :class:`~rrbody.model.outlock.OutputBusy` (a ``ValueError`` naming ``name``).
     """
+    from rrbody.model.outlock import claimed
+
     final = check_writable(path, force=force, name=name)
-    fd, tmp = tempfile.mkstemp(prefix=f".{final.name}.", suffix=".part" + final.suffix, dir=final.parent or ".")
-    os.close(fd)
-    tmp_path = Path(tmp)
-    try:
-        yield tmp_path
-        if not force and final.exists():
-            raise ValueError(f"{name}: {str(final)!r} appeared while writing; pass {_force_hint(name)} to overwrite "
-                             "it")
-        if os.path.lexists(final) and not stat.S_ISREG(final.lstat().st_mode):
-            raise ValueError(f"{name}: {str(final)!r} became {_kind(final.lstat().st_mode)} while writing; "
-                             "left it alone")
-        # mkstemp creates 0600 files; give the result the permissions a plain open() would
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp_path, 0o666 & ~umask)
-        os.replace(tmp_path, final)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            tmp_path.unlink()
-        raise
+    with claimed([(name, final)]):
+        _remove_stale_parts(final)
+        prefix, suffix = _part_affixes(final)
+        fd, tmp = tempfile.mkstemp(prefix=prefix, suffix=suffix, dir=final.parent or ".")
+        os.close(fd)
+        tmp_path = Path(tmp)
+        _WRITING.add(tmp_path.name)
+        try:
+            yield tmp_path
+            if not force and final.exists():
+                raise ValueError(f"{name}: {str(final)!r} appeared while writing; pass {_force_hint(name)} to "
+                                 "overwrite it")
+            if os.path.lexists(final) and not stat.S_ISREG(final.lstat().st_mode):
+                raise ValueError(f"{name}: {str(final)!r} became {_kind(final.lstat().st_mode)} while writing; "
+                                 "left it alone")
+            # mkstemp creates 0600 files; give the result the permissions a plain open() would
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(tmp_path, 0o666 & ~umask)
+            os.replace(tmp_path, final)
+        except BaseException:
+            with contextlib.suppress(FileNotFoundError):
+                tmp_path.unlink()
+            raise
+        finally:
+            _WRITING.discard(tmp_path.name)
 
 
 def atomic_write_text(path: str | os.PathLike[str], text: str, *, force: bool = False, name: str = "out") -> Path:
