@@ -11,7 +11,8 @@ be removed ends the command with one line naming it and ``rrbody cache clear``, 
 
 The output locks live beside the outputs (rrbody.model.outlock), not in the cache folder: a lock a killed
 writer left is taken over, and a file in a lock's place that rrbody did not write is never replaced (one
-line naming it, exit 2).
+line naming it, exit 2). ``rrbody cache clear`` removes what rrbody wrote in the cache folder and nothing
+else, says what it removed and what it kept, and a path it cannot remove is one line naming it, exit 1.
 """
 
 from __future__ import annotations
@@ -219,16 +220,87 @@ def test_a_damaged_file_that_cannot_be_removed_is_one_line_and_exit_1(filled: di
     assert r.stdout == "" and list(work.iterdir()) == []
 
 
-def test_cache_clear_removes_what_is_no_lock_file(tmp_path: Path) -> None:
-    """The locks folder stays (a running rrbody may hold a lock in it); a folder in a lock file's place
-    goes (no process can hold it), a lock file stays."""
+def _layout(cache: Path, monkeypatch: pytest.MonkeyPatch, *, others: bool = True) -> tuple[list[Path], list[Path]]:
+    """A cache folder with what rrbody writes there, made by rrbody's own functions or in their names
+    (kernels of these sources and of another version, a quadrature table, an earlier version's output
+    lock), and what it never writes (a file beside them, a file in each of its folders, another
+    program's folder; none without ``others``). Returns (rrbody's, the others)."""
+    monkeypatch.setenv(_cache.ENV, str(cache))
+    kernels = _cache.kernels_dir()
+    (kernels / "physics").mkdir(parents=True)
+    (kernels / "physics" / "wrench.f-12.py311.nbi").write_bytes(b"\x00" * 1000)
+    old = kernels.parent / ("0.0.1-" + "0123456789abcdef")
+    old.mkdir()
+    (old / _cache.BUILD_FILE).write_text("{}")
+    table = _cache.tables_dir() / "icr_tables-test.npz"
+    _cache.stored_arrays(table, lambda: (np.arange(1000.0),))
+    lock = _cache.locks_dir() / ("ab" * 16 + ".lock")
+    lock.parent.mkdir()
+    lock.write_text("process 1 (x)\n")
+    foreign = [cache / "notes.txt", kernels.parent / "README", _cache.tables_dir() / "mine.csv",
+               _cache.locks_dir() / "keep.txt", cache / "other" / "data.bin"] if others else []
+    for f in foreign:
+        f.parent.mkdir(parents=True, exist_ok=True)
+        f.write_text("not rrbody's")
+    return [kernels, old, table, lock], foreign
+
+
+def test_cache_clear_removes_only_what_rrbody_wrote(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A cache folder pointed at a shared one (``RRBODY_CACHE_DIR=~/.cache``): rrbody's kernels, tables and
+    free lock files go, the rest stays, and the command says both; an earlier version's lock file that a
+    process holds stays too."""
+    import fcntl
+
     cache = tmp_path / "cache"
-    (cache / "locks" / "a.lock").mkdir(parents=True)
-    (cache / "locks" / "a.lock" / "inside").write_text("x")
-    (cache / "locks" / "b.lock").write_text("process 1 (x)\n")
-    r = _run(cache, ["cache", "clear", "--json"], cwd=tmp_path)
+    ours, foreign = _layout(cache, monkeypatch)
+    held = _cache.locks_dir() / ("cd" * 16 + ".lock")
+    held.write_text("process 2 (y)\n")
+    size = sum(f.stat().st_size for p in ours for f in ([p] if p.is_file() else p.rglob("*")) if f.is_file())
+    with open(held) as fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        r = _run(cache, ["cache", "clear"], cwd=tmp_path)
+        again = _run(cache, ["cache", "clear", "--json"], cwd=tmp_path)
     _clean(r)
-    assert not (cache / "locks" / "a.lock").exists() and (cache / "locks" / "b.lock").is_file()
+    assert not any(os.path.lexists(p) for p in ours)
+    assert all(f.read_text() == "not rrbody's" for f in foreign) and held.is_file()
+    line = r.stdout.strip()
+    assert line.startswith(f"cleared {cache}: removed kernels/ (2 entries), locks/ (1 entry), tables/ (1 entry) "
+                           f"({size / 1e6:.1f} MB freed)"), line
+    assert "kept what rrbody did not write" in line and "notes.txt" in line, line
+    _clean(again)
+    rep = json.loads(again.stdout)
+    assert rep["removed"] == [] and rep["freed_bytes"] == 0 and rep["failed"] == []
+    assert f"locks/{held.name} (a lock in use)" in rep["kept"] and "notes.txt" in rep["kept"]
+
+
+#: a file system that refuses every removal (EROFS), for a run as root, whom permissions do not stop
+_READ_ONLY = """import errno, os
+def _refused(path, *a, **k):
+    raise OSError(errno.EROFS, "Read-only file system", path)
+os.unlink = os.remove = os.rmdir = _refused"""
+
+
+def test_cache_clear_that_cannot_remove_says_so(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A read-only cache folder of rrbody's files only (made so with permissions; as root, who removes
+    anyway, by a refusal injected into every removal): one line naming a path it could not remove, exit 1,
+    no "cleared"."""
+    cache = tmp_path / "cache"
+    ours, foreign = _layout(cache, monkeypatch, others=False)
+    folders = [d for d in [cache, *cache.rglob("*")] if d.is_dir()]
+    prelude = _READ_ONLY if os.geteuid() == 0 else ""
+    try:
+        if not prelude:
+            for d in folders:
+                d.chmod(0o555)
+        r = _run(cache, ["cache", "clear"], cwd=tmp_path, prelude=prelude)
+    finally:
+        for d in folders:
+            d.chmod(0o755)
+    lines = r.stderr.strip().splitlines()
+    assert r.returncode == 1 and len(lines) == 1 and "Traceback" not in r.stderr, r.stderr
+    assert lines[0].startswith(f"rrbody cache: error: could not remove {cache}/"), lines[0]
+    assert "cleared" not in r.stdout and "removed 0 of rrbody's entries (0.0 MB freed)" in lines[0], lines[0]
+    assert all(os.path.lexists(p) for p in [*ours, *foreign])
 
 
 def test_other_programs_numba_caches_keep_numbas_behaviour(tmp_path: Path) -> None:

@@ -36,7 +36,8 @@ def test_wheel_lists_every_package() -> None:
 
 
 def test_cache_folder_follows_the_environment(tmp_path: Path) -> None:
-    """RRBODY_CACHE_DIR moves every cache; `rrbody cache clear` empties it; kernels are keyed by the sources."""
+    """RRBODY_CACHE_DIR moves every cache; `rrbody cache clear` removes what rrbody wrote there; kernels are keyed
+    by the sources."""
     env = {**os.environ, "RRBODY_CACHE_DIR": str(tmp_path / "c")}
     code = ("from rrbody._cache import kernels_dir, tables_dir, source_hash; import rrbody;"
             "print(kernels_dir()); print(tables_dir()); print(source_hash())")

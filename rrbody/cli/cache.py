@@ -1,18 +1,22 @@
-"""``rrbody cache info|clear|build``: the one folder where rrbody keeps compiled kernels, quadrature
-tables and output locks (``rrbody._cache``; ``RRBODY_CACHE_DIR`` moves it); ``build`` compiles every
-kernel into it now (:mod:`rrbody.cli.prebuild`), as the install does."""
+"""``rrbody cache info|clear|build``: the one folder where rrbody keeps compiled kernels and quadrature
+tables (``rrbody._cache``; ``RRBODY_CACHE_DIR`` moves it); ``clear`` removes what rrbody wrote there
+and nothing else, ``build`` compiles every kernel into it now (:mod:`rrbody.cli.prebuild`), as the
+install does."""
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
+import os
 import shutil
+import sys
 from pathlib import Path
 from typing import Any
 
-from rrbody._cache import ENV, cache_dir, kernels_dir, shipped_kernels_dir
+from rrbody._cache import ENV, cache_dir, entries, kernels_dir, shipped_kernels_dir
 
-__all__ = ["add_parser", "cmd_cache", "cache_report"]
+__all__ = ["add_parser", "cmd_cache", "cache_report", "clear"]
 
 
 def _size(path: Path) -> int:
@@ -40,6 +44,103 @@ def _mb(n: int) -> str:
     return f"{n / 1e6:.1f} MB"
 
 
+def _held(lock: Path) -> bool:
+    """Whether a process holds the lock file ``lock`` (an rrbody of an earlier version writing its
+    output: its lock file must stay, or a second writer would not meet it)."""
+    import fcntl
+
+    try:
+        fd = os.open(lock, os.O_RDONLY | os.O_CLOEXEC | getattr(os, "O_NOFOLLOW", 0))
+    except OSError:
+        return False
+    try:
+        fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
+    except OSError:
+        return True
+    finally:
+        os.close(fd)
+    return False
+
+
+def _remove(path: Path, failed: list[tuple[Path, str]]) -> None:
+    """Remove ``path`` (a folder whole, a file or a link, never what a link points to); what cannot be
+    removed is added to ``failed`` as (path, the system's reason)."""
+    def note(_func: Any, where: str, exc: Any) -> None:
+        e = exc if isinstance(exc, BaseException) else exc[1]
+        failed.append((Path(where), getattr(e, "strerror", None) or str(e)))
+
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path, **({"onexc": note} if sys.version_info >= (3, 12) else {"onerror": note}))
+    else:
+        try:
+            path.unlink()
+        except FileNotFoundError:
+            pass
+        except OSError as e:
+            failed.append((path, e.strerror or str(e)))
+
+
+def clear(root: Path | None = None) -> dict[str, Any]:
+    """Remove what rrbody wrote in the cache folder ``root`` (default: the cache folder), and nothing
+    else (:func:`rrbody._cache.entries`): its kernel folders, its tables, the lock files of earlier
+    versions that no process holds; then its own folders if that leaves them empty. Returns the folder,
+    what was removed (paths relative to it), what was kept (not rrbody's, or a lock in use), what could
+    not be removed (path and reason) and the bytes freed."""
+    root = cache_dir() if root is None else root
+    ours, foreign = entries(root)
+    removed: list[str] = []
+    kept = [str(p.relative_to(root)) for p in foreign]
+    failed: list[tuple[Path, str]] = []
+    freed = 0
+    for p in ours:
+        if p.parent.name == "locks" and _held(p):
+            kept.append(str(p.relative_to(root)) + " (a lock in use)")
+            continue
+        size = _size(p) if p.is_dir() else p.lstat().st_size
+        n_failed = len(failed)
+        _remove(p, failed)
+        gone = not os.path.lexists(p)
+        freed += size - (0 if gone else _size(p) if p.is_dir() else p.lstat().st_size)
+        if gone:
+            removed.append(str(p.relative_to(root)))
+        elif len(failed) == n_failed:  # (rmtree ignores nothing here: a survivor without a reason)
+            failed.append((p, "still there"))
+    for name in {p.relative_to(root).parts[0] for p in ours}:
+        with contextlib.suppress(OSError):  # its own folders, if now empty (not: foreign files are in it)
+            (root / name).rmdir()
+    return {"path": str(root), "removed": removed, "kept": kept, "freed_bytes": freed,
+            "failed": [{"path": str(f), "reason": why} for f, why in failed]}
+
+
+def _cmd_clear(args: argparse.Namespace) -> int:
+    """``rrbody cache clear``: say what was removed and what was kept; a path that could not be removed
+    is one line on stderr naming it, exit 1."""
+    rep = clear()
+    if args.json:
+        print(json.dumps(rep))
+    n = len(rep["removed"])
+    if rep["failed"]:
+        first, more = rep["failed"][0], len(rep["failed"]) - 1
+        print(f"rrbody cache: error: could not remove {first['path']} ({first['reason']})"
+              + (f" nor {more} more path{'s' if more > 1 else ''}" if more else "")
+              + f"; removed {n} of rrbody's entries ({_mb(rep['freed_bytes'])} freed); check the folder's "
+                f"permissions, or set {ENV} to a writable folder", file=sys.stderr)
+        return 1
+    if args.json:
+        return 0
+    groups: dict[str, int] = {}
+    for r in rep["removed"]:
+        groups[Path(r).parts[0]] = groups.get(Path(r).parts[0], 0) + 1
+    what = ", ".join(f"{top}/ ({k} {'entry' if k == 1 else 'entries'})" for top, k in sorted(groups.items()))
+    text = (f"cleared {rep['path']}: removed {what} ({_mb(rep['freed_bytes'])} freed)" if n else
+            f"cleared {rep['path']}: nothing of rrbody's was there")
+    if rep["kept"]:
+        shown = ", ".join(rep["kept"][:5]) + (f" and {len(rep['kept']) - 5} more" if len(rep["kept"]) > 5 else "")
+        text += f"; kept what rrbody did not write: {shown}"
+    print(text + ("; the next command loads or compiles rrbody's kernels again" if n else ""))
+    return 0
+
+
 def cmd_cache(args: argparse.Namespace) -> int:
     """Handler of ``rrbody cache``."""
     if args.action == "build":
@@ -51,30 +152,9 @@ def cmd_cache(args: argparse.Namespace) -> int:
         if args.json:
             print(json.dumps({"path": str(where), "bytes": _size(where)}))
         return 0
-    rep = cache_report()
     if args.action == "clear":
-        root = Path(rep["path"])
-        if root.is_dir():
-            # the locks folder stays: a running rrbody may hold a lock in it, and its files are empty;
-            # only what is no lock file goes (a folder or a link in one's place: damage no process holds)
-            for part in root.iterdir():
-                if part.name == "locks" and part.is_dir() and not part.is_symlink():
-                    for f in part.iterdir():
-                        if f.is_dir() and not f.is_symlink():
-                            shutil.rmtree(f, ignore_errors=True)
-                        elif f.is_symlink():
-                            f.unlink(missing_ok=True)
-                    continue
-                if part.is_dir() and not part.is_symlink():
-                    shutil.rmtree(part, ignore_errors=True)
-                else:
-                    part.unlink(missing_ok=True)
-        freed = rep["bytes"]
-        if args.json:
-            print(json.dumps({"path": rep["path"], "freed_bytes": freed}))
-        else:
-            print(f"cleared {rep['path']} ({_mb(freed)} freed); the next command loads or compiles rrbody's kernels again")
-        return 0
+        return _cmd_clear(args)
+    rep = cache_report()
     if args.json:
         print(json.dumps(rep))
         return 0
@@ -95,14 +175,16 @@ def cmd_cache(args: argparse.Namespace) -> int:
 def add_parser(sub: Any) -> None:
     """Register ``rrbody cache`` on the CLI's subparsers."""
     c = sub.add_parser("cache", help="show, clear or fill rrbody's cache folder (compiled kernels, tables)",
-                       description="rrbody keeps its compiled kernels (numba), quadrature tables and output locks "
+                       description="rrbody keeps its compiled kernels (numba) and quadrature tables "
                                    f"in one user cache folder (~/.cache/rrbody on Linux; the environment variable "
                                    f"{ENV} moves it). Kernels compiled from other sources are never loaded. "
-                                   "'info' shows the folder and its size; 'clear' empties it (the next command "
-                                   "loads the kernels compiled at install again, or compiles them); 'build' "
+                                   "'info' shows the folder and its size; 'clear' removes what rrbody wrote in "
+                                   "it, and nothing else (the next command loads the kernels compiled at install "
+                                   "again, or compiles them); 'build' "
                                    "compiles every kernel into it now, as the install does (useful after "
                                    "editing a checkout).")
     c.add_argument("action", choices=("info", "clear", "build"),
-                   help="info: where and how big; clear: remove its contents; build: compile every kernel now")
+                   help="info: where and how big; clear: remove what rrbody wrote there; build: compile every "
+                        "kernel now")
     c.add_argument("--json", action="store_true", help="print one JSON object")
     c.set_defaults(func=cmd_cache)
