@@ -112,3 +112,23 @@ def test_chaos_sweep_and_its_plot(tmp_path: Path) -> None:
     got = load_sweep(tmp_path / "c.csv")
     assert [row["lambda_max"] for row in got] == [row["lambda_max"] for row in ref]
     assert [row["rr_fraction"] for row in got] == [row["rr_fraction"] for row in ref]
+
+
+def test_a_file_beside_the_output_is_never_replaced_without_force(tmp_path: Path) -> None:
+    """The sidecar a sweep writes beside its table (``y.csv.json``) is an output too: a file of the
+    user's in its place is refused without --force (and with --resume when there is nothing to resume),
+    one line naming it, nothing written; --force replaces it, as it would the table."""
+    side = tmp_path / "y.csv.json"
+    side.write_text("notes\n")
+    out = ["--out", str(tmp_path / "y.csv")]
+    rs = run_here([[*ROD, *out], [*ROD, *out, "--resume"]], cwd=tmp_path)
+    for r in rs:
+        assert_bad_input(r, "--out", tmp_path, {"y.csv.json"})
+        assert "y.csv.json" in r.err and "--force" in r.err, r.err
+    assert side.read_text() == "notes\n"
+    (r,) = run_here([[*ROD, *out, "--force"]], cwd=tmp_path, real=0)
+    assert r.code == 0, r.err
+    from rrbody.analysis.sweep import read_meta
+
+    assert read_meta(tmp_path / "y.csv")["spec"]["axes"] == {"omega": [0.6, 0.7]}  # the sidecar is the sweep's now
+

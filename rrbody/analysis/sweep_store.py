@@ -54,9 +54,10 @@ def check_outputs(out: str | os.PathLike[str], *, grid: bool, resume: bool, forc
                   name: str = "out") -> None:
     """Validate a sweep's outputs before any work: the suffix (``.nc`` needs a grid), its writer
     installed (``.nc``: xarray, else :class:`~rrbody.model.extras.MissingExtraError` naming the
-    ``data`` extra), every file a regular file or absent in a writable folder; without ``resume``, an
-    existing table needs ``force`` and an existing checkpoint needs ``resume`` or ``force``.
-    ValueError naming ``out``.
+    ``data`` extra), every file a regular file or absent in a writable folder; an existing table or
+    sidecar (the table's own file too: nothing of the user's is replaced) needs ``force``, or
+    ``resume`` with a sweep to resume (its checkpoint or its table there), and an existing checkpoint
+    needs ``resume`` or ``force``. ValueError naming ``out``.
 
     ``name``: the output as the caller calls it, in the message of a missing writer (``--out``).
     ``existing=False`` checks only what another writer cannot change (suffix, names, folder, kinds):
@@ -72,15 +73,16 @@ def check_outputs(out: str | os.PathLike[str], *, grid: bool, resume: bool, forc
     if resume and force:
         raise ValueError("resume and force contradict each other: resume continues the checkpoint, force discards "
                          "it and starts afresh; give one of them")
+    ck = checkpoint_path(p)
+    # resume replaces the table and its sidecar only when there is a sweep to resume: else it is a first run
+    replace = force or (resume and (ck.exists() or p.exists())) or not existing
     for kind, f in output_files(p):
-        check_writable(f, force=resume or force or kind != "out" or not existing,
-                       name="out" if kind == "out" else f"out: {kind}")
+        check_writable(f, force=replace or kind == "checkpoint", name="out" if kind == "out" else f"out: {kind}")
     # the table's writer is installed: a missing one found after the work would leave a checkpoint that
     # blocks the same command (without --resume) once the extra is installed
     writer = writer_of(p)
     if writer is not None:
         require_writer(writer, name=name)
-    ck = checkpoint_path(p)
     if existing and not (resume or force) and ck.exists():
         raise ValueError(f"out: checkpoint {str(ck)!r} exists from an earlier run; pass resume=True (--resume) to "
                          "continue it or force=True (--force) to start afresh")
