@@ -6,9 +6,11 @@ mu(v) = mu_k + (mu_s - mu_k) exp(-(v / v_s)^2); ``mu`` (or ``k``) is mu_k, the l
 
 from __future__ import annotations
 
+import json
 import math
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -224,3 +226,35 @@ def test_the_command_line_takes_the_law_and_refuses_a_bad_speed() -> None:
     assert "--v-s must be in [1e-9, 1e9] m/s, got 0" in bad.stderr
     missing = subprocess.run(run[:-1], capture_output=True, text=True, timeout=300)
     assert missing.returncode == 2 and "missing required options: --v-s" in missing.stderr
+
+
+#: a Stribeck flip that never settles (mu_s = 0.5 against mu_k = 0.05 / g: the full run ends unsettled after
+#: 4e5 s, phi never having turned), cut at 10 s: phi is still falling there too
+NO_MIN = {"body": "rod", "H": 0.2, "k": 0.05, "omega": 0.6, "friction": "stribeck", "mu_s": 0.5, "v_s": 0.1}
+
+
+def test_a_flip_time_without_a_minimum_has_no_phi_min(cli, tmp_path: Path) -> None:  # noqa: ANN001
+    """No minimum, no phi_min: never phi0 beside a missing t_phi_min, in the result, the JSON (single and
+    batch), the text and a sweep's table."""
+    from rrbody.analysis.simulate import simulate
+    from rrbody.analysis.sweep import load_sweep
+
+    scene = scene_from_params(**NO_MIN)
+    traj = simulate(scene, t_max=10.0, dt_out=0.01)
+    assert (traj.phi_dot < 0.0).all()  # phi falls all along: it has no minimum in the span
+    r = flip_time(scene, t_max=10.0)
+    assert r.t_f is None and r.n_minima == 0 and math.isnan(r.t_phi_min) and math.isnan(r.phi_min)
+    opts = ["--friction", "stribeck", "--mu-s", "0.5", "--v-s", "0.1", "--k", "0.05", "--omega", "0.6",
+            "--t-max", "10"]
+    d = json.loads(cli("flip-time", "--H", "0.2", *opts, "--json").out)
+    assert d["phi_min"] is None and d["t_phi_min"] is None and d["t_f"] is None and d["n_minima"] == 0
+    text = cli("flip-time", "--H", "0.2", *opts).out
+    assert "no minimum, so there is no phi_min" in text and "phi_min =" not in text, text
+    lines = tmp_path / "in.jsonl"
+    lines.write_text(json.dumps({"H": 0.2}) + "\n")
+    b = cli("flip-time", *opts, "--batch", str(lines))
+    assert b.code == 0 and json.loads(b.out)["phi_min"] is None, b
+    s = cli("sweep", *opts, "--axis", "H=0.2,0.25", "--workers", "0", "--out", str(tmp_path / "s.csv"))
+    assert s.code == 0, s.err
+    rows = load_sweep(tmp_path / "s.csv")
+    assert rows[0]["t_f"] == "" and rows[0]["phi_min"] == "" and rows[0]["t_phi_min"] == "", rows[0]

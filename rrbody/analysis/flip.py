@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
 
@@ -29,7 +30,16 @@ from rrbody.model.scene import Scene, rod_mass_scene
 from rrbody.analysis.simulate import resolve_rtol
 
 __all__ = ["flip_time", "reverse_rotation_exists", "critical_h", "critical_h_of", "frictionless_T1",
-           "frictionless_critical_h"]
+           "frictionless_critical_h", "without_phantom_minimum"]
+
+
+def without_phantom_minimum(res: FlipResult) -> FlipResult:
+    """``res`` with ``phi_min`` NaN when phi had no minimum in the run (``t_phi_min`` NaN: phi fell all
+    along, or the run stopped before phi turned): the event rules give phi0 there, a value phi was not at
+    its lowest, which must not be read beside a missing time. JSON shows both as null."""
+    if math.isnan(res.t_phi_min) and not math.isnan(res.phi_min):
+        return replace(res, phi_min=math.nan)
+    return res
 
 
 def flip_time(scene: Scene, *, rtol: float | None = None, accuracy: str = "default", t_max: float | None = None,
@@ -66,8 +76,9 @@ def flip_time(scene: Scene, *, rtol: float | None = None, accuracy: str = "defau
         _, regime, rr, settled, phi_min = classify_flip(scene, status=res.status, has_min=res.has_min,
                                                         phi_min=res.phi_min, t_min=res.t_min, T1=res.T1,
                                                         t_end=res.t_end)
-        return FlipResult(None, phi_min, res.t_min, rr, res.T1 if math.isfinite(res.T1) else None, settled,
-                          regime, res.t_end, res.n_steps, res.n_minima, rtol_v, res.wall, res.minima)
+        return without_phantom_minimum(FlipResult(None, phi_min, res.t_min, rr, res.T1 if math.isfinite(res.T1)
+                                                  else None, settled, regime, res.t_end, res.n_steps,
+                                                  res.n_minima, rtol_v, res.wall, res.minima))
     res = integrate_driven(p, S, y0, t_end=horizon, rtol=rtol_v, stop="flip", settle_turns=settle_turns,
                            settle_periods=settle_periods, max_steps=max_steps, progress=progress, desc="flip time",
                            method=stepper)
@@ -75,8 +86,8 @@ def flip_time(scene: Scene, *, rtol: float | None = None, accuracy: str = "defau
                                                       phi_min=res.phi_min, t_min=res.t_min, T1=res.T1,
                                                       t_end=res.t_end)
     T1 = res.T1 if math.isfinite(res.T1) else None
-    return FlipResult(t_f, phi_min, res.t_min, rr, T1, settled, regime, res.t_end, res.n_steps, res.n_minima, rtol_v,
-                      res.wall, res.minima)
+    return without_phantom_minimum(FlipResult(t_f, phi_min, res.t_min, rr, T1, settled, regime, res.t_end,
+                                              res.n_steps, res.n_minima, rtol_v, res.wall, res.minima))
 
 
 def reverse_rotation_exists(scene: Scene, *, rtol: float | None = None, accuracy: str = "default") -> bool:

@@ -36,6 +36,7 @@ that it answers) before any work or file; the sweep itself was checked when it w
 from __future__ import annotations
 
 import contextlib
+import math
 import os
 from pathlib import Path
 from typing import Any
@@ -99,8 +100,11 @@ def evaluate_point(sweep: Sweep, values: dict[str, float]) -> dict[str, Any]:
             return {"t_stop": ev.get("t_stop"), "distance": ev.get("distance"), "turn": ev.get("turn"),
                     "status": tr.meta.get("status"), "error": ""}
         r = flip_time(scene, **opts)
-        return {"t_f": r.t_f, "phi_min": r.phi_min, "t_phi_min": r.t_phi_min, "reverse_rotation": bool(r.reverse_rotation),
-                "T1": r.T1, "settled": bool(r.settled), "n_steps": int(r.n_steps), "regime": r.regime, "error": ""}
+        # no minimum of phi: no phi_min and no t_phi_min (empty cells, null in the checkpoint), never NaN text
+        no_min = math.isnan(r.t_phi_min)
+        return {"t_f": r.t_f, "phi_min": None if no_min else r.phi_min, "t_phi_min": None if no_min else r.t_phi_min,
+                "reverse_rotation": bool(r.reverse_rotation), "T1": r.T1, "settled": bool(r.settled),
+                "n_steps": int(r.n_steps), "regime": r.regime, "error": ""}
     except ValueError as e:
         return {**{c: None for c in sweep.columns}, "error": str(e)}
 

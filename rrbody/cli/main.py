@@ -123,10 +123,12 @@ def cmd_flip_time(args: argparse.Namespace) -> int:
         raise CliError("--no-drive: a free body has no flip time (use `rrbody simulate`)")
     stepper = stepper_option(args)
     if args.method == "engine":
+        from rrbody.analysis.flip import without_phantom_minimum
         from rrbody.engine import engine_flip_time
 
         opts = {k: v for k, v in (("dt", args.dt), ("iterations", args.iterations)) if v is not None}
-        res = engine_flip_time(scene, t_max=args.t_max, max_steps=args.max_steps, progress=_progress(args), **opts)
+        res = without_phantom_minimum(engine_flip_time(scene, t_max=args.t_max, max_steps=args.max_steps,
+                                                       progress=_progress(args), **opts))
     else:
         from rrbody.analysis.flip import flip_time
 
@@ -137,6 +139,8 @@ def cmd_flip_time(args: argparse.Namespace) -> int:
              body=scene.body.kind, method=args.method)
     if res.t_f is not None:
         text = f"t_f = {res.t_f:.10g} s  (phi_min = {res.phi_min:.10g} rad)  [{res.regime}]"
+    elif math.isnan(res.phi_min):
+        text = f"t_f: none  (phi has had no minimum, so there is no phi_min)  [{res.regime}]"
     else:
         text = f"t_f: none  [{res.regime}]"
     emit(args, d, text)
