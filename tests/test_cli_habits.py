@@ -10,7 +10,7 @@ import json
 import math
 from pathlib import Path
 
-from .clirun import assert_bad_input, run_here
+from .clirun import assert_bad_input, run_here, run_many
 
 FLIP = ["flip-time", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--json"]
 
@@ -96,3 +96,20 @@ def test_cli_quantities_match_the_sweep_engine() -> None:
     from rrbody.cli.sweep import QUANTITY_NAMES
 
     assert QUANTITY_NAMES == tuple(QUANTITIES)
+
+
+def test_a_refused_value_is_one_line_without_the_degrees_warning(tmp_path: Path) -> None:
+    """The degrees warning waits until the input is checked: a value out of range (``--phi0 1e7``, a whole
+    number, so also a likely degree), or another option refused beside a likely degree, is the error's
+    one line alone; a good command still warns, once. The real command and in-process, single and batch."""
+    bad = [[*FLIP, "--phi0", "1e7"], [*FLIP, "--phi0", "180", "--t-max", "-1"]]
+    real = run_many(bad, cwd=tmp_path)
+    here = run_here(bad, cwd=tmp_path, real=0)
+    for r, opt in zip([*real, *here], ["--phi0", "--t-max"] * 2):
+        assert_bad_input(r, opt, tmp_path, set())
+        assert r.err.count("\n") == 1 and "warning" not in r.err, r.err
+    lines = tmp_path / "in.jsonl"
+    lines.write_text('{"phi0": 1e7}\n{"phi0": 180}\n')
+    (b,) = run_many([[*FLIP, "--batch", str(lines)]], cwd=tmp_path)
+    assert b.code == 2 and "--phi0 must be in" in json.loads(b.out.splitlines()[0])["error"]
+    assert b.err.count("warning: --phi0 180 is read as 180 rad") == 1 and b.err.count("\n") == 1, b.err

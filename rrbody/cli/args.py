@@ -23,7 +23,30 @@ from rrbody.model.laws import LAW_PARAMS
 
 __all__ = ["CliError", "Parser", "OPTION_PARAMS", "emit", "ranged", "number", "integer", "angle", "float_list",
            "option_help", "check_options", "option_message", "preprocess_argv", "suggest", "commands", "subparser",
-           "parse", "check_repeats", "given", "plain_text", "_angle", "_finite", "_float_list"]
+           "parse", "check_repeats", "given", "plain_text", "_angle", "_finite", "_float_list", "warn_later",
+           "flush_warnings", "drop_warnings"]
+
+#: warnings about values that parsed (a bare number that looks like degrees), held until the command has
+#: checked all of its input (:func:`flush_warnings`): a command refused for bad input prints its one error
+#: line and nothing else (:func:`drop_warnings`), whichever option was wrong
+_PENDING: list[str] = []
+
+
+def warn_later(text: str) -> None:
+    """Hold the warning ``text`` until the command's input is checked (:func:`flush_warnings`)."""
+    _PENDING.append(text)
+
+
+def flush_warnings() -> None:
+    """Print the held warnings, one line each on stderr (the command's input is good)."""
+    for text in _PENDING:
+        print(f"rrbody: warning: {text}", file=sys.stderr)
+    _PENDING.clear()
+
+
+def drop_warnings() -> None:
+    """Forget the held warnings: the command is refused, and its error is its one line."""
+    _PENDING.clear()
 
 
 class CliError(ValueError):
@@ -155,7 +178,8 @@ def integer(option: str, valid: str | None = None) -> Callable[[str], int]:
 
 def angle(option: str) -> Callable[[str], float]:
     """argparse type: an angle in rad (``pi/2``, ``-0.5*pi``, ``180deg``); warns on stderr when a
-    bare number beyond 2 pi is a whole number, most likely degrees without the ``deg`` suffix."""
+    bare number beyond 2 pi is a whole number, most likely degrees without the ``deg`` suffix (once the
+    command's input is checked: :func:`warn_later`)."""
     def parse(text: str) -> float:
         from rrbody.model.angles import maybe_degrees, parse_angle
 
@@ -173,8 +197,8 @@ def angle(option: str) -> Callable[[str], float]:
                 raise argparse.ArgumentTypeError(f"{option} must be {LIMITS[param].text()}, got {text.strip()} "
                                                  f"({v:.6g} rad)") from None
         if maybe_degrees(text, v):
-            print(f"rrbody: warning: {option} {text} is read as {v:g} rad ({v / (2 * math.pi):.3g} turns); "
-                  f"for degrees write {text}deg", file=sys.stderr)
+            warn_later(f"{option} {text} is read as {v:g} rad ({v / (2 * math.pi):.3g} turns); for degrees "
+                       f"write {text}deg")
         return v
 
     parse.__name__ = "angle"

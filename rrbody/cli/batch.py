@@ -35,7 +35,7 @@ import sys
 from collections.abc import Callable, Iterator, Mapping
 from typing import Any
 
-from rrbody.cli.args import CliError, check_repeats, subparser
+from rrbody.cli.args import CliError, check_repeats, drop_warnings, flush_warnings, subparser
 
 __all__ = ["run_batch", "line_argv", "read_lines", "input_path", "MAX_LINE_BYTES", "MAX_SKIP_BYTES"]
 
@@ -285,8 +285,10 @@ def run_batch(parser: argparse.ArgumentParser, argv: list[str], args: argparse.N
                 line_args.batch_line = True
                 line_args.batch_input = src
                 run_command(line_args)
+                flush_warnings()
             except CliError as e:
                 failed = True
+                drop_warnings()  # a bad line's answer is its error
                 print(json.dumps({"error": str(e), "line": n}), flush=True)
             except BrokenPipeError:
                 raise

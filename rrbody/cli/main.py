@@ -18,8 +18,8 @@ from collections.abc import Sequence
 from typing import Any
 
 from rrbody._version import __version__
-from rrbody.cli.args import CliError, Parser, angle, check_options, commands, emit, number, option_help, option_message, \
-    parse
+from rrbody.cli.args import CliError, Parser, angle, check_options, commands, drop_warnings, emit, flush_warnings, \
+    number, option_help, option_message, parse
 from rrbody.cli.active_options import add_active_options, with_active
 from rrbody.cli.cache import add_parser as add_cache_parser
 from rrbody.cli.options import (SIMULATE_OUTPUTS, add_accuracy_options, add_friction_options, add_integrator_options,
@@ -53,6 +53,7 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     with claimed(paths.items()):
         for opt, path in paths.items():  # what changed between the checks above and the claim
             check_writable(path, force=args.force, name=opt)
+        flush_warnings()  # the input is checked: the warnings held while parsing it, before the run
         return _simulate(args, scene, stepper, pictures)
 
 
@@ -122,6 +123,7 @@ def cmd_flip_time(args: argparse.Namespace) -> int:
     if not scene.driven:
         raise CliError("--no-drive: a free body has no flip time (use `rrbody simulate`)")
     stepper = stepper_option(args)
+    flush_warnings()  # the input is checked
     if args.method == "engine":
         from rrbody.analysis.flip import without_phantom_minimum
         from rrbody.engine import engine_flip_time
@@ -162,6 +164,7 @@ def cmd_critical_h(args: argparse.Namespace) -> int:
             Friction.from_k(args.friction, args.k, args.d) if args.k is not None
             else Friction.from_mu(args.friction, args.mu, args.g, args.d))
         k = fr.k(args.d)
+        flush_warnings()  # the options are checked
         Hc = critical_h(k, args.omega, phi0=args.phi0, friction=args.friction, tol=args.tol, rtol=args.rtol,
                         accuracy=args.accuracy)
     except CliError:
@@ -320,6 +323,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser()
     command = argv[0] if argv and argv[0] in commands(parser) else None
+    drop_warnings()  # (an earlier call's, in a program that calls main more than once)
     try:
         args = parse(parser, argv)
         command = getattr(args, "command", None)
@@ -336,6 +340,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             return run_batch(parser, argv, args, parse, run_command)
         return run_command(args)
     except CliError as e:
+        drop_warnings()  # bad input is one line: the error's
         print(f"rrbody{' ' + command if command else ''}: error: {e}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except ImportError as e:  # a missing optional extra: one line naming it, exit 2
@@ -344,6 +349,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         msg = missing_extra_message(e)
         if msg is None:
             raise
+        drop_warnings()
         print(f"rrbody{' ' + command if command else ''}: error: {msg}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
@@ -355,6 +361,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         where = f": {e.filename}" if e.filename else ""
         print(f"rrbody{' ' + command if command else ''}: error: {e.strerror or e}{where}", file=sys.stderr)
         return 1
+    finally:
+        flush_warnings()  # the input was good: what a command did not print once it had checked it
 
 
 def entry(argv: Sequence[str] | None = None) -> int:
