@@ -132,3 +132,34 @@ def test_a_file_beside_the_output_is_never_replaced_without_force(tmp_path: Path
 
     assert read_meta(tmp_path / "y.csv")["spec"]["axes"] == {"omega": [0.6, 0.7]}  # the sidecar is the sweep's now
 
+
+def test_an_axis_the_quantity_does_not_read_is_refused(tmp_path: Path) -> None:
+    """An axis that changes nothing the quantity reads from a point's scene would pair each of its values with
+    an answer it had no part in: refused, one line naming the axis and why, nothing written. H_c reads k,
+    omega, phi0 and the friction law (H is its answer; d only through k, when k is not given); a level
+    plane has no downhill; a free body's rest has no drive."""
+    out = ["--out", str(tmp_path / "s.csv")]
+    hc = ["sweep", "--quantity", "critical_h", "--k", "0.01", "--omega", "0.3", "--workers", "0"]
+    cases = [
+        ([*hc, "--axis", "H=0.1,0.2", *out], "--axis H"),
+        ([*hc, "--axis", "H=0.2", *out], "--axis H"),
+        ([*hc, "--axis", "d=0.5,2", *out], "--axis d"),
+        (["sweep", "--quantity", "critical_h", "--omega", "0.3", "--axis", "k=0.01,0.02", "--axis", "H=0.1,0.2",
+          *out], "--axis H"),
+        ([*ROD, "--axis", "downhill=0,1", *out], "--axis downhill"),
+        (["sweep", "--quantity", "rest", "--no-drive", "--body", "disk", "--R0", "0.1", "--k", "2", "--v0", "1,0",
+          "--t-max", "10", "--axis", "omega=0.5,1", *out], "--axis omega"),
+    ]
+    for r, (_, opt) in zip(run_here([a for a, _ in cases], cwd=tmp_path), cases):
+        assert_bad_input(r, opt, tmp_path, set())
+        assert "does not depend on" in r.err, r.err
+    # the refusal is the truth: H_c computed at two H is one number
+    from rrbody.analysis.sweep import evaluate_point
+    from rrbody.analysis.sweep_spec import Sweep
+
+    at = [evaluate_point(Sweep(base={"k": 0.01, "H": h}, axes={"omega": (0.3,)}, quantity="critical_h"),
+                         {"omega": 0.3})["H_c"] for h in (0.1, 0.2)]
+    assert at[0] == at[1] and 0.0 < at[0] < 1.0
+    # the same parameters where the quantity does read them: accepted (no work is done building a Sweep)
+    Sweep(base={"mu": 0.01, "omega": 0.3}, axes={"d": (0.5, 2.0)}, quantity="critical_h")  # k = mu g / d
+    Sweep(base={"H": 0.2, "k": 0.05, "omega": 0.6}, axes={"tilt": (0.0, 0.3), "downhill": (0.0, 1.0)})

@@ -41,7 +41,7 @@ import os
 from pathlib import Path
 from typing import Any
 
-from rrbody.analysis.sweep_spec import Sweep, make_scene, sweep_from_spec
+from rrbody.analysis.sweep_spec import Sweep, critical_h_args, make_scene, sweep_from_spec
 from rrbody.analysis.sweep_store import check_outputs, checkpoint_path, count_rows, load_sweep, output_files, \
     read_checkpoint, read_meta, stream_checkpoint, write_output
 from rrbody.model.checks import check
@@ -83,7 +83,7 @@ def evaluate_point(sweep: Sweep, values: dict[str, float]) -> dict[str, Any]:
     try:
         scene = make_scene(sweep, values)
         if sweep.quantity == "critical_h":
-            hc = critical_h(scene.k, scene.omega, phi0=scene.phi0, friction=scene.friction.law, **opts)
+            hc = critical_h(**critical_h_args(scene), **opts)
             return {"H_c": hc, "error": ""}
         if sweep.quantity == "chaos":
             from rrbody.analysis.chaos_map import chaos_point

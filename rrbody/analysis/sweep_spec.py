@@ -19,7 +19,9 @@ disk or ellipse; ``H`` or ``l``, ``R0``, ``delta``, ``orientation``, ``omega``, 
 Validation
 ----------
 A :class:`Sweep` checks its options and every value of every axis when it is built (each value
-with the base and the other axes' first values); :func:`rrbody.analysis.sweep.run_sweep` checks the outputs, the options
+with the base and the other axes' first values), and refuses an axis that changes nothing its quantity
+reads from a point's scene (:data:`READS`: H for critical_h, whose H is the answer; downhill on a level
+plane; the drive of a free body's rest); :func:`rrbody.analysis.sweep.run_sweep` checks the outputs, the options
 and the scheduler (its address, then that it answers) before any work or file.
 """
 
@@ -27,6 +29,7 @@ from __future__ import annotations
 
 import copy
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -37,7 +40,7 @@ from rrbody.analysis.chaos_map import CHAOS_COLUMNS, CHAOS_OPTIONS, check_chaos_
 from rrbody.model.checks import MissingParameters, check, check_choice
 from rrbody.model.scene import NUMERIC_SCENE_PARAMS, SCENE_PARAMS
 
-__all__ = ["Sweep", "QUANTITIES", "AXIS_PARAMS", "make_scene", "sweep_from_spec"]
+__all__ = ["Sweep", "QUANTITIES", "AXIS_PARAMS", "READS", "critical_h_args", "make_scene", "sweep_from_spec"]
 
 #: quantity -> result columns it produces (in order)
 QUANTITIES: dict[str, tuple[str, ...]] = {
@@ -57,6 +60,18 @@ _OPTION_LIMITS = {"rtol": "rtol", "t_max": "t_max", "tol": "tol", "H_lo": "H", "
 
 #: parameters a flat sweep may put on an axis: every numeric scene parameter
 AXIS_PARAMS: tuple[str, ...] = NUMERIC_SCENE_PARAMS
+
+
+def critical_h_args(scene: Any) -> dict[str, Any]:
+    """What :func:`rrbody.analysis.flip.critical_h` takes from a point's scene (its H is the unknown):
+    the rod-mass ``k``, ``omega``, ``phi0`` and the friction law."""
+    return {"k": scene.k, "omega": scene.omega, "phi0": scene.phi0, "friction": scene.friction.law}
+
+
+#: what a quantity reads from a point's scene, where it is not the whole scene (``Scene.describe``):
+#: critical_h reads its arguments (the point evaluator calls it with exactly these). An axis that changes
+#: none of what its quantity reads is refused (:meth:`Sweep._check_axes_matter`)
+READS: dict[str, Callable[[Any], dict[str, Any]]] = {"critical_h": critical_h_args}
 
 
 
@@ -124,6 +139,7 @@ class Sweep:
                 raise ValueError(f"base and axes both give {', '.join(both)} (base {both[0]}={self.base[both[0]]!r}); "
                                  "an axis sets its parameter at every point: give each parameter in one place")
         self._check_points()
+        self._check_axes_matter()
 
     def _check_options(self) -> None:
         bad = [k for k in self.options if k not in _OPTION_KEYS[self.quantity]]
@@ -162,6 +178,40 @@ class Sweep:
                     raise ValueError(f"quantity {self.quantity!r} needs a driven scene; for a free body use 'rest'")
                 if self.quantity == "chaos":
                     check_chaos_scene(scene, self.options)
+
+    def _check_axes_matter(self) -> None:
+        """Refuse an axis that changes nothing the quantity reads (:data:`READS`): its column would pair
+        each value with an answer it had no part in (H for critical_h, whose H is the answer). Two of its
+        values are compared (an axis of one value: with the first of twice, half, one more, one less
+        that makes a valid scene) with the other axes at their first values, and at each of their values
+        in turn (a tilt axis makes a downhill axis matter)."""
+        reads = READS.get(self.quantity, lambda scene: scene.describe())
+        first = self.point(0)
+        for name, vals in self.axes.items():
+            values = list(dict.fromkeys(vals))
+            if len(values) == 1:
+                v = values[0]
+                values += [w for w in (2.0 * v, 0.5 * v, v + 1.0, v - 1.0) if w != v]
+            contexts = [first, *({**first, other: w} for other, ws in self.axes.items() if other != name
+                                 for w in dict.fromkeys(ws[1:]))]
+            seen: list[Any] = []
+            for context in contexts:
+                seen = []
+                for v in values:
+                    try:
+                        seen.append(reads(make_scene(self, {**context, name: v})))
+                    except ValueError:  # a probe value, or a point's value with another axis' (checked later)
+                        continue
+                    if len(seen) == 2:
+                        break
+                if len(seen) < 2 or seen[0] != seen[1]:
+                    break  # it matters, or it cannot be told here
+            else:
+                *most, last = list(seen[0])
+                what = (f"it reads only {', '.join(most)} and {last} from each point's scene, and {name} changes "
+                        "none of them" if self.quantity in READS else f"the scene is the same at every value of {name}")
+                raise ValueError(f"axis {name}: the quantity {self.quantity} does not depend on {name} ({what}); "
+                                 "drop this axis")
 
     @property
     def columns(self) -> tuple[str, ...]:

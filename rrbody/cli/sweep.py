@@ -106,7 +106,8 @@ def add_parser(sub: Any) -> None:
                    help="NAME=v1,v2,... or NAME=start:stop:num[:log]; NAME is any numeric scene option (H, l, R0, "
                         "delta, omega, d, k, mu, g, phi0, phi_dot0, samples, spin0, tilt, downhill, mu_static, sides); "
                         "each value is checked against "
-                        "that option's range; repeat for a 2-D grid")
+                        "that option's range, and an axis the quantity does not depend on is refused (H with "
+                        "critical_h); repeat for a 2-D grid")
     s.add_argument("--list", dest="zip_axes", action="store_true", help="zip the axes (one point per index)")
     add_scene_options(s)
     g = s.add_argument_group("analysis")
