@@ -31,15 +31,16 @@ def env() -> dict[str, str]:
 
 
 def run_many(argvs: list[list[str]], *, cwd: Path | None = None, parallel: int = 3, timeout: float = 300.0,
-             stdin: str | None = None) -> list[Run]:
-    """Run ``rrbody ARGV`` for every ARGV, ``parallel`` at a time; results in input order."""
+             stdin: str | None = None, environ: dict[str, str] | None = None) -> list[Run]:
+    """Run ``rrbody ARGV`` for every ARGV, ``parallel`` at a time; results in input order (``environ``:
+    the processes' environment, default :func:`env`)."""
     results: list[Run | None] = [None] * len(argvs)
     pending = list(enumerate(argvs))
     running: list[tuple[int, subprocess.Popen[str], float]] = []
     while pending or running:
         while pending and len(running) < parallel:
             i, a = pending.pop(0)
-            p = subprocess.Popen([*RRBODY, *a], cwd=cwd, env=env(), text=True, stdout=subprocess.PIPE,
+            p = subprocess.Popen([*RRBODY, *a], cwd=cwd, env=environ or env(), text=True, stdout=subprocess.PIPE,
                                  stderr=subprocess.PIPE, stdin=subprocess.PIPE if stdin is not None else None)
             running.append((i, p, time.monotonic()))
         i, p, t0 = running.pop(0)

@@ -36,7 +36,7 @@ import rrbody.analysis.sweep_store as store
 from rrbody.analysis.sweep import SweepFault, checkpoint_path, load_sweep, read_meta, run_sweep
 from rrbody.analysis.sweep_spec import Sweep
 
-from .clirun import RRBODY, Run, alive, assert_bad_input, children, env, run_here, run_many
+from .clirun import RRBODY, alive, assert_bad_input, children, env, run_here, run_many
 
 LINUX = pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="needs Linux /proc")
 #: a flip-time point of ~1e6 steps (about 2 s warm), and one of a few ms
@@ -49,8 +49,8 @@ def small_sweep(k: float = 7.5) -> Sweep:
     return Sweep(base={"H": 0.25, "k": k, "phi0": math.pi}, axes={"omega": np.geomspace(0.5, 20.0, 12)})
 
 
-def _start(argv: list[str], cwd: Path) -> subprocess.Popen[str]:
-    return subprocess.Popen([*RRBODY, *argv], cwd=cwd, env=env(), text=True, stdout=subprocess.PIPE,
+def _start(argv: list[str], cwd: Path, environ: dict[str, str] | None = None) -> subprocess.Popen[str]:
+    return subprocess.Popen([*RRBODY, *argv], cwd=cwd, env=environ or env(), text=True, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, start_new_session=True)
 
 
@@ -97,36 +97,6 @@ def _all_gone(pids: set[int], timeout: float = 10.0) -> bool:
 
 
 # ---- one writer per output -------------------------------------------------------------------
-@LINUX
-def test_second_sweep_to_the_same_output_is_refused_and_the_first_finishes(tmp_path: Path) -> None:
-    out = tmp_path / "cx.csv"
-    ck = checkpoint_path(out)
-    a = _start(["sweep", *SLOW, "--axis", f"k={SLOW_K},{SLOW_K},{SLOW_K},{SLOW_K}", "--workers", "1", "--out",
-                str(out)], tmp_path)  # seconds of work: B is tried while A runs
-    kids: set[int] = set()
-    try:
-        _wait_for(ck.exists, "A's checkpoint", a)
-        kids = children(a.pid)
-        before = sorted(p.name for p in tmp_path.iterdir())
-        other = ["sweep", "--H", "0.25", "--k", "7.5", "--axis", "omega=0.5,1", "--workers", "0", "--out", str(out)]
-        rs = run_many([[*other, "--force"], [*other, "--resume"], other], cwd=tmp_path, parallel=3)
-        assert a.poll() is None, "A ended before B was tried: the test did not overlap the two sweeps"
-        for r in rs:
-            assert_bad_input(r, "--out")
-            line = _one_line(r.err)
-            assert f"process {a.pid}" in line and "being written" in line, line
-        assert sorted(p.name for p in tmp_path.iterdir()) == before  # B wrote and removed nothing
-        _, err = a.communicate(timeout=600)
-        assert a.returncode == 0, err
-    finally:
-        _reap(a, kids)
-    meta = read_meta(out)
-    assert meta["spec"]["base"]["H"] == 0.2 and meta["spec"]["axes"] == {"k": [1e-9] * 4}  # A's sweep
-    rows = load_sweep(out)
-    assert len(rows) == 4 and all(r["error"] == "" and float(r["T1"]) > 0 for r in rows)
-    assert not ck.exists() and _all_gone(kids)
-
-
 def _own_cache(folder: Path) -> dict[str, str]:
     """The environment of an rrbody whose cache folder is ``folder`` (``RRBODY_CACHE_DIR``), seeded with a
     copy of this session's kernels for these sources where it has them (nothing to compile)."""
@@ -140,39 +110,41 @@ def _own_cache(folder: Path) -> dict[str, str]:
 
 
 @LINUX
-def test_two_cache_folders_do_not_make_two_writers(tmp_path: Path) -> None:
-    """Two sweeps to one output, both with --force, each with its own cache folder (two shells, or a
-    scheduler that gives each job its own cache): the second is refused while the first runs (exit 2,
-    one line naming the first process), writes and removes nothing, and the table is the first's grid."""
+@pytest.mark.parametrize("caches", ["one cache", "two caches"])
+def test_second_sweep_to_the_same_output_is_refused_and_the_first_finishes(tmp_path: Path, caches: str) -> None:
+    """With one cache folder, or each process its own (two shells, or a scheduler that gives each job its
+    own cache): B is refused while A runs, writes and removes nothing, and the table is A's grid."""
     work = tmp_path / "work"
     work.mkdir()
-    out = work / "f.csv"
+    env_a, env_b = ((env(), env()) if caches == "one cache" else
+                    (_own_cache(tmp_path / "cache-a"), _own_cache(tmp_path / "cache-b")))
+    out = work / "cx.csv"
     ck = checkpoint_path(out)
-    a = subprocess.Popen([*RRBODY, "sweep", *SLOW, "--axis", f"k={SLOW_K},{SLOW_K},{SLOW_K},{SLOW_K}", "--workers",
-                          "1", "--out", str(out), "--force"], cwd=work, env=_own_cache(tmp_path / "cache-a"),
-                         text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE, start_new_session=True)
+    a = _start(["sweep", *SLOW, "--axis", f"k={SLOW_K},{SLOW_K},{SLOW_K},{SLOW_K}", "--workers", "1", "--out",
+                str(out), "--force"], work, env_a)  # seconds of work: B is tried while A runs
     kids: set[int] = set()
     try:
         _wait_for(ck.exists, "A's checkpoint", a)
         kids = children(a.pid)
         before = sorted(p.name for p in work.iterdir())
-        argv = ["sweep", "--H", "0.25", "--k", "7.5", "--axis", "omega=0.5,1", "--workers", "0", "--out", str(out),
-                "--force"]
-        b = subprocess.run([*RRBODY, *argv], cwd=work, env=_own_cache(tmp_path / "cache-b"), text=True,
-                           capture_output=True, timeout=300)
+        other = ["sweep", "--H", "0.25", "--k", "7.5", "--axis", "omega=0.5,1", "--workers", "0", "--out", str(out)]
+        rs = run_many([[*other, "--force"], [*other, "--resume"], other], cwd=work, parallel=3, environ=env_b)
         assert a.poll() is None, "A ended before B was tried: the test did not overlap the two sweeps"
-        assert_bad_input(Run(argv, b.returncode, b.stdout, b.stderr), "--out")
-        line = _one_line(b.stderr)
-        assert f"process {a.pid}" in line and "being written" in line, line
+        for r in rs:
+            assert_bad_input(r, "--out")
+            line = _one_line(r.err)
+            assert f"process {a.pid}" in line and "being written" in line, line
         assert sorted(p.name for p in work.iterdir()) == before  # B wrote and removed nothing
         _, err = a.communicate(timeout=600)
         assert a.returncode == 0, err
     finally:
         _reap(a, kids)
     meta = read_meta(out)
-    assert meta["spec"]["base"]["H"] == 0.2 and meta["spec"]["axes"] == {"k": [1e-9] * 4}  # A's grid
-    assert len(load_sweep(out)) == 4 and _all_gone(kids)
-    assert sorted(p.name for p in work.iterdir()) == ["f.csv", "f.csv.json"]  # no lock file left beside it
+    assert meta["spec"]["base"]["H"] == 0.2 and meta["spec"]["axes"] == {"k": [1e-9] * 4}  # A's sweep
+    rows = load_sweep(out)
+    assert len(rows) == 4 and all(r["error"] == "" and float(r["T1"]) > 0 for r in rows)
+    assert not ck.exists() and _all_gone(kids)
+    assert sorted(p.name for p in work.iterdir()) == ["cx.csv", "cx.csv.json"]  # no lock file left beside it
 
 
 @LINUX
