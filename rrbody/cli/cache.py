@@ -44,6 +44,14 @@ def _mb(n: int) -> str:
     return f"{n / 1e6:.1f} MB"
 
 
+def _bytes(path: Path) -> int:
+    """Bytes of the entry ``path``: a folder's regular files, a file's (or a link's own) size; 0 if gone."""
+    try:
+        return _size(path) if path.is_dir() and not path.is_symlink() else path.lstat().st_size
+    except FileNotFoundError:
+        return 0
+
+
 def _held(lock: Path) -> bool:
     """Whether a process holds the lock file ``lock`` (an rrbody of an earlier version writing its
     output: its lock file must stay, or a second writer would not meet it)."""
@@ -96,14 +104,13 @@ def clear(root: Path | None = None) -> dict[str, Any]:
         if p.parent.name == "locks" and _held(p):
             kept.append(str(p.relative_to(root)) + " (a lock in use)")
             continue
-        size = _size(p) if p.is_dir() else p.lstat().st_size
+        size = _bytes(p)
         n_failed = len(failed)
         _remove(p, failed)
-        gone = not os.path.lexists(p)
-        freed += size - (0 if gone else _size(p) if p.is_dir() else p.lstat().st_size)
-        if gone:
+        freed += size - _bytes(p)
+        if not os.path.lexists(p):
             removed.append(str(p.relative_to(root)))
-        elif len(failed) == n_failed:  # (rmtree ignores nothing here: a survivor without a reason)
+        elif len(failed) == n_failed:  # a survivor no removal reported (a file written into it meanwhile)
             failed.append((p, "still there"))
     for name in {p.relative_to(root).parts[0] for p in ours}:
         with contextlib.suppress(OSError):  # its own folders, if now empty (not: foreign files are in it)
