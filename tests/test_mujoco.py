@@ -228,6 +228,29 @@ def test_the_plane_must_be_a_plane_and_rk4_is_refused() -> None:
         PlaneFriction(m, d, plane="floor", mu=0.5)
 
 
+@pytest.mark.parametrize("bad", [-1e-3, 0.0, math.nan, math.inf])
+def test_a_timestep_that_is_not_finite_and_positive_is_refused_before_anything_changes(bad: float) -> None:
+    """A negative step ran time back (the box sped up) and a NaN one was blamed on the body's angle: refused,
+    naming model.opt.timestep, its value and the valid range, at construction and at a step after a change
+    (the adapter reads it each step), with the model and the data as they were."""
+    m, d = _model(PLATE)
+    d.qvel[0] = 1.0
+    m.opt.timestep = bad
+    with pytest.raises(ValueError) as e:
+        PlaneFriction(m, d, plane="floor", mu=MU)
+    assert all(w in str(e.value) for w in ("model.opt.timestep", repr(bad), "(0, inf) s")), str(e.value)
+    assert list(m.geom_condim) == [3, 3] and list(m.geom_priority) == [0, 0]
+    m.opt.timestep = DT
+    f = PlaneFriction(m, d, plane="floor", mu=MU)
+    f.step(5)
+    state = [a.copy() for a in (d.qpos, d.qvel, d.xfrc_applied)] + [d.time]
+    m.opt.timestep = bad
+    for call in (f.step, lambda: f.velocity("plate")):
+        with pytest.raises(ValueError, match=r"model\.opt\.timestep must be a finite number in \(0, inf\) s"):
+            call()
+    assert all(np.array_equal(a, b) for a, b in zip(state[:3], (d.qpos, d.qvel, d.xfrc_applied))) and d.time == state[3]
+
+
 def _python(code: str) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, timeout=120)
 
