@@ -14,12 +14,14 @@
 What it does to the model: the plane geom gets ``condim = 1`` and a ``priority`` above every other
 geom, so every contact with that plane keeps only its normal row (MuJoCo's documented rule: the
 geom of higher priority sets the contact's condim); the plane's tangential friction (sliding,
-torsional and rolling) is gone. Each step rrbody reads the bodies' in-plane motion and the normal
-force of their plane contacts from MuJoCo's last step, computes the exact Coulomb wrench of each
-footprint (the kernel of the pymunk plugin, :func:`rrbody.contact.kernel.plane_step`, with its limiter,
-rest rule and static friction) and adds it to ``data.xfrc_applied`` for the step (it is taken out
-again after it: your own ``xfrc_applied`` stays yours). Every body that rests on this plane should
-be added: one that is not slides on it without friction.
+torsional and rolling) is gone, and the bodies touching it are moved by the change that makes to the
+pose MuJoCo's soft contacts rest them in (:mod:`rrbody.mujoco_adapter.seat`). Each step rrbody reads the
+bodies' in-plane motion and the normal force of their plane contacts from MuJoCo's last step, computes
+the exact Coulomb wrench of each footprint (the kernel of the pymunk plugin,
+:func:`rrbody.contact.kernel.plane_step`, with its limiter, rest rule and static friction) and adds it
+to ``data.xfrc_applied`` for the step (it is taken out again after it: your own ``xfrc_applied`` stays
+yours). Every body that rests on this plane should be added: one that is not slides on it without
+friction.
 
 Footprints come from each body's geoms whose lowest point lies within ``touch`` of the plane: a box
 on one of its faces (a rectangle), a cylinder on one of its flat ends (a disk), a sphere (a point);
@@ -45,6 +47,7 @@ from rrbody.mujoco_adapter import kernel as MK
 from rrbody.contact.active import NO_ACTIVE
 from rrbody.contact.lean import fast_entry
 from rrbody.mujoco_adapter.geoms import gap, name_of as _name, lookup as _lookup, parts_of
+from rrbody.mujoco_adapter.seat import reseat
 from rrbody.model.checks import check_int, check_nonnegative, check_positive
 from rrbody.model.extras import require
 from rrbody.model.pressure import Pressure, as_pressure
@@ -181,9 +184,15 @@ class PlaneFriction:
             rows[i, [K.MASS, K.IPM, K.LAW, K.REACH, K.SNAP, K.VGX, K.VGY, K.VJ, K.STAG, K.HELD]] = \
                 m, inertia / m, K.LAW_DRY, reach, 1.0, gx, gy, jj, 1.0, -1.0
         # every argument checked: the plane's contacts keep their normal row only (its condim wins over every
-        # other geom's), and MuJoCo's contact forces for the first step
-        model.geom_condim[p] = 1
-        model.geom_priority[p] = int(np.max(model.geom_priority)) + 1
+        # other geom's); that moves the depth and tilt at which MuJoCo's soft contacts hold a body at rest, so
+        # the bodies resting on the plane are moved with it (rrbody.mujoco_adapter.seat); then MuJoCo's contact
+        # forces for the first step
+        def switch() -> None:
+            model.geom_condim[p] = 1
+            model.geom_priority[p] = int(np.max(model.geom_priority)) + 1
+
+        self._seated = reseat(model, data, plane=p, ids=self._ids, dof=self._dof, qadr=self._qadr, ipos=self._ipos,
+                              frame=self._frame, ref=self._ref, reach=rows[:, K.REACH], switch=switch)
         mujoco.mj_forward(model, data)
         self._shapes, self._geo, ranges = stack(feet)
         rows[:, K.S0], rows[:, K.S1] = ranges[:, 0], ranges[:, 1]
