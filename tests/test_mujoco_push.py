@@ -7,7 +7,7 @@ quasi-static pushing from the footprint's limit surface (also computed, independ
 
 from __future__ import annotations
 
-import importlib.util
+import importlib
 import inspect
 import json
 from pathlib import Path
@@ -17,17 +17,12 @@ import pytest
 
 pytest.importorskip("mujoco")
 
-from rrbody.cli.scenes import scenes_dir  # noqa: E402
-
-ROOT = Path(__file__).resolve().parent.parent
+RESULTS = Path(__file__).resolve().parents[1] / "results" / "mujoco-push"
 
 
 @pytest.fixture(scope="module")
 def scene() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("rrbody_scene_mujoco_push_test", scenes_dir() / "mujoco_push.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return importlib.import_module("scenes.mujoco_push")  # the checkout's scene script (a package: scenes/)
 
 
 @pytest.fixture(scope="module")
@@ -47,7 +42,7 @@ def test_the_references_are_the_push_t_studys(exact: dict[str, float]) -> None:
     """m b / I with gym-pusht's I, and the limit surface's quasi-static turn, as scenes/pusht_table.py computes
     them through the plugin's footprint (results/pusht-table/summary.json, offset 60): another path to the
     same kernel, so equal to rounding."""
-    study = json.loads((ROOT / "results" / "pusht-table" / "summary.json").read_text())["push"]["predictions"]
+    study = json.loads((RESULTS.parent / "pusht-table" / "summary.json").read_text())["push"]["predictions"]
     for name, value in exact.items():
         assert value == pytest.approx(1e3 * study[name][-1], rel=1e-9)
 
@@ -82,7 +77,7 @@ def test_at_push_ts_step_the_split_adapter_turns_a_slow_push_less_than_no_table(
 
 def test_the_page_shows_the_recorded_run(scene: ModuleType) -> None:
     """results/mujoco-push/table.md is the scene's table of its summary.json, and docs/mujoco.md holds it."""
-    summary = json.loads((ROOT / "results" / "mujoco-push" / "summary.json").read_text())
+    summary = json.loads((RESULTS / "summary.json").read_text())
     table = scene.markdown(summary)
-    assert (ROOT / "results" / "mujoco-push" / "table.md").read_text() == table
-    assert table in (ROOT / "docs" / "mujoco.md").read_text()
+    assert (RESULTS / "table.md").read_text() == table
+    assert table in (RESULTS.parents[1] / "docs" / "mujoco.md").read_text()
