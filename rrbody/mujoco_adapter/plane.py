@@ -192,7 +192,7 @@ class PlaneFriction:
             model.geom_priority[p] = int(np.max(model.geom_priority)) + 1
 
         reseat(model, data, plane=p, ids=self._ids, dof=self._dof, qadr=self._qadr, ipos=self._ipos, frame=self._frame,
-               ref=self._ref, reach=rows[:, K.REACH], switch=switch)
+               ref=self._ref, reach=np.ascontiguousarray(rows[:, K.REACH]), switch=switch)
         mujoco.mj_forward(model, data)
         self._shapes, self._geo, ranges = stack(feet)
         rows[:, K.S0], rows[:, K.S1] = ranges[:, 0], ranges[:, 1]
