@@ -228,6 +228,74 @@ def test_the_plane_must_be_a_plane_and_rk4_is_refused() -> None:
         PlaneFriction(m, d, plane="floor", mu=0.5)
 
 
+@pytest.mark.parametrize("bad", [-1e-3, 0.0, math.nan, math.inf])
+def test_a_timestep_that_is_not_finite_and_positive_is_refused_before_anything_changes(bad: float) -> None:
+    """A negative step ran time back (the box sped up) and a NaN one was blamed on the body's angle: refused,
+    naming model.opt.timestep, its value and the valid range, at construction and at a step after a change
+    (the adapter reads it each step), with the model and the data as they were."""
+    m, d = _model(PLATE)
+    d.qvel[0] = 1.0
+    m.opt.timestep = bad
+    with pytest.raises(ValueError) as e:
+        PlaneFriction(m, d, plane="floor", mu=MU)
+    assert all(w in str(e.value) for w in ("model.opt.timestep", repr(bad), "(0, inf) s")), str(e.value)
+    assert list(m.geom_condim) == [3, 3] and list(m.geom_priority) == [0, 0]
+    m.opt.timestep = DT
+    f = PlaneFriction(m, d, plane="floor", mu=MU)
+    f.step(5)
+    state = [a.copy() for a in (d.qpos, d.qvel, d.xfrc_applied)] + [d.time]
+    m.opt.timestep = bad
+    for call in (f.step, lambda: f.velocity("plate")):
+        with pytest.raises(ValueError, match=r"model\.opt\.timestep must be a finite number in \(0, inf\) s"):
+            call()
+    assert all(np.array_equal(a, b) for a, b in zip(state[:3], (d.qpos, d.qvel, d.xfrc_applied))) and d.time == state[3]
+
+
+# contact settings under which MuJoCo rests a body at another depth once the plane's contacts keep their normal
+# row only (rrbody.mujoco_adapter.seat): a pyramidal cone's edges are regularised by 2 mu^2 R (mu != 1; more
+# edges; impratio), or the plane's priority replaces the two geoms' mixed solref/solimp; each slid 83 to 255
+# times the bound off before the bodies were moved with the switch. The last two change nothing (controls).
+SETTLED = [
+    ('friction="0.5 0.005 0.0001"', "", ""),  # docs/mujoco.md's example
+    ('friction="0.2"', "", ""), ('friction="1.5"', "", ""),
+    ('friction="0.5" condim="4"', "", ""), ('friction="0.5" condim="6"', "", ""),
+    ('friction="0.5"', 'impratio="10"', ""),
+    ("", "", 'solref="0.05 1"'), ("", "", 'solimp="0.8 0.99 0.002"'),  # the box's own, not the plane's
+    ('friction="0.5"', 'cone="elliptic"', ""), ("", "", ""),
+]
+
+
+@pytest.mark.parametrize("default, option, box", SETTLED)
+def test_built_after_the_body_settled_under_any_contact_settings(default: str, option: str, box: str) -> None:
+    """Settled with mj_step as docs/mujoco.md's example does, launched, then the adapter built: the slide
+    stops at v0^2 / (2 mu g) within the documented mu g dt^2 / 8 (measured 2e-8 to 6e-8 m), and the normal
+    force stays m g to 1e-5 (MuJoCo's fluctuation on a resting box, the spin-down test's), where the switch of
+    the plane's contacts used to swing it by 2 to 6 %. Building reads a copy: data's time, the in-plane
+    position and the velocities stay as they were."""
+    xml = f"""<mujoco><option timestep="{DT}" {option}/><default><geom {default} density="1000"/></default>
+    <worldbody><geom name="floor" type="plane" size="5 5 .1"/>
+    <body name="plate" pos="0 0 0.01"><freejoint/><geom type="box" size="0.1 0.1 0.01" {box}/></body>
+    </worldbody></mujoco>"""
+    m = mujoco.MjModel.from_xml_string(xml)
+    d = mujoco.MjData(m)
+    mujoco.mj_step(m, d, nstep=300)  # settled on the plane
+    v0 = (1.0, 0.7)
+    d.qvel[0:2] = v0
+    before = d.time, d.qpos[:2].copy(), d.qvel.copy()
+    f = PlaneFriction(m, d, plane="floor", mu=MU)
+    assert d.time == before[0] and np.array_equal(d.qpos[:2], before[1])
+    assert np.allclose(d.qvel, before[2], rtol=0.0, atol=1e-15)
+    x0 = d.qpos[:2].copy()
+    weight = float(m.body_mass[1]) * G
+    loads = []
+    for _ in range(400):
+        f.step()
+        loads.append(f.normal_force("plate") / weight)
+    exact = (v0[0] ** 2 + v0[1] ** 2) / (2 * MU * G)
+    assert float(np.hypot(*(d.qpos[:2] - x0))) == pytest.approx(exact, abs=MU * G * DT ** 2 / 8)
+    assert np.max(np.abs(np.array(loads) - 1.0)) < 1e-5
+
+
 def _python(code: str) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, timeout=120)
 

@@ -171,6 +171,8 @@ def _planar_workload() -> None:
     MK.scatter(i64, i64, i64, np.zeros((1, 3)), frame, bodies, qpos, qvel, xfrc, user, got, np.zeros(1, dtype=bool),
                np.zeros(1), 0.0, 1e-3)
     MK.unapply(i64, xfrc, user)
+    MK.hold(i64, i64, np.zeros((1, 3)), frame, np.array([[1.0, 0.0, 0.0]]), np.full(1, 0.15), np.zeros((1, 3)),
+            np.zeros(1), qpos, qvel, np.full((1, 4), np.nan))
     # the coverage of the gymnasium environments (rrbody.envs.pusht): two T's of two bars each
     from rrbody.physics.overlap import overlap_area, pieces_area
 

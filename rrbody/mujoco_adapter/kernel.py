@@ -18,7 +18,7 @@ from numba import njit
 
 from rrbody.contact import kernel as K
 
-__all__ = ["gather", "scatter", "unapply", "set_planar", "RESIDUE"]
+__all__ = ["gather", "scatter", "unapply", "set_planar", "hold", "RESIDUE"]
 
 #: what counts as MuJoCo's numerical residue on a body at rest (its normal contacts' solver, the
 #: tipping it keeps; measured 1e-12 to 1e-8 m/s on boxes): in-plane motion with every point slower
@@ -213,3 +213,46 @@ def unapply(ids: np.ndarray, xfrc: np.ndarray, user: np.ndarray) -> None:
     for i in range(ids.shape[0]):
         for c in range(6):
             xfrc[ids[i], c] = user[i, c]
+
+
+@njit(cache=True)
+def hold(dof: np.ndarray, qadr: np.ndarray, ipos: np.ndarray, frame: np.ndarray, ref: np.ndarray, reach: np.ndarray,
+         com0: np.ndarray, yaw0: np.ndarray, qpos: np.ndarray, qvel: np.ndarray, last: np.ndarray) -> float:
+    """Hold each body in the plane (:mod:`rrbody.mujoco_adapter.seat`, on a copy of MuJoCo's data): put its centre of
+    gravity's position along t1, t2 back to ``com0[i]`` (m, world) and its angle about the normal back to ``yaw0[i]``
+    (rad, measured as :func:`gather` does), and zero its in-plane velocity and spin, keeping its motion along the
+    normal and in its tilt. ``last[i]`` keeps (the centre of gravity along n, the normal in the body frame);
+    returns the most any body moved since the last call along the normal plus its tilt times ``reach[i]`` (m)."""
+    nx, ny, nz = frame[2, 0], frame[2, 1], frame[2, 2]
+    most = 0.0
+    for i in range(dof.shape[0]):
+        p = qadr[i] + 3
+        R = _mat(qpos, p)
+        ex, ey, ez = _rot(R, ref[i, 0], ref[i, 1], ref[i, 2])
+        yaw = math.atan2(ex * frame[1, 0] + ey * frame[1, 1] + ez * frame[1, 2],
+                         ex * frame[0, 0] + ey * frame[0, 1] + ez * frame[0, 2])
+        half = -0.5 * (yaw - yaw0[i])
+        c, s = math.cos(half), math.sin(half)
+        w, x, y, z = qpos[p], qpos[p + 1], qpos[p + 2], qpos[p + 3]
+        # turned back about n (world frame): (cos, sin n) q
+        w, x, y, z = (c * w - s * (nx * x + ny * y + nz * z), c * x + s * (nx * w + ny * z - nz * y),
+                      c * y + s * (ny * w - nx * z + nz * x), c * z + s * (nz * w + nx * y - ny * x))
+        k = 1.0 / math.sqrt(w * w + x * x + y * y + z * z)
+        qpos[p], qpos[p + 1], qpos[p + 2], qpos[p + 3] = w * k, x * k, y * k, z * k
+        R = _mat(qpos, p)
+        rx, ry, rz = _offset(i, R, ipos)
+        ox = com0[i, 0] - qpos[p - 3] - rx
+        oy = com0[i, 1] - qpos[p - 2] - ry
+        oz = com0[i, 2] - qpos[p - 1] - rz
+        on = ox * nx + oy * ny + oz * nz
+        qpos[p - 3] += ox - on * nx
+        qpos[p - 2] += oy - on * ny
+        qpos[p - 1] += oz - on * nz
+        set_planar(i, 0.0, 0.0, 0.0, dof, qadr, ipos, frame, qpos, qvel)
+        h = (qpos[p - 3] + rx) * nx + (qpos[p - 2] + ry) * ny + (qpos[p - 1] + rz) * nz
+        ux, uy, uz = _rot_t(R, nx, ny, nz)
+        moved = abs(h - last[i, 0]) + reach[i] * math.sqrt((ux - last[i, 1]) ** 2 + (uy - last[i, 2]) ** 2
+                                                           + (uz - last[i, 3]) ** 2)
+        most = max(most, moved)
+        last[i, 0], last[i, 1], last[i, 2], last[i, 3] = h, ux, uy, uz
+    return most

@@ -14,12 +14,14 @@
 What it does to the model: the plane geom gets ``condim = 1`` and a ``priority`` above every other
 geom, so every contact with that plane keeps only its normal row (MuJoCo's documented rule: the
 geom of higher priority sets the contact's condim); the plane's tangential friction (sliding,
-torsional and rolling) is gone. Each step rrbody reads the bodies' in-plane motion and the normal
-force of their plane contacts from MuJoCo's last step, computes the exact Coulomb wrench of each
-footprint (the kernel of the pymunk plugin, :func:`rrbody.contact.kernel.plane_step`, with its limiter,
-rest rule and static friction) and adds it to ``data.xfrc_applied`` for the step (it is taken out
-again after it: your own ``xfrc_applied`` stays yours). Every body that rests on this plane should
-be added: one that is not slides on it without friction.
+torsional and rolling) is gone, and the bodies touching it are moved by the change that makes to the
+pose MuJoCo's soft contacts rest them in (:mod:`rrbody.mujoco_adapter.seat`). Each step rrbody reads the
+bodies' in-plane motion and the normal force of their plane contacts from MuJoCo's last step, computes
+the exact Coulomb wrench of each footprint (the kernel of the pymunk plugin,
+:func:`rrbody.contact.kernel.plane_step`, with its limiter, rest rule and static friction) and adds it
+to ``data.xfrc_applied`` for the step (it is taken out again after it: your own ``xfrc_applied`` stays
+yours). Every body that rests on this plane should be added: one that is not slides on it without
+friction.
 
 Footprints come from each body's geoms whose lowest point lies within ``touch`` of the plane: a box
 on one of its faces (a rectangle), a cylinder on one of its flat ends (a disk), a sphere (a point);
@@ -45,6 +47,7 @@ from rrbody.mujoco_adapter import kernel as MK
 from rrbody.contact.active import NO_ACTIVE
 from rrbody.contact.lean import fast_entry
 from rrbody.mujoco_adapter.geoms import gap, name_of as _name, lookup as _lookup, parts_of
+from rrbody.mujoco_adapter.seat import reseat
 from rrbody.model.checks import check_int, check_nonnegative, check_positive
 from rrbody.model.extras import require
 from rrbody.model.pressure import Pressure, as_pressure
@@ -60,6 +63,16 @@ __all__ = ["PlaneFriction", "TOUCH"]
 TOUCH = 1e-3
 #: the plugin kernel's ``tables`` (kernel.TKIND): the adapter evaluates every footprint exactly
 _NO_TABLES = np.zeros((0, 3))
+
+
+def _timestep(model: Any) -> float:
+    """MuJoCo's step (s), read where the adapter uses it (a user may change it between steps): ValueError
+    naming it unless it is a finite number > 0 (a negative one runs time back and friction with it)."""
+    dt = float(model.opt.timestep)
+    if not 0.0 < dt < math.inf:  # (also refuses NaN)
+        raise ValueError(f"model.opt.timestep must be a finite number in (0, inf) s, got {dt!r}; nothing was "
+                         f"changed")
+    return dt
 
 
 def _per_body(name: str, value: Any, n: int) -> np.ndarray:
@@ -114,6 +127,7 @@ class PlaneFriction:
             raise ValueError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
         if not isinstance(data, mujoco.MjData):
             raise ValueError(f"data must be the model's mujoco.MjData, got {type(data).__name__}")
+        _timestep(model)
         if model.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4:
             raise ValueError("model.opt.integrator must be Euler, implicit or implicitfast (semi-implicit: the "
                              "staggered scheme of the plugin), got RK4")
@@ -170,9 +184,15 @@ class PlaneFriction:
             rows[i, [K.MASS, K.IPM, K.LAW, K.REACH, K.SNAP, K.VGX, K.VGY, K.VJ, K.STAG, K.HELD]] = \
                 m, inertia / m, K.LAW_DRY, reach, 1.0, gx, gy, jj, 1.0, -1.0
         # every argument checked: the plane's contacts keep their normal row only (its condim wins over every
-        # other geom's), and MuJoCo's contact forces for the first step
-        model.geom_condim[p] = 1
-        model.geom_priority[p] = int(np.max(model.geom_priority)) + 1
+        # other geom's); that moves the depth and tilt at which MuJoCo's soft contacts hold a body at rest, so
+        # the bodies resting on the plane are moved with it (rrbody.mujoco_adapter.seat); then MuJoCo's contact
+        # forces for the first step
+        def switch() -> None:
+            model.geom_condim[p] = 1
+            model.geom_priority[p] = int(np.max(model.geom_priority)) + 1
+
+        reseat(model, data, plane=p, ids=self._ids, dof=self._dof, qadr=self._qadr, ipos=self._ipos, frame=self._frame,
+               ref=self._ref, reach=np.ascontiguousarray(rows[:, K.REACH]), switch=switch)
         mujoco.mj_forward(model, data)
         self._shapes, self._geo, ranges = stack(feet)
         rows[:, K.S0], rows[:, K.S1] = ranges[:, 0], ranges[:, 1]
@@ -238,7 +258,8 @@ class PlaneFriction:
                     and not np.any(m.body_parentid[1:] == b))
 
     # ---- stepping ----------------------------------------------------------------------------
-    def _gather(self) -> None:
+    def _gather(self, dt: float) -> None:
+        """Read MuJoCo's state into the kernel's rows; ``dt``: the step (s), checked by the caller."""
         m, d = self.model, self.data
         c = d.contact
         # MuJoCo's contact fields are strided views (contiguous when they hold one contact or none): copied
@@ -246,8 +267,7 @@ class PlaneFriction:
         cg = np.ascontiguousarray
         args = (self._dof, self._qadr, self._ids, self._ipos, self._ref, self._frame, self._gvec, self._mu, self._mus,
                 self._geom_row, self.plane, d.qpos, d.qvel, d.qfrc_constraint, d.xfrc_applied, d.efc_force,
-                cg(c.geom1), cg(c.geom2), cg(c.efc_address), int(d.ncon), self._bodies, self._got, self._load,
-                float(m.opt.timestep))
+                cg(c.geom1), cg(c.geom2), cg(c.efc_address), int(d.ncon), self._bodies, self._got, self._load, dt)
         if self._entries.get("gather") is None:  # the compiled entry point: no type dispatch per call
             self._entries["gather"], _ = fast_entry(MK.gather, *args)
         else:
@@ -273,7 +293,7 @@ class PlaneFriction:
         (velocity first, then positions with it) reads it, and its history the one a step earlier, so the
         kernel's extrapolation finds the velocity you set at t (second order from the first step)."""
         d = self.data
-        self._gather()
+        self._gather(dt)
         for i in range(self.n):
             alpha, vx, vy, w, lx, ly, lt = self._got[i]
             m, ipm = self._bodies[i, K.MASS], self._bodies[i, K.IPM]
@@ -301,17 +321,18 @@ class PlaneFriction:
         """``n`` steps of ``mujoco.mj_step`` with the plane's friction (use it in place of mj_step).
 
         ``n``: the number of steps, an integer >= 0 (0 does nothing). Raises ValueError, having changed
-        nothing, for any other ``n`` (naming it) or naming a body whose angle, velocity or spin is not finite."""
+        nothing, for any other ``n`` (naming it), for a ``model.opt.timestep`` that is not finite and > 0, or
+        naming a body whose angle, velocity or spin is not finite."""
         n = check_int("n", n, 0)  # range(-1) and range(1.5) would do nothing or fail far from the call
         m, d = self.model, self.data
-        dt = float(m.opt.timestep)
+        dt = _timestep(m)  # read here, not once at construction: you may change it between steps
         for _ in range(n):
             if self._fresh:
-                self._gather()
+                self._gather(dt)
                 if not K.plane_check(self._got, self._k_ids, self._lookup, self._cache, self.n):
                     self._refuse()
                 self._kick(dt)
-            self._gather()
+            self._gather(dt)
             n_flag = self._call("plane_step", self._got, self._k_ids, self._lookup, self._cache, self._bodies,
                                 self._shapes, self._geo, _NO_TABLES, float(d.time), dt, self._out, *NO_ACTIVE)
             if n_flag < 0:
@@ -342,7 +363,7 @@ class PlaneFriction:
         plugin's ``velocity``), 0 where that crosses zero (a stop within the half step); in the step the rest
         rule stops the body, MuJoCo's own."""
         i = self._row(body)
-        self._gather()
+        self._gather(_timestep(self.model))
         v = self._got[i, 1:4]
         p = self._bodies[i]
         if p[K.GAP] <= 0.0 or self._fresh or p[K.STOP] > 0.0 or not v.any():
@@ -354,7 +375,7 @@ class PlaneFriction:
     def normal_force(self, body: int | str) -> float:
         """The normal force (N) of ``body``'s contacts with the plane in MuJoCo's last step."""
         i = self._row(body)
-        self._gather()
+        self._gather(_timestep(self.model))
         return float(self._load[i])
 
     def friction(self, body: int | str) -> tuple[float, float, float]:
@@ -366,7 +387,7 @@ class PlaneFriction:
     def stop_time(self, body: int | str) -> float | None:
         """When ``body`` last came to rest in the plane (s, ``data.time``; within a step), if it is at rest now."""
         i = self._row(body)
-        self._gather()
+        self._gather(_timestep(self.model))
         if np.any(self._got[i, 1:4] != 0.0) and self._bodies[i, K.STOP] == 0.0:
             return None
         t = self._t_stop[i]
