@@ -426,6 +426,94 @@ def test_a_bad_block_cog_is_refused_naming_it(cog: object, table: bool) -> None:
     PushTEnv(block_cog=(0.0, 1e300), table=False)  # gym-pusht's world takes any finite one
 
 
+# ---- no tunnelling: sub-steps where the T would cross more than a wall's thickness ----------------------
+
+def _watch(env: gym.Env) -> list[tuple[float, float]]:
+    """After every physics step, the extremes of the T's corners (x and y together), units."""
+    u = env.unwrapped
+    inner, seen = u._advance, []
+
+    def advance(dt: float) -> None:
+        inner(dt)
+        k = u.keypoints()
+        seen.append((k.min(), k.max()))
+
+    u._advance = advance
+    return seen
+
+
+@pytest.mark.parametrize("speed", [3500.0, 20000.0])
+def test_a_fast_t_stays_inside_the_walls(speed: float) -> None:
+    """Launched at 3,500 units/s (the study's squirts out of pinches reached 3,032) and at 20,000 in 12
+    directions: inside the walls at every physics step, every observation in the observation space. At
+    3,500 units/s the T used to come to rest straddling a wall; at 20,000 it left the workspace."""
+    for k in range(12):
+        env = gym.make("rrbody/PushT-v0", obs_type="environment_state_agent_pos")
+        env.reset(options={"reset_to_state": [30, 30, 256, 256, 0.0]})
+        heading = k * math.pi / 6
+        env.unwrapped.block.velocity = (speed * math.cos(heading), speed * math.sin(heading))
+        seen = _watch(env)
+        for _ in range(20):
+            obs = env.step(PARK)[0]
+            assert env.observation_space.contains(obs), (k, obs)
+        lo, hi = min(s[0] for s in seen), max(s[1] for s in seen)
+        assert lo >= WALL_OUTER[0] and hi <= WALL_OUTER[1], (k, lo, hi)
+
+
+def _space_steps(env: gym.Env) -> tuple[list[float], list[int]]:
+    """From now on, the dt of every pymunk step the space takes (sub-steps included), and after each
+    physics step how many there had been."""
+    u, got, ends = env.unwrapped, [], []
+    inner, advance = u.space.step, u._advance
+
+    def step(dt: float) -> None:
+        got.append(dt)
+        inner(dt)
+
+    def physics(dt: float) -> None:
+        advance(dt)
+        ends.append(len(got))
+
+    u.space.step, u._advance = step, physics
+    return got, ends
+
+
+def test_sub_steps_only_where_the_t_is_fast() -> None:
+    """Ordinary pushing and rest: one step of 0.01 s each. A T launched at 20,000 units/s near a wall:
+    pymunk steps of 0.01 / 2^k s, each moving it less than the walls' 4 units (200 units in 0.01 s: 64
+    of them), aligned so that every physics step's add up to 0.01 s, and none more than twice the one
+    before (Chipmunk scales a step's first impulses by that ratio: docs/envs.md)."""
+    env = PushTEnv()
+    env.reset(seed=0)
+    dts, _ = _space_steps(env)
+    for action in _walk(env.get_obs(), np.random.default_rng(0), 60):
+        env.step(action)
+    assert dts == [0.01] * 600
+    env.reset(options={"reset_to_state": [30, 30, 256, 256, 0.0]})
+    dts, ends = _space_steps(env)
+    env.block.velocity = (20000.0, 0.0)
+    for _ in range(3):
+        env.step(PARK)
+    assert dts[0] == 0.01 / 64 and 20000.0 * dts[0] < 4.0 < 20000.0 * 2 * dts[0]
+    assert all(math.log2(0.01 / h).is_integer() for h in dts)
+    assert all(b <= 2 * a for a, b in zip(dts, dts[1:]))
+    for i, j in zip([0] + ends, ends):  # (rounding: the pieces are exact, their sum rounds)
+        assert sum(dts[i:j]) == pytest.approx(0.01, rel=1e-15)
+    assert dts[-1] == 0.01 and len(ends) == 30  # the ramp back to whole steps, within the three actions
+
+
+def test_a_body_faster_than_the_sub_steps_can_hold_costs_a_bounded_step() -> None:
+    """Beyond 3.3e6 units/s (2^13 sub-steps of the walls' thickness in 0.01 s) a physics step starts with
+    pymunk steps of 0.01 / 2^13 s, and makes no more than 2^13 (here the T leaves through the wall in the
+    first, and once no wall is within its reach the steps double back to 0.01 s)."""
+    env = PushTEnv(table=True)
+    env.reset(options={"reset_to_state": [30, 30, 256, 256, 0.0]})
+    dts, ends = _space_steps(env)
+    env.block.velocity = (1e9, 0.0)
+    env.step(PARK)
+    assert dts[0] == 0.01 / 2 ** 13 and ends[0] <= 2 ** 13
+
+
 def test_without_gymnasium_the_import_names_the_extra() -> None:
     import subprocess
     import sys

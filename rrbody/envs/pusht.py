@@ -35,6 +35,7 @@ from gymnasium import spaces
 
 from rrbody.engine.compat import on_post_solve
 from rrbody.envs.pusht_draw import draw
+from rrbody.envs.substep import guarded
 from rrbody.envs.tabletop import G, MU, SCALE, make_table
 from rrbody.model.checks import check_choice, check_int, check_range
 from rrbody.physics.overlap import overlap_area, pieces_area
@@ -123,7 +124,8 @@ class PushTEnv(gym.Env):
     {the picture, the agent's position}. Actions: the agent's target position, 2 numbers in [0, 512]
     (beyond it, clipped to it). ``env.unwrapped.plane`` is the table
     (:class:`rrbody.engine.plugin.PlaneFriction`, None without one); ``env.unwrapped.space`` the pymunk
-    space, rebuilt by every reset.
+    space, rebuilt by every reset. On a table a physics step is cut into sub-steps where the T would cross
+    more than a wall's thickness in it (:mod:`rrbody.envs.substep`).
 
     Every input is checked before anything changes: a refused ``step`` or ``reset`` is a ValueError
     naming the parameter, its value and the valid range, and leaves the environment as it was.
@@ -238,7 +240,8 @@ class PushTEnv(gym.Env):
             t = self.table
             self.plane = PlaneFriction(space, g=t.g_space)
             self.plane.add(block, mu=t.mu, mu_static=t.mu_static, pressure=t.pressure)
-            self._advance = self.plane.step
+            # the T keeps its momentum here: sub-steps where it would cross more than a wall in one step
+            self._advance = guarded(self.plane.step, [block], space)
 
     def _handle_collision(self, arbiter: Any, space: Any, data: Any) -> None:
         self.n_contact_points += len(arbiter.contact_point_set.points)
@@ -312,12 +315,14 @@ class PushTEnv(gym.Env):
         self.n_contact_points = 0
         self._last_action = (ax, ay)
         agent, dt, kp, kv, advance = self.agent, self.dt, self.k_p, self.k_v, self._advance
+        # the agent's velocity is read once: pymunk never changes a kinematic body's velocity (no forces, no
+        # impulses act on its infinite mass), so the one set below is the one pymunk holds at the next step
+        vx, vy = agent.velocity
         for _ in range(int(1 / (dt * self.control_hz))):
             px, py = agent.position
-            vx, vy = agent.velocity
             # the PD law in gym-pusht's arithmetic (float64, the same order of operations)
-            agent.velocity = (vx + (kp * (ax - px) + kv * (0.0 - vx)) * dt,
-                              vy + (kp * (ay - py) + kv * (0.0 - vy)) * dt)
+            vx, vy = (vx + (kp * (ax - px) + kv * (0.0 - vx)) * dt, vy + (kp * (ay - py) + kv * (0.0 - vy)) * dt)
+            agent.velocity = (vx, vy)
             advance(dt)
         coverage = self._coverage()
         reward = np.clip(coverage / self.success_threshold, 0.0, 1.0)

@@ -25,6 +25,7 @@ import gymnasium
 import pymunk
 
 from rrbody.engine.plugin import PlaneFriction
+from rrbody.envs.substep import guarded
 from rrbody.envs.tabletop import G, MU, SCALE, Table, make_table
 
 __all__ = ["CONTRACT", "TableSpace", "TableWrapper", "table"]
@@ -40,20 +41,22 @@ BodyPicker = Callable[[Any], Iterable[Any]]
 class TableSpace:
     """The environment's space with the table under it: what the wrapper puts in ``env.unwrapped.space``.
 
-    ``step(dt)`` (dt in s, > 0) is ``plane.step(dt)`` itself (the bound method, kept in a slot: no call of
-    this class's in between, as the environment calls it ten times per ``env.step``): the table's friction
-    on its bodies, then the real space's ``step(dt)``. Every other attribute is read from, written to and
+    ``step(dt)`` (dt in s, > 0) is ``step``, by default ``plane.step`` itself (a callable kept in a slot: no
+    call of this class's in between, as the environment calls it ten times per ``env.step``): the table's
+    friction on its bodies, then the real space's ``step(dt)``; the wrapper gives it
+    :func:`rrbody.envs.substep.guarded`'s, which cuts a step into sub-steps where a body would cross more
+    than a wall's thickness in it. Every other attribute is read from, written to and
     deleted on the real ``pymunk.Space`` (``bodies``, ``add``, ``debug_draw``, ``add_collision_handler``,
     ``damping``, ...). It is not itself a ``pymunk.Space``: ``body.space`` is the real one (``plane.space``).
     """
 
     __slots__ = ("_space", "_plane", "step")
 
-    def __init__(self, plane: Any) -> None:  # a rrbody.engine.plugin.PlaneFriction (no name clash in the docs)
+    def __init__(self, plane: Any, step: Any = None) -> None:  # a rrbody.engine.plugin.PlaneFriction
         # object.__setattr__: this class's own __setattr__ writes to the real space
         object.__setattr__(self, "_space", plane.space)
         object.__setattr__(self, "_plane", plane)
-        object.__setattr__(self, "step", plane.step)
+        object.__setattr__(self, "step", plane.step if step is None else step)
 
     def __getattr__(self, name: str) -> Any:
         # only names this class does not define arrive here; object.__getattribute__ so that a half-built
@@ -139,13 +142,15 @@ class TableWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
             raise TypeError(f"env.unwrapped ({type(u).__name__}) has no attribute 'space' after reset: {CONTRACT}")
         plane = PlaneFriction(space, g=self._table.g_space)
         t = self._table
-        for i, body in enumerate(self._carried(u, space)):
+        carried = self._carried(u, space)
+        for i, body in enumerate(carried):
             try:
                 plane.add(body, mu=t.mu, mu_static=t.mu_static, pressure=t.pressure)
             except ValueError as e:  # PlaneFriction names the body's fault; say which body of the env it is
                 which = f"bodies(env.unwrapped)[{i}]" if self._pick else "a dynamic body of env.unwrapped.space"
                 raise ValueError(f"{which} ({body!r}) cannot go on the table: {e}") from e
-        proxy = TableSpace(plane)
+        # the bodies keep their momentum on the table: sub-steps where one would cross more than a wall in one step
+        proxy = TableSpace(plane, guarded(plane.step, carried, space))
         try:
             u.space = proxy
         except AttributeError as e:  # a read-only property
