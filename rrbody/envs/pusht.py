@@ -233,7 +233,9 @@ class PushTEnv(gym.Env):
         on_post_solve(space, 0, 0, self._handle_collision)
         self.n_contact_points = 0
         self.plane = None
-        self._advance = space.step
+        # without a table the space is stepped as gym-pusht steps it, through self.space (a wrapper that
+        # puts a table under it, rrbody.envs.table, replaces that)
+        self._advance = self._step_space
         if self.table is not None:
             from rrbody.engine.plugin import PlaneFriction
 
@@ -242,6 +244,9 @@ class PushTEnv(gym.Env):
             self.plane.add(block, mu=t.mu, mu_static=t.mu_static, pressure=t.pressure)
             # the T keeps its momentum here: sub-steps where it would cross more than a wall in one step
             self._advance = guarded(self.plane.step, [block], space)
+
+    def _step_space(self, dt: float) -> None:
+        self.space.step(dt)
 
     def _handle_collision(self, arbiter: Any, space: Any, data: Any) -> None:
         self.n_contact_points += len(arbiter.contact_point_set.points)

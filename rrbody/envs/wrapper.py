@@ -23,6 +23,7 @@ from typing import Any, SupportsFloat
 
 import gymnasium
 import pymunk
+from gymnasium.utils import RecordConstructorArgs
 
 from rrbody.engine.plugin import PlaneFriction
 from rrbody.envs.substep import guarded
@@ -76,18 +77,27 @@ class TableSpace:
         return f"TableSpace({self._space!r})"
 
 
-class TableWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
-    """``env`` on a table (build it with :func:`table`, which checks the arguments).
+class TableWrapper(gymnasium.Wrapper[Any, Any, Any, Any], RecordConstructorArgs):
+    """``env`` on a table: :func:`table` (the same keywords, checked here, before anything changes).
 
     After every ``reset`` of ``env``: a new :class:`~rrbody.engine.plugin.PlaneFriction` on ``env.unwrapped.space`` (pressing
     with ``table.g_space`` = g / scale, units/s^2), carrying the table's bodies with ``mu``,
     ``mu_static`` and ``pressure``; the space's damping set to 1 if it was 0 (any other value is kept);
     and :class:`TableSpace` in ``env.unwrapped.space``. Before every ``reset`` the environment gets
     its own space back, with its own damping, so its reset runs exactly as without the table.
+
+    It records its keywords as gymnasium's wrappers do (``gymnasium.utils.RecordConstructorArgs``), so
+    that ``env.spec`` makes it again (``gymnasium.make(env.spec)``, the checker's ``check_env``).
     """
 
-    def __init__(self, env: gymnasium.Env[Any, Any], table: Table, bodies: BodyPicker | None = None) -> None:
-        super().__init__(env)
+    def __init__(self, env: gymnasium.Env[Any, Any], *, mu: float = MU, mu_static: float | None = None,
+                 pressure: Any = "uniform", g: float = G, scale: float = SCALE,
+                 bodies: BodyPicker | None = None) -> None:
+        table = _check(env, mu, mu_static, pressure, g, scale, bodies)
+        # the keywords as given (no deep copy: a bound method's deep copy would copy its object)
+        RecordConstructorArgs.__init__(self, _disable_deepcopy=True, mu=mu, mu_static=mu_static, pressure=pressure,
+                                       g=g, scale=scale, bodies=bodies)
+        gymnasium.Wrapper.__init__(self, env)
         self._table = table
         self._pick = bodies
         self._plane: PlaneFriction | None = None
@@ -231,6 +241,11 @@ def table(env: gymnasium.Env[Any, Any], *, mu: float = MU, mu_static: float | No
         builds its space in ``reset``) is checked at the first reset instead, which raises this TypeError
         if it left no ``pymunk.Space`` there. Nothing changes when one of these is raised.
     """
+    return TableWrapper(env, mu=mu, mu_static=mu_static, pressure=pressure, g=g, scale=scale, bodies=bodies)
+
+
+def _check(env: Any, mu: Any, mu_static: Any, pressure: Any, g: Any, scale: Any, bodies: Any) -> Table:
+    """:func:`table`'s arguments checked (the errors its docstring lists); the table's parameters."""
     if not isinstance(env, gymnasium.Env):
         raise TypeError(f"env must be a gymnasium.Env, got {type(env).__name__}: {CONTRACT}")
     params = make_table(mu, mu_static, pressure, g, scale)
@@ -241,5 +256,9 @@ def table(env: gymnasium.Env[Any, Any], *, mu: float = MU, mu_static: float | No
         if isinstance(e, TableWrapper):
             raise ValueError(f"env is already on a table ({e!r}): apply table() once")
         e = e.env
+    if isinstance(getattr(env.unwrapped, "table", None), Table):
+        # rrbody/PushT-v0 with its own table steps it itself: a second one would never be stepped
+        raise ValueError(f"env is already on a table (rrbody/PushT-v0's own, {env.unwrapped.table!r}): make it with "
+                         f"table=False to put it on this one, or use its own")
     _space_of(env.unwrapped, when="at wrap time")  # absent (gym-pusht before its first reset): checked after reset
-    return TableWrapper(env, params, bodies)
+    return params
