@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import sys
+import warnings
 from typing import Any
 
 import numpy as np
@@ -23,7 +24,7 @@ import pytest
 gymnasium = pytest.importorskip("gymnasium")
 pymunk = pytest.importorskip("pymunk")
 
-from rrbody.envs.wrapper import TableSpace, table  # noqa: E402
+from rrbody.envs.wrapper import TableSpace, TableWrapper, table  # noqa: E402
 from rrbody.envs.tabletop import G, SCALE  # noqa: E402
 from tests.pusht_support import have  # noqa: E402
 
@@ -369,3 +370,129 @@ def test_an_env_of_our_own_that_meets_the_contract() -> None:
     kept = table(_Puck(damping=0.5))
     kept.reset(seed=0)
     assert kept.unwrapped.space.damping == 0.5
+
+
+# ---- (8) gymnasium's checker, and the spec it re-makes the wrapper from ---------------------------------
+def _checked(env: Any, monkeypatch: pytest.MonkeyPatch) -> None:
+    from gymnasium.utils.env_checker import check_env
+
+    monkeypatch.setenv("SDL_VIDEODRIVER", "dummy")  # gym-pusht's "human" render mode opens no window
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the checker's notes (bounds, float32); a failure still raises
+        check_env(env)
+
+
+@needs_pusht
+def test_gymnasiums_checker_passes_on_gym_pusht(monkeypatch: pytest.MonkeyPatch) -> None:
+    """check_env makes the env again from its spec (gymnasium.make(env.spec), for each render mode):
+    the wrapper records its keywords as gymnasium's own wrappers do."""
+    _checked(table(_pusht(), mu=0.2), monkeypatch)
+
+
+def test_gymnasiums_checker_passes_on_rrbodys_env(monkeypatch: pytest.MonkeyPatch) -> None:
+    import rrbody.envs  # noqa: F401 (registers rrbody/PushT-v0)
+
+    env = table(gymnasium.make("rrbody/PushT-v0", table=False), mu=0.2, mu_static=0.4, g=9.8)
+    _checked(env, monkeypatch)
+    again = gymnasium.make(env.spec)  # the wrapper made again, with its keywords
+    assert isinstance(again, TableWrapper) and again.table == env.table
+    assert again.spec.additional_wrappers[-1].kwargs["mu_static"] == 0.4
+
+
+# ---- (9) rrbody/PushT-v0 under the wrapper ---------------------------------------------------------------
+def test_rrbodys_env_without_its_table_gets_the_wrappers() -> None:
+    """rrbody/PushT-v0 with table=False steps its space through env.unwrapped.space, as gym-pusht does:
+    the wrapper's table is under it (a T launched at 100 units/s slides v^2 / (2a) and stops; before, it
+    went on at 100 units/s, the table never stepped)."""
+    import rrbody.envs  # noqa: F401
+
+    mu = 0.3
+    a = mu * G_SPACE
+    env = table(gymnasium.make("rrbody/PushT-v0", table=False), mu=mu)
+    env.reset(options={"reset_to_state": APART_STATE})
+    u = env.unwrapped
+    x0 = u.block.position
+    u.block.velocity = (100.0, 0.0)
+    env.step(np.array(u.agent.position))
+    assert u.block.velocity == (0.0, 0.0) and env.plane.t == pytest.approx(N_SUB * DT)  # the table stepped
+    d = u.block.position - x0
+    assert abs(d.x - 100.0**2 / (2 * a)) <= a * DT * DT / 8 and abs(d.y) < 1e-12  # (as test (4): the stop's step)
+
+
+def test_rrbodys_env_on_its_own_table_is_refused() -> None:
+    import rrbody.envs  # noqa: F401
+
+    with pytest.raises(ValueError, match=r"already on a table \(rrbody/PushT-v0's own.*table=False"):
+        table(gymnasium.make("rrbody/PushT-v0"))
+
+
+# ---- (10) no tunnelling: sub-steps where a body would cross more than a wall's thickness ------------------
+#: the walls' outer faces (gym-pusht's segments at 5 and 506, radius 2), units: a corner beyond one has
+#: crossed that wall. Each sub-step moves a point at most a wall's thickness (4 units).
+WALL_OUTER = (3.0, 508.0)
+
+
+def _launch(env: Any, speed: float) -> None:
+    """Launch the T at ``speed`` (units/s) in 12 directions, one env each reset; check its corners after
+    every physics step and every observation against the observation space."""
+    for k in range(12):
+        env.reset(seed=0, options={"reset_to_state": [30.0, 30.0, 256.0, 256.0, 0.0]})
+        u = env.unwrapped
+        proxy, t, seen = u.space, u.block, []
+        inner = object.__getattribute__(proxy, "step")
+
+        def step(dt: float, inner: Any = inner, t: Any = t, seen: list = seen) -> None:
+            inner(dt)
+            seen.extend(t.local_to_world(v) for s in t.shapes for v in s.get_vertices())
+
+        object.__setattr__(proxy, "step", step)
+        t.velocity = (speed * math.cos(k * math.pi / 6), speed * math.sin(k * math.pi / 6))
+        for _ in range(20):
+            obs = env.step(np.array([30.0, 30.0]))[0]
+            assert env.observation_space.contains(obs), (k, obs)
+        xy = np.array(seen)
+        assert xy.min() >= WALL_OUTER[0] and xy.max() <= WALL_OUTER[1], (k, xy.min(), xy.max())
+
+
+@needs_pusht
+@pytest.mark.parametrize("speed", [3500.0, 20000.0])
+def test_a_fast_t_stays_inside_gym_pushts_walls(speed: float) -> None:
+    """At 3,500 units/s (the study's squirts reached 3,032) the T came to rest straddling a wall; at
+    20,000 it left the workspace. gym-pusht alone cannot do this: it wipes the velocity every step."""
+    _launch(table(_pusht(obs_type="environment_state_agent_pos")), speed)
+
+
+def test_a_fast_t_stays_inside_the_walls_of_rrbodys_env() -> None:
+    import rrbody.envs  # noqa: F401
+
+    _launch(table(gymnasium.make("rrbody/PushT-v0", table=False, obs_type="environment_state_agent_pos")), 20000.0)
+
+
+def test_without_walls_there_are_no_sub_steps() -> None:
+    """The puck's space has no static shape: its table is plane.step itself."""
+    env = table(_Puck(), mu=0.1)
+    env.reset(seed=0)
+    assert env.unwrapped.space.step == env.plane.step
+
+
+def test_a_wall_without_thickness_holds_a_fast_puck() -> None:
+    """Segments of radius 0 (common in pymunk programs): the sub-steps are bounded by half the body's
+    thinnest width instead (a shape is pushed back while less than half of it has crossed a wall)."""
+    from rrbody.envs.substep import guarded
+    from rrbody.engine.plugin import PlaneFriction
+
+    space = pymunk.Space()
+    space.damping = 1.0
+    space.add(pymunk.Segment(space.static_body, (100.0, -100.0), (100.0, 100.0), 0.0))
+    puck = pymunk.Body()
+    shape = pymunk.Circle(puck, 10.0)
+    shape.density = 1.0
+    space.add(puck, shape)
+    plane = PlaneFriction(space, g=G_SPACE)
+    plane.add(puck, mu=0.3)
+    step = guarded(plane.step, [puck], space)
+    puck.velocity = (20000.0, 0.0)
+    for _ in range(10):
+        step(DT)
+        assert puck.position.x < 100.0  # its centre never crosses the wall
+    assert puck.velocity.x <= 0.0

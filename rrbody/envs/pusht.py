@@ -26,6 +26,7 @@ observations for the same seeds and actions (tests/test_envs_pusht.py checks it 
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from typing import Any
 
 import gymnasium as gym
@@ -34,8 +35,9 @@ from gymnasium import spaces
 
 from rrbody.engine.compat import on_post_solve
 from rrbody.envs.pusht_draw import draw
+from rrbody.envs.substep import guarded
 from rrbody.envs.tabletop import G, MU, SCALE, make_table
-from rrbody.model.checks import check_choice, check_int, check_range, check_real
+from rrbody.model.checks import check_choice, check_int, check_range
 from rrbody.physics.overlap import overlap_area, pieces_area
 
 __all__ = ["OBS_TYPES", "TEE", "PushTEnv", "tee_corners"]
@@ -47,6 +49,14 @@ KEYWORDS = ("obs_type", "render_mode", "block_cog", "damping", "observation_widt
             "visualization_width", "visualization_height", "table", "mu", "mu_static", "pressure", "g", "scale")
 WORKSPACE = 512.0
 SUCCESS = 0.95
+#: the four walls (segments, end points in units) and their radius, as gym-pusht builds them
+WALLS = (((5, 506), (5, 5)), ((5, 5), (506, 5)), ((506, 5), (506, 506)), ((5, 506), (506, 506)))
+WALL_RADIUS = 2
+#: the walls' inner faces, units: a bar of the T whose centre lies between them is pushed back in by the
+#: contact solve when it overlaps a wall (pymunk separates two shapes the shorter way); one beyond is pushed out
+INSIDE = (5 + WALL_RADIUS, 506 - WALL_RADIUS)
+#: what an action is (quoted by its errors)
+ACTION = "the agent's target x, y in units, in [0, 512]; beyond it, clipped to it"
 
 
 def _tee_vertices(scale: float = 30.0, length: float = 4.0) -> tuple[list[tuple[float, float]], ...]:
@@ -71,6 +81,35 @@ def tee_corners(x: float, y: float, angle: float) -> np.ndarray:
     return out
 
 
+def _reals(name: str, value: Any, n: int, what: str) -> np.ndarray:
+    """``value`` as n finite float64 numbers, or a ValueError naming ``name``, the value and what it holds."""
+    try:
+        a = np.asarray(value)
+    except (TypeError, ValueError):  # ragged sequences
+        a = np.asarray(None)
+    if a.shape != (n,) or a.dtype.kind not in "iuf":
+        raise ValueError(f"{name} must be {n} real numbers ({what}), got {value!r}")
+    a = a.astype(np.float64)
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be {n} finite numbers ({what}), got {value!r}")
+    return a
+
+
+def _target(action: Any) -> tuple[float, float]:
+    """The agent's target from an action: 2 finite real numbers (units), clipped to the workspace
+    [0, 512]. gym-pusht drives its agent to any target, past its walls (the agent is kinematic) and out of
+    its observation space; its action space, and its documentation, say [0, 512]."""
+    a = action if isinstance(action, np.ndarray) else _reals("action", action, 2, ACTION)
+    if a.shape != (2,) or a.dtype.kind not in "iuf":
+        raise ValueError(f"action must be 2 real numbers ({ACTION}), got {action!r}")
+    ax, ay = float(a[0]), float(a[1])
+    if 0.0 <= ax <= WORKSPACE and 0.0 <= ay <= WORKSPACE:  # (also False for a NaN)
+        return ax, ay
+    if not (math.isfinite(ax) and math.isfinite(ay)):
+        raise ValueError(f"action must be 2 finite numbers ({ACTION}), got {action!r}")
+    return min(max(ax, 0.0), WORKSPACE), min(max(ay, 0.0), WORKSPACE)
+
+
 def _box(lo: float, hi: float, n: int) -> spaces.Box:
     return spaces.Box(low=np.full(n, lo), high=np.full(n, hi), dtype=np.float64)
 
@@ -82,9 +121,14 @@ class PushTEnv(gym.Env):
     in [0, 2 pi)], the T's position being its body origin (the top bar's lower edge centre);
     ``environment_state_agent_pos`` {the T's 8 corners (16 numbers), the agent's position};
     ``pixels`` an (observation_height, observation_width, 3) uint8 picture; ``pixels_agent_pos``
-    {the picture, the agent's position}. Actions: the agent's target position, 2 numbers in [0, 512].
-    ``env.unwrapped.plane`` is the table (:class:`rrbody.engine.plugin.PlaneFriction`, None without
-    one); ``env.unwrapped.space`` the pymunk space, rebuilt by every reset.
+    {the picture, the agent's position}. Actions: the agent's target position, 2 numbers in [0, 512]
+    (beyond it, clipped to it). ``env.unwrapped.plane`` is the table
+    (:class:`rrbody.engine.plugin.PlaneFriction`, None without one); ``env.unwrapped.space`` the pymunk
+    space, rebuilt by every reset. On a table a physics step is cut into sub-steps where the T would cross
+    more than a wall's thickness in it (:mod:`rrbody.envs.substep`).
+
+    Every input is checked before anything changes: a refused ``step`` or ``reset`` is a ValueError
+    naming the parameter, its value and the valid range, and leaves the environment as it was.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
@@ -108,7 +152,8 @@ class PushTEnv(gym.Env):
         self.visualization_width = check_int("visualization_width", visualization_width, 1, 4096)
         self.visualization_height = check_int("visualization_height", visualization_height, 1, 4096)
         if block_cog is not None:
-            block_cog = (check_real("block_cog[0]", block_cog[0]), check_real("block_cog[1]", block_cog[1]))
+            block_cog = tuple(float(c) for c in _reals("block_cog", block_cog, 2, "the T's centre of gravity in "
+                                                                "its body frame, units"))
         self.block_cog = block_cog
         self.damping = None if damping is None else check_range("damping", damping, 0.0, 1.0)
         if not isinstance(table, bool):
@@ -123,6 +168,23 @@ class PushTEnv(gym.Env):
         self._last_action: Any = None
         self.space: Any = None
         self.plane: Any = None
+        if self.table is not None and block_cog is not None:
+            try:  # a centre of gravity the T's footprint cannot carry: say so now, naming it, not at reset
+                self._setup()
+            except ValueError as e:
+                raise ValueError(f"block_cog {block_cog!r} is one the table cannot carry under the T: {e}") from None
+            finally:
+                self.space = self.plane = None
+
+    @property
+    def dt(self) -> float:
+        """The physics step, s (gym-pusht's 0.01): 1 / (dt x 10 Hz) of them, rounded down, per action."""
+        return self._dt
+
+    @dt.setter
+    def dt(self, value: float) -> None:
+        # at most 0.1 s: one physics step per action; at least 1e-5 s: 10,000 of them per action
+        self._dt = check_range("dt", value, 1e-5, 0.1, unit="s")
 
     def _observation_space(self) -> spaces.Space:
         """gym-pusht 0.1.8's spaces, bounds and dtypes for ``obs_type``."""
@@ -146,8 +208,7 @@ class PushTEnv(gym.Env):
         space = pymunk.Space()
         space.gravity = 0, 0
         space.damping = self.damping if self.damping is not None else (0.0 if self.table is None else 1.0)
-        walls = [((5, 506), (5, 5)), ((5, 5), (506, 5)), ((506, 5), (506, 506)), ((5, 506), (506, 506))]
-        space.add(*(pymunk.Segment(space.static_body, a, b, 2) for a, b in walls))
+        space.add(*(pymunk.Segment(space.static_body, a, b, WALL_RADIUS) for a, b in WALLS))
         agent = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
         agent.position = (256, 400)
         space.add(agent, pymunk.Circle(agent, 15))
@@ -172,14 +233,20 @@ class PushTEnv(gym.Env):
         on_post_solve(space, 0, 0, self._handle_collision)
         self.n_contact_points = 0
         self.plane = None
-        self._advance = space.step
+        # without a table the space is stepped as gym-pusht steps it, through self.space (a wrapper that
+        # puts a table under it, rrbody.envs.table, replaces that)
+        self._advance = self._step_space
         if self.table is not None:
             from rrbody.engine.plugin import PlaneFriction
 
             t = self.table
             self.plane = PlaneFriction(space, g=t.g_space)
             self.plane.add(block, mu=t.mu, mu_static=t.mu_static, pressure=t.pressure)
-            self._advance = self.plane.step
+            # the T keeps its momentum here: sub-steps where it would cross more than a wall in one step
+            self._advance = guarded(self.plane.step, [block], space)
+
+    def _step_space(self, dt: float) -> None:
+        self.space.step(dt)
 
     def _handle_collision(self, arbiter: Any, space: Any, data: Any) -> None:
         self.n_contact_points += len(arbiter.contact_point_set.points)
@@ -192,6 +259,37 @@ class PushTEnv(gym.Env):
         self.block.angle = state[4]
         self._advance(self.dt)
 
+    def _reset_state(self, options: Any) -> np.ndarray | None:
+        """``options["reset_to_state"]`` checked: 5 finite numbers, the agent in the workspace [0, 512]^2
+        (it is kinematic: it passes over the walls, as the actions let it), each bar of the T with its centre
+        inside the walls' inner faces once placed as :meth:`_set_state` places it; None without one."""
+        if options is None:
+            return None
+        if not isinstance(options, Mapping):
+            raise ValueError(f"options must be None or a dict (its key 'reset_to_state': [agent x, agent y, T x, "
+                             f"T y, T angle]), got {options!r}")
+        value = options.get("reset_to_state")
+        if value is None:
+            return None
+        name = "options['reset_to_state']"
+        state = _reals(name, value, 5, "agent x, agent y, T x, T y in units, T angle in rad")
+        if not (0.0 <= state[0] <= WORKSPACE and 0.0 <= state[1] <= WORKSPACE):
+            raise ValueError(f"{name} puts the agent at ({state[0]:.6g}, {state[1]:.6g}): its x and y must be in "
+                             f"[0, 512] units (the workspace, the actions' range), got {value!r}")
+        # the T's origin placed at angle 0, then turned by the angle about its centre of gravity c
+        c = np.array(self.block_cog) if self.block_cog is not None else TEE.mean(axis=(0, 1))
+        turn = math.cos(state[4]), math.sin(state[4])
+        for bar, centre in zip(("top bar", "stem"), TEE.mean(axis=1)):
+            rx, ry = centre - c
+            x = state[2] + c[0] + turn[0] * rx - turn[1] * ry
+            y = state[3] + c[1] + turn[1] * rx + turn[0] * ry
+            if not (INSIDE[0] <= x <= INSIDE[1] and INSIDE[0] <= y <= INSIDE[1]):
+                raise ValueError(f"{name} puts the T's {bar} with its centre at ({x:.6g}, {y:.6g}), outside the "
+                                 f"walls: each bar's centre must be inside their inner faces, x and y in "
+                                 f"[{INSIDE[0]}, {INSIDE[1]}] units (a bar over a wall with its centre inside is "
+                                 f"pushed back in; one with its centre beyond is pushed out), got {value!r}")
+        return state
+
     def _coverage(self) -> float:
         """The T's area inside the goal T over the goal's area (exact: rrbody.physics.overlap)."""
         x, y = self.block.position
@@ -202,13 +300,9 @@ class PushTEnv(gym.Env):
         """A new episode: random agent position in [50, 450)^2, T position in [100, 400)^2 and angle in
         [-pi, pi) from the env's generator (gym-pusht's draws), or ``options["reset_to_state"]``
         ([agent x, agent y, T x, T y, T angle])."""
+        state = self._reset_state(options)  # checked before anything changes, the generator included
         super().reset(seed=seed)
-        if options is not None and options.get("reset_to_state") is not None:
-            state = np.array(options["reset_to_state"], dtype=np.float64)
-            if state.shape != (5,) or not np.all(np.isfinite(state)):
-                raise ValueError(f"options['reset_to_state'] must be 5 finite numbers [agent x, agent y, "
-                                 f"T x, T y, T angle], got {options['reset_to_state']!r}")
-        else:
+        if state is None:
             r = self.np_random
             state = np.array([r.integers(50, 450), r.integers(50, 450), r.integers(100, 400),
                               r.integers(100, 400), r.uniform(-np.pi, np.pi)])
@@ -222,18 +316,18 @@ class PushTEnv(gym.Env):
         """Drive the agent toward ``action`` for 0.1 s (10 physics steps of PD control), then observe."""
         if self.space is None:
             raise RuntimeError("call reset() before step()")
-        ax, ay = float(action[0]), float(action[1])
-        if not (math.isfinite(ax) and math.isfinite(ay)):
-            raise ValueError(f"action must be 2 finite numbers (the agent's target, in [0, 512]), got {action!r}")
+        ax, ay = _target(action)  # checked before anything changes
         self.n_contact_points = 0
-        self._last_action = action
+        self._last_action = (ax, ay)
         agent, dt, kp, kv, advance = self.agent, self.dt, self.k_p, self.k_v, self._advance
+        # the agent's velocity is read once: pymunk never changes a kinematic body's velocity (no forces, no
+        # impulses act on its infinite mass), so the one set below is the one pymunk holds at the next step
+        vx, vy = agent.velocity
         for _ in range(int(1 / (dt * self.control_hz))):
             px, py = agent.position
-            vx, vy = agent.velocity
             # the PD law in gym-pusht's arithmetic (float64, the same order of operations)
-            agent.velocity = (vx + (kp * (ax - px) + kv * (0.0 - vx)) * dt,
-                              vy + (kp * (ay - py) + kv * (0.0 - vy)) * dt)
+            vx, vy = (vx + (kp * (ax - px) + kv * (0.0 - vx)) * dt, vy + (kp * (ay - py) + kv * (0.0 - vy)) * dt)
+            agent.velocity = (vx, vy)
             advance(dt)
         coverage = self._coverage()
         reward = np.clip(coverage / self.success_threshold, 0.0, 1.0)

@@ -23,8 +23,10 @@ from typing import Any, SupportsFloat
 
 import gymnasium
 import pymunk
+from gymnasium.utils import RecordConstructorArgs
 
 from rrbody.engine.plugin import PlaneFriction
+from rrbody.envs.substep import guarded
 from rrbody.envs.tabletop import G, MU, SCALE, Table, make_table
 
 __all__ = ["CONTRACT", "TableSpace", "TableWrapper", "table"]
@@ -40,20 +42,22 @@ BodyPicker = Callable[[Any], Iterable[Any]]
 class TableSpace:
     """The environment's space with the table under it: what the wrapper puts in ``env.unwrapped.space``.
 
-    ``step(dt)`` (dt in s, > 0) is ``plane.step(dt)`` itself (the bound method, kept in a slot: no call of
-    this class's in between, as the environment calls it ten times per ``env.step``): the table's friction
-    on its bodies, then the real space's ``step(dt)``. Every other attribute is read from, written to and
+    ``step(dt)`` (dt in s, > 0) is ``step``, by default ``plane.step`` itself (a callable kept in a slot: no
+    call of this class's in between, as the environment calls it ten times per ``env.step``): the table's
+    friction on its bodies, then the real space's ``step(dt)``; the wrapper gives it
+    :func:`rrbody.envs.substep.guarded`'s, which cuts a step into sub-steps where a body would cross more
+    than a wall's thickness in it. Every other attribute is read from, written to and
     deleted on the real ``pymunk.Space`` (``bodies``, ``add``, ``debug_draw``, ``add_collision_handler``,
     ``damping``, ...). It is not itself a ``pymunk.Space``: ``body.space`` is the real one (``plane.space``).
     """
 
     __slots__ = ("_space", "_plane", "step")
 
-    def __init__(self, plane: Any) -> None:  # a rrbody.engine.plugin.PlaneFriction (no name clash in the docs)
+    def __init__(self, plane: Any, step: Any = None) -> None:  # a rrbody.engine.plugin.PlaneFriction
         # object.__setattr__: this class's own __setattr__ writes to the real space
         object.__setattr__(self, "_space", plane.space)
         object.__setattr__(self, "_plane", plane)
-        object.__setattr__(self, "step", plane.step)
+        object.__setattr__(self, "step", plane.step if step is None else step)
 
     def __getattr__(self, name: str) -> Any:
         # only names this class does not define arrive here; object.__getattribute__ so that a half-built
@@ -73,18 +77,27 @@ class TableSpace:
         return f"TableSpace({self._space!r})"
 
 
-class TableWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
-    """``env`` on a table (build it with :func:`table`, which checks the arguments).
+class TableWrapper(gymnasium.Wrapper[Any, Any, Any, Any], RecordConstructorArgs):
+    """``env`` on a table: :func:`table` (the same keywords, checked here, before anything changes).
 
     After every ``reset`` of ``env``: a new :class:`~rrbody.engine.plugin.PlaneFriction` on ``env.unwrapped.space`` (pressing
     with ``table.g_space`` = g / scale, units/s^2), carrying the table's bodies with ``mu``,
     ``mu_static`` and ``pressure``; the space's damping set to 1 if it was 0 (any other value is kept);
     and :class:`TableSpace` in ``env.unwrapped.space``. Before every ``reset`` the environment gets
     its own space back, with its own damping, so its reset runs exactly as without the table.
+
+    It records its keywords as gymnasium's wrappers do (``gymnasium.utils.RecordConstructorArgs``), so
+    that ``env.spec`` makes it again (``gymnasium.make(env.spec)``, the checker's ``check_env``).
     """
 
-    def __init__(self, env: gymnasium.Env[Any, Any], table: Table, bodies: BodyPicker | None = None) -> None:
-        super().__init__(env)
+    def __init__(self, env: gymnasium.Env[Any, Any], *, mu: float = MU, mu_static: float | None = None,
+                 pressure: Any = "uniform", g: float = G, scale: float = SCALE,
+                 bodies: BodyPicker | None = None) -> None:
+        table = _check(env, mu, mu_static, pressure, g, scale, bodies)
+        # the keywords as given (no deep copy: a bound method's deep copy would copy its object)
+        RecordConstructorArgs.__init__(self, _disable_deepcopy=True, mu=mu, mu_static=mu_static, pressure=pressure,
+                                       g=g, scale=scale, bodies=bodies)
+        gymnasium.Wrapper.__init__(self, env)
         self._table = table
         self._pick = bodies
         self._plane: PlaneFriction | None = None
@@ -139,13 +152,15 @@ class TableWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
             raise TypeError(f"env.unwrapped ({type(u).__name__}) has no attribute 'space' after reset: {CONTRACT}")
         plane = PlaneFriction(space, g=self._table.g_space)
         t = self._table
-        for i, body in enumerate(self._carried(u, space)):
+        carried = self._carried(u, space)
+        for i, body in enumerate(carried):
             try:
                 plane.add(body, mu=t.mu, mu_static=t.mu_static, pressure=t.pressure)
             except ValueError as e:  # PlaneFriction names the body's fault; say which body of the env it is
                 which = f"bodies(env.unwrapped)[{i}]" if self._pick else "a dynamic body of env.unwrapped.space"
                 raise ValueError(f"{which} ({body!r}) cannot go on the table: {e}") from e
-        proxy = TableSpace(plane)
+        # the bodies keep their momentum on the table: sub-steps where one would cross more than a wall in one step
+        proxy = TableSpace(plane, guarded(plane.step, carried, space))
         try:
             u.space = proxy
         except AttributeError as e:  # a read-only property
@@ -226,6 +241,11 @@ def table(env: gymnasium.Env[Any, Any], *, mu: float = MU, mu_static: float | No
         builds its space in ``reset``) is checked at the first reset instead, which raises this TypeError
         if it left no ``pymunk.Space`` there. Nothing changes when one of these is raised.
     """
+    return TableWrapper(env, mu=mu, mu_static=mu_static, pressure=pressure, g=g, scale=scale, bodies=bodies)
+
+
+def _check(env: Any, mu: Any, mu_static: Any, pressure: Any, g: Any, scale: Any, bodies: Any) -> Table:
+    """:func:`table`'s arguments checked (the errors its docstring lists); the table's parameters."""
     if not isinstance(env, gymnasium.Env):
         raise TypeError(f"env must be a gymnasium.Env, got {type(env).__name__}: {CONTRACT}")
     params = make_table(mu, mu_static, pressure, g, scale)
@@ -236,5 +256,9 @@ def table(env: gymnasium.Env[Any, Any], *, mu: float = MU, mu_static: float | No
         if isinstance(e, TableWrapper):
             raise ValueError(f"env is already on a table ({e!r}): apply table() once")
         e = e.env
+    if isinstance(getattr(env.unwrapped, "table", None), Table):
+        # rrbody/PushT-v0 with its own table steps it itself: a second one would never be stepped
+        raise ValueError(f"env is already on a table (rrbody/PushT-v0's own, {env.unwrapped.table!r}): make it with "
+                         f"table=False to put it on this one, or use its own")
     _space_of(env.unwrapped, when="at wrap time")  # absent (gym-pusht before its first reset): checked after reset
-    return TableWrapper(env, params, bodies)
+    return params
