@@ -75,6 +75,9 @@ def settle(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_bre
     if n == DEFER:
         return n
     # what friction added to the load is the friction this step applies
+    bodies[j, LDX] = lx
+    bodies[j, LDY] = ly
+    bodies[j, LDT] = lt
     bodies[j, FFX] = out[i, 0] - lx
     bodies[j, FFY] = out[i, 1] - ly
     bodies[j, FFT] = out[i, 2] - lt

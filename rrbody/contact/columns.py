@@ -21,7 +21,9 @@ and angle needs no new test); FFX, FFY, FFT: the friction the last step applied 
 N m about the centre of gravity; static friction and the rest rule's stopping impulse included), for
 readers such as the recorder; FEET (1.0: a body on two or more point feet, whose foot static friction
 holds at rest: :mod:`rrbody.contact.feet`), PIN (1 + the index of the foot held since the last step, 0:
-none), DEFR (1.0 while :func:`rrbody.contact.kernel.plane_step` has deferred the body to its limit-set loop), TKIND, TAB:
+none), LDX, LDY, LDT: the load the last step applied besides friction (N, world frame, and N m about the
+centre of gravity: the user's force and torque, a tilt's pull, the active load; the coupled step's free
+velocity, :mod:`rrbody.contact.coupled`), DEFR (1.0 while :func:`rrbody.contact.kernel.plane_step` has deferred the body to its limit-set loop), TKIND, TAB:
 how its dry friction is evaluated (TABLE_NONE: :func:`rrbody.physics.contact.footprint_wrench`, exact;
 TABLE_CIRCLE: one disk, the wrench table of :mod:`rrbody.physics.icr_table`; TABLE_FOOTPRINT: the
 footprint's own table, :mod:`rrbody.physics.footprint_table`) and where its table starts in ``tables``.
@@ -39,19 +41,18 @@ from rrbody.model.laws import LAW_CODES, N_LAW_PARAMS
 __all__ = ["MASS", "IPM", "LAW", "COEFF", "REACH", "SNAP", "S0", "S1", "VEPS", "STAG", "PVX", "PVY", "PW", "GAP",
            "STOP", "EA", "EW", "DRV", "MUS", "GTX", "GTY", "FFX", "FFY", "FFT", "FEET", "TKIND", "TAB",
            "DEFR", "VGX", "VGY", "VJ", "OMG", "DD", "ANX", "ANY", "T0", "DPX", "DPY", "DVX", "DVY", "HX",
-           "HY", "HT", "HA", "HELD", "PIN", "N_BODY", "STOPPING", "ZEROED", "LAW_CODE", "LAW_NONE", "LAW_DRY",
+           "HY", "HT", "HA", "HELD", "PIN", "LDX", "LDY", "LDT", "N_BODY", "STOPPING", "ZEROED", "LAW_CODE", "LAW_NONE", "LAW_DRY",
            "LAW_VISCOUS", "LAWP",
            "DEFER", "TABLE_NONE", "TABLE_CIRCLE", "TABLE_FOOTPRINT", "N_STATUS", "ROWMAP", "ROW_ID",
            "STATUS", "SEEN", "BAD", "FIRST_BAD"]
 
-# the columns every step reads or writes come first (four of the row's six cache lines), the rest after
+# the columns every step reads or writes come first (the row's first four cache lines), the rest after
 (MASS, IPM, LAW, COEFF, REACH, SNAP, S0, S1, VEPS, STAG, PVX, PVY, PW, GAP, STOP, EA, EW, DRV, MUS, GTX, GTY, FFX,
  FFY, FFT, FEET, TKIND, TAB, DEFR, VGX, VGY, VJ, OMG, DD, ANX, ANY, T0, DPX, DPY, DVX, DVY, HX, HY, HT, HA, HELD,
- PIN, LAWP) = range(47)
-#: 48 columns: a row is 384 bytes, six cache lines' worth. The law's further parameters per unit mass sit from
-#: LAWP on (rrbody.model.laws.bound_params: N_LAW_PARAMS of them, none while no law has any), in the two spare
-#: columns; a law table that needed more would make the row longer
-N_BODY = max(48, LAWP + N_LAW_PARAMS)
+ PIN, LDX, LDY, LDT, LAWP) = range(50)
+#: The law's further parameters per unit mass sit from LAWP on (rrbody.model.laws.bound_params: N_LAW_PARAMS of
+#: them), at the row's end
+N_BODY = LAWP + N_LAW_PARAMS
 #: STOP values: the rest rule cancels the velocity in this step, or (the step after) sets it exactly zero
 STOPPING, ZEROED = 1.0, 2.0
 #: the LAW column's values: the law table's codes (rrbody.model.laws), as floats; numba reads these module

@@ -36,6 +36,9 @@ from rrbody.contact.lean import fast_entry
 from rrbody.engine.admit import FRICTION_METHODS, add_law, body_row, check_body, half_kick, not_finite
 from rrbody.engine.batchio import BatchIO, body_uid
 from rrbody.engine.bodymem import layout
+from rrbody.engine.coupling import MAX_ITER as COUPLED_MAX_ITER
+from rrbody.engine.coupling import TOL as COUPLED_TOL
+from rrbody.engine.coupling import Coupling
 from rrbody.engine.plane_rows import PlaneRows
 from rrbody.engine.shapes import body_footprint
 from rrbody.engine.structio import IDLE, StructIO
@@ -46,12 +49,15 @@ from rrbody.model.laws import bound_params, zero_speed_mu
 from rrbody.model.pressure import PRESSURE_KINDS, Pressure, as_pressure
 from rrbody.physics.footprint import Footprint
 
-__all__ = ["PlaneFriction", "PRESSURES", "Active"]
+__all__ = ["PlaneFriction", "PRESSURES", "SCHEMES", "Active"]
 
 _INF = math.inf  # (a module constant: the hot path's dt check reads no attribute of math)
 
 #: normal-pressure profiles PlaneFriction.add accepts (rrbody.pressure; or their text form, "ring:0.05")
 PRESSURES: tuple[str, ...] = PRESSURE_KINDS
+#: how a step treats the plane's friction and pymunk's contacts: solved together (the default), or friction
+#: first and pymunk's contact solve after (exact only for bodies that touch nothing: docs/plugin.md)
+SCHEMES: tuple[str, ...] = ("coupled", "split")
 
 
 class PlaneFriction(PlaneRows):
@@ -71,6 +77,18 @@ class PlaneFriction(PlaneRows):
         tips nothing and leaves the pressure distribution as it is.
     downhill : float
         Direction of steepest descent in the space's coordinates, rad from the x axis (default 0).
+    scheme : str
+        ``"coupled"`` (the default): a body that touches something in a step gets its velocity from the
+        plane's friction and its contacts solved together, implicitly (:mod:`rrbody.engine.coupling`);
+        ``"split"``: friction is applied first and pymunk's contact solve runs after it, which is exact
+        only where no step's friction could stop a body (bodies that touch nothing, or move fast).
+        Bodies that touch nothing step the same way under both.
+    tol : float
+        The coupled solve's relative tolerance, in (0, 1e-3] (default 1e-10): each body's velocity change
+        in a Newton iteration over its free velocity plus mu g dt.
+    max_iter : int
+        Newton iterations at most per island and step, in [1, 10000] (default 60); a solve that needs
+        more warns (RuntimeWarning) naming the body and the change left, and keeps its last iterate.
 
     Notes
     -----
@@ -83,15 +101,21 @@ class PlaneFriction(PlaneRows):
 
     _act: ActiveSet | None = None  # the active bodies (activate), made on the first use
 
-    def __init__(self, space: Any, g: float = 9.81, *, tilt: float = 0.0, downhill: float = 0.0) -> None:
+    def __init__(self, space: Any, g: float = 9.81, *, tilt: float = 0.0, downhill: float = 0.0,
+                 scheme: str = "coupled", tol: float = COUPLED_TOL, max_iter: int = COUPLED_MAX_ITER) -> None:
         import pymunk
 
         if not isinstance(space, pymunk.Space):
             raise ValueError(f"space must be a pymunk.Space, got {space!r}")
-        self.space = space
         self.g = float(check("g", g))
         self.tilt = float(check("tilt", tilt))
         self.downhill = float(check("downhill", downhill))
+        self.scheme = check_choice("scheme", scheme, SCHEMES)
+        if not (isinstance(tol, (int, float)) and 0.0 < tol <= 1e-3):
+            raise ValueError(f"tol must be in (0, 0.001], got {tol!r}")
+        if not (isinstance(max_iter, int) and not isinstance(max_iter, bool) and 1 <= max_iter <= 10000):
+            raise ValueError(f"max_iter must be an integer in [1, 10000], got {max_iter!r}")
+        self.space = space
         # the normal load per unit mass, and gravity's pull along the plane (m/s^2, world frame)
         self._g_normal = self.g * math.cos(self.tilt)
         pull = self.g * math.sin(self.tilt)
@@ -107,6 +131,7 @@ class PlaneFriction(PlaneRows):
         self._tc = 0.0
         self.n_stopped = 0  # stops made by the rest rule so far
         self._t_stop: dict[Any, float] = {}
+        self._coupling = Coupling(space, tol=float(tol), max_iter=max_iter) if self.scheme == "coupled" else None
 
     # ---- membership --------------------------------------------------------------------------
     def add(self, body: Any, *, mu: float, pressure: Pressure | str = "uniform", mu_static: float | None = None,
@@ -274,6 +299,8 @@ class PlaneFriction(PlaneRows):
             if n_flag:
                 self._rest(dt)
         self.space.step(dt)
+        if self._coupling is not None and self._list:
+            self._couple(dt)
         y = dt - self._tc
         t = self.t + y
         self._tc = (t - self.t) - y
@@ -400,6 +427,27 @@ class PlaneFriction(PlaneRows):
         raise ValueError(f"body {self._name(gone[0])} is no longer in the space but still in this PlaneFriction"
                          f"{more}; the step was refused and nothing changed: call pf.remove(body) when you "
                          f"remove a body from the space")
+
+    def _couple(self, dt: float) -> None:
+        """The coupled step after pymunk's (:mod:`rrbody.engine.coupling`), and its bookkeeping: the rest
+        rule's flags of the bodies it solved are its own now, a body it brought to rest has stopped."""
+        done = self._coupling.after_step(dt, self._slots, self._bodies, (self._k_shapes, self._k_geo, self._k_tables))
+        if not done:
+            return
+        self._still = None  # velocities written outside the compiled call: no step repeats the last one
+        if self._sio is not None:
+            self._sio.forget()
+        flags = self._bodies[:, K.STOP]
+        for body, held, was_at_rest in done:
+            j = self._slots[body]
+            stopping = flags[j] == K.STOPPING
+            flags[j] = 0.0
+            if held and not was_at_rest and not stopping:
+                self.n_stopped += 1
+                self._t_stop[body] = self.t + dt
+            elif stopping and not held:  # the force pass's stop did not happen: contacts kept it moving
+                self.n_stopped -= 1
+                self._t_stop.pop(body, None)
 
     def _rest(self, dt: float) -> None:
         """Bookkeeping of the rest rule: stop times, and exact zeros the step after a stop."""

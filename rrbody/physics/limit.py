@@ -239,6 +239,8 @@ def _polish(shapes, geo, s0, s1, lx, ly, lt, j, c, ax, ay, aw):  # noqa: ANN001 
         if r2 <= (1e-15 * scale) ** 2:
             break
         h = 1e-7 * math.sqrt(ax * ax + ay * ay + j * aw * aw)
+        if h == 0.0:  # GJK's answer is no acceleration: the load on the limit surface's edge, the start of a slide
+            break
         for k in range(3):
             hk = h if k < 2 else h / math.sqrt(j)
             dx = hk if k == 0 else 0.0

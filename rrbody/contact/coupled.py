@@ -1,0 +1,770 @@
+"""The coupled step: the plane's friction solved together with the contacts of the bodies it acts on.
+
+A body on the plane that touches something gets its velocity from one implicit (backward Euler) step
+of its friction and its contacts at once, instead of friction first and contacts after (the split
+step, which is exact only where no step's friction can stop a body). For the bodies of one island
+(bodies on the plane joined by contacts, with the static and kinematic bodies they touch), with
+generalised mass M_i = diag(m, m, I), the velocity before any impulse v*_i (the engine's velocity
+update of the user's forces and loads) and the friction dissipation D_i (the friction power of the
+footprint, convex, positively homogeneous of degree one), the step solves
+
+    min  sum_i 1/2 (v_i - v*_i)^T M_i (v_i - v*_i) + dt D_i(v_i)
+
+under the contacts' conditions at the end of the step: every contact point's normal velocity at
+least minus its bounce, with a normal impulse >= 0 that vanishes where it separates (Signorini), and
+the contact's own Coulomb friction, bounded by its coefficient times the normal impulse (Chipmunk's
+contact model, the same numbers the engine's solver uses). Its optimality conditions say that a
+body either sticks, its friction wrench (the reaction that keeps it at rest) inside the limit set of
+its footprint (:mod:`rrbody.physics.limit`), or slides with the friction of the twist it ends with:
+M (v - v*) = dt w(v) + contact impulses.
+
+How it is solved (:func:`couple`, one call per step for every island):
+- the velocities are scaled to q = (vx, vy, r_g w), r_g = sqrt(I / m), where kinetic energy is m |q|^2 / 2
+  and the friction per unit mass a(q) is minus the gradient of D / m (symmetric Jacobian);
+- Newton's method on the sliding bodies: the friction linearised at the current q, a(q) + G (q' - q)
+  with G its Jacobian by forward differences of the exact wrench (symmetrised), turns the step into a
+  quadratic programme in q' whose per-body mass is I - dt G: solved by projected Gauss-Seidel over the
+  contact points to a relative tolerance (exact for one contact, converged for several), then a
+  backtracking line search on the objective above for dry friction (D / m = -a(q) . q by Euler's
+  theorem for a function homogeneous of degree one);
+- sticking: a body whose Newton step passes through rest, or that was at rest, is tested at rest with
+  the contacts' current impulses: the load it would need friction to cancel is tested against its
+  limit set (:func:`rrbody.physics.limit.at_rest`, the static coefficient for a body at rest at the
+  step's start, the kinetic one otherwise: the proximal map's own test); held, its velocity is pinned to
+  zero and friction takes the reaction; not held, it starts from the break-away twist of
+  the maximum-dissipation rule (the proximal map of its friction alone under those impulses);
+- the island converges when no body's velocity moves by more than ``tol`` of its scale (its free
+  velocity's size plus mu g dt) and no body sticks or lets go.
+
+Units: SI; arrays are flat float64 rows with the named columns below (``IB_*`` for an island body,
+``CN_*`` for a contact point), body rows of ``bodies`` are :mod:`rrbody.contact.columns`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from rrbody.contact import rest as R
+from rrbody.contact.accel import accel_at
+from rrbody.contact.columns import COEFF, IPM, LAW, LAW_DRY, MUS, S0, S1, SNAP
+from rrbody.physics.limit import at_rest
+
+__all__ = ["IB_ROW", "IB_M", "IB_RG", "IB_CA", "IB_SA", "IB_SX", "IB_SY", "IB_SW", "IB_VX", "IB_VY", "IB_VW",
+           "IB_REST", "IB_ISLAND", "IB_PX", "IB_PY", "IB_PW", "N_IB", "CN_A", "CN_B", "CN_NX", "CN_NY", "CN_R1X", "CN_R1Y", "CN_R2X", "CN_R2Y",
+           "CN_FRICTION", "CN_BOUNCE", "CN_VN0", "CN_VT0", "N_CN", "OUT_ITER", "OUT_SWEEPS", "OUT_RESIDUAL",
+           "OUT_WORST", "N_OUT", "couple"]
+
+#: island-body columns (one row per body on the plane in an island): its row in ``bodies``, mass (kg),
+#: radius of gyration r_g = sqrt(I / m) (m), cosine and sine of its angle after the engine's position
+#: update (the angle its friction is evaluated at), its free velocity q* (velocity after the step's loads,
+#: before friction and contacts; q coordinates: m/s, m/s, r_g rad/s), its velocity at the step's start
+#: (the same coordinates), 1.0 if it was exactly at rest then (static friction holds it), its island, and
+#: the velocity the engine's own contact solve gave it (q coordinates: where Newton starts a body that its
+#: contacts push out of rest)
+(IB_ROW, IB_M, IB_RG, IB_CA, IB_SA, IB_SX, IB_SY, IB_SW, IB_VX, IB_VY, IB_VW, IB_REST, IB_ISLAND, IB_PX, IB_PY,
+ IB_PW) = range(16)
+N_IB = 16
+#: contact-point columns: the island bodies a and b (row of the island array; -1: a static or kinematic
+#: body, whose velocity is in CN_VN0, CN_VT0), the unit normal from a to b, the point's offsets from a's
+#: and b's centres of gravity (m, world), the contact's own friction coefficient, its bounce (the
+#: restitution times the normal relative velocity at the step's start, m/s: the separation speed asked
+#: is minus it), and the normal and tangential (t = z x n) relative velocity the fixed bodies and the
+#: surface velocity give (m/s)
+(CN_A, CN_B, CN_NX, CN_NY, CN_R1X, CN_R1Y, CN_R2X, CN_R2Y, CN_FRICTION, CN_BOUNCE, CN_VN0, CN_VT0) = range(12)
+N_CN = 12
+#: the per-island report: Newton iterations, contact sweeps in all, the last relative change, and the
+#: island body whose change it was (-1: none)
+OUT_ITER, OUT_SWEEPS, OUT_RESIDUAL, OUT_WORST = range(4)
+N_OUT = 4
+
+#: forward-difference step of the friction's Jacobian, relative to the twist (the wrench is homogeneous of
+#: degree zero: its curvature scale is the twist itself, so the Jacobian is good to about this)
+FD_STEP = 1e-7
+#: a Newton step that brings a body below this fraction of its scale passes through rest: test sticking
+PASS_REST = 1e-9
+#: how often a body may stick or let go in one step's solve (the active set's cycles end there)
+MAX_FLIPS = 6
+#: the nonsmooth Gauss-Seidel iteration's sweeps at most, per Newton iteration allowed (``max_iter``)
+NSGS_PER_ITER = 50
+#: the nonsmooth Gauss-Seidel iteration hands back to Newton, to polish, once no body's velocity moves by more
+#: than this fraction of its scale in a sweep (which bodies stick is settled well before)
+SETTLED = 1e-6
+
+
+@njit(cache=True, inline="always")
+def _accel(j, ca, sa, qx, qy, qw, rg, bodies, shapes, geo, tables):  # noqa: ANN001, ANN202
+    """Friction per unit mass of plugin row j at q (q coordinates: m/s^2, m/s^2, r_g rad/s^2)."""
+    ax, ay, aw = accel_at(j, ca, sa, qx, qy, qw / rg, bodies, shapes, geo, tables)
+    return ax, ay, aw * rg
+
+
+@njit(cache=True)
+def _sticky(j: int, bodies: np.ndarray) -> bool:
+    """Whether body row j can stick: a law that sticks, dry friction acting, the rest rule governing it."""
+    return bodies[j, COEFF] > 0.0 and bodies[j, SNAP] > 0.0 and R.law_sticks(bodies[j, LAW])
+
+
+@njit(cache=True)
+def _at_rest(i, isl, s, dt, bodies, shapes, geo):  # noqa: ANN001, ANN202
+    """Island body i at rest under its free velocity and the contact impulses per unit mass ``s`` (q
+    coordinates): (held, and the break-away velocity in q coordinates if not). The load friction must
+    cancel is (q* + s) / dt; static friction's coefficient for a body at rest at the step's start, the
+    kinetic one otherwise (the proximal map of the friction alone)."""
+    j = int(isl[i, IB_ROW])
+    rg = isl[i, IB_RG]
+    ca = isl[i, IB_CA]
+    sa = isl[i, IB_SA]
+    lx = (isl[i, IB_SX] + s[0]) / dt
+    ly = (isl[i, IB_SY] + s[1]) / dt
+    lt = (isl[i, IB_SW] + s[2]) / dt * rg  # torque per unit mass (m^2/s^2)
+    ck = bodies[j, COEFF]
+    cs = bodies[j, MUS] if (isl[i, IB_REST] > 0.0 and bodies[j, MUS] > 0.0) else ck
+    ax, ay, aw, held = at_rest(shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), ca * lx + sa * ly,
+                               -sa * lx + ca * ly, lt, bodies[j, IPM], cs, ck)
+    if held:
+        return True, 0.0, 0.0, 0.0
+    return False, dt * (ca * ax - sa * ay), dt * (sa * ax + ca * ay), dt * aw * rg
+
+
+@njit(cache=True)
+def _inv3(A: np.ndarray, out: np.ndarray) -> bool:
+    """out = A^-1 for a symmetric 3 x 3 A; False if A is not safely positive definite."""
+    a, b, c = A[0, 0], A[0, 1], A[0, 2]
+    d, e = A[1, 1], A[1, 2]
+    f = A[2, 2]
+    c00 = d * f - e * e
+    c01 = c * e - b * f
+    c02 = b * e - c * d
+    det = a * c00 + b * c01 + c * c02
+    if not (a > 0.0 and a * d - b * b > 0.0 and det > 1e-14 * a * d * f):
+        return False
+    out[0, 0] = c00 / det
+    out[0, 1] = out[1, 0] = c01 / det
+    out[0, 2] = out[2, 0] = c02 / det
+    out[1, 1] = (a * f - c * c) / det
+    out[1, 2] = out[2, 1] = (b * c - a * e) / det
+    out[2, 2] = (a * d - b * b) / det
+    return True
+
+
+@njit(cache=True)
+def _rows(con: np.ndarray, k: int, isl: np.ndarray, jac: np.ndarray) -> None:
+    """The contact point k's rows in q coordinates: jac[0] normal, jac[1] tangent; [., 0:3] for body a,
+    [., 3:6] for body b (zero for a fixed body): the relative velocity along n (t) is jac . (q_a, q_b)."""
+    nx = con[k, CN_NX]
+    ny = con[k, CN_NY]
+    tx = -ny
+    ty = nx
+    a = int(con[k, CN_A])
+    b = int(con[k, CN_B])
+    jac[:, :] = 0.0
+    if a >= 0:
+        rg = isl[a, IB_RG]
+        rx = con[k, CN_R1X]
+        ry = con[k, CN_R1Y]
+        jac[0, 0], jac[0, 1], jac[0, 2] = -nx, -ny, -(rx * ny - ry * nx) / rg
+        jac[1, 0], jac[1, 1], jac[1, 2] = -tx, -ty, -(rx * ty - ry * tx) / rg
+    if b >= 0:
+        rg = isl[b, IB_RG]
+        rx = con[k, CN_R2X]
+        ry = con[k, CN_R2Y]
+        jac[0, 3], jac[0, 4], jac[0, 5] = nx, ny, (rx * ny - ry * nx) / rg
+        jac[1, 3], jac[1, 4], jac[1, 5] = tx, ty, (rx * ty - ry * tx) / rg
+
+
+@njit(cache=True)
+def _merit(i, isl, q, dt, bodies, shapes, geo, tables):  # noqa: ANN001, ANN202
+    """Island body i's part of the objective per unit mass at q: |q - q*|^2 / 2 + dt D(q) / m (dry
+    friction: D / m = -a(q) . q)."""
+    j = int(isl[i, IB_ROW])
+    dx = q[0] - isl[i, IB_SX]
+    dy = q[1] - isl[i, IB_SY]
+    dw = q[2] - isl[i, IB_SW]
+    ax, ay, aw = _accel(j, isl[i, IB_CA], isl[i, IB_SA], q[0], q[1], q[2], isl[i, IB_RG], bodies, shapes, geo, tables)
+    return 0.5 * (dx * dx + dy * dy + dw * dw) - dt * (ax * q[0] + ay * q[1] + aw * q[2])
+
+
+@njit(cache=True)
+def _objective(b0, nb, k0, k1, isl, con, lam, q, qn, step, mode, dt, bodies, shapes, geo, tables, qt,
+               jac):  # noqa: ANN001, ANN202
+    """The island's objective at q + step (qn - q) (J): each body's mass times its part per unit mass (a held
+    body is at rest: its part constant), and the contacts' own friction as the dissipation of a friction
+    bounded by the current normal impulses (the Coulomb bound of this iteration, held fixed: Tresca)."""
+    total = 0.0
+    for k in range(k0, k1):
+        u = con[k, CN_FRICTION]
+        if u <= 0.0 or lam[k, 0] <= 0.0:
+            continue
+        _rows(con, k, isl, jac)
+        v = con[k, CN_VT0]
+        for side in range(2):
+            bi = int(con[k, CN_A]) if side == 0 else int(con[k, CN_B])
+            if bi < 0:
+                continue
+            for c1 in range(3):
+                v += jac[1, 3 * side + c1] * (q[bi, c1] + step * (qn[bi - b0, c1] - q[bi, c1]))
+        total += u * lam[k, 0] * abs(v)
+    for ii in range(nb):
+        if mode[ii] == 2:
+            continue
+        i = b0 + ii
+        for r in range(3):
+            qt[r] = q[i, r] + step * (qn[ii, r] - q[i, r])
+        if mode[ii] == 1:
+            total += isl[i, IB_M] * _merit(i, isl, qt, dt, bodies, shapes, geo, tables)
+        else:
+            total += 0.5 * isl[i, IB_M] * ((qt[0] - isl[i, IB_SX]) ** 2 + (qt[1] - isl[i, IB_SY]) ** 2
+                                          + (qt[2] - isl[i, IB_SW]) ** 2)
+    return total
+
+
+@njit(cache=True)
+def _pushed(i, b0, k0, k1, con, isl, qn, mode, jac, slack):  # noqa: ANN001, ANN202
+    """Whether a contact of island body i, at rest, with a body that cannot give way either (a static or
+    kinematic body, or another held body, at rest) closes faster than its bounce allows: no impulse can hold
+    it there."""
+    for k in range(k0, k1):
+        a = int(con[k, CN_A])
+        b = int(con[k, CN_B])
+        if a != i and b != i:
+            continue
+        other = b if a == i else a
+        if other >= 0 and mode[other - b0] != 2:
+            continue
+        v = con[k, CN_VN0] + con[k, CN_BOUNCE]  # both bodies at rest: what the fixed one and the bounce ask
+        if v < -slack:
+            return True
+    return False
+
+
+@njit(cache=True)
+def _start(b0, b1, isl, bodies, shapes, geo, dt, q, s, mode, scale):  # noqa: ANN001, ANN202
+    """Each body's mode (0 free: no friction; 1 sliding; 2 held at rest) and starting velocity, and its
+    velocity scale (its free velocity's size plus mu g dt: what the tolerance is relative to)."""
+    vscale = 0.0
+    for ii in range(b1 - b0):
+        i = b0 + ii
+        j = int(isl[i, IB_ROW])
+        c = bodies[j, COEFF]
+        scale[ii] = math.sqrt(isl[i, IB_SX] ** 2 + isl[i, IB_SY] ** 2 + isl[i, IB_SW] ** 2) + c * dt + 1e-300
+        vscale = max(vscale, scale[ii])
+        if c == 0.0:
+            mode[ii] = 0
+        elif _sticky(j, bodies) and isl[i, IB_REST] > 0.0:
+            mode[ii] = 2  # at rest: held until its contacts break it
+            q[i, :] = 0.0
+        else:
+            mode[ii] = 1
+            if math.sqrt(q[i, 0] ** 2 + q[i, 1] ** 2 + q[i, 2] ** 2) <= PASS_REST * scale[ii]:
+                # no direction to start from: the friction alone decides (held, or its break-away twist)
+                if _sticky(j, bodies):
+                    held, vx, vy, vw = _at_rest(i, isl, s[ii], dt, bodies, shapes, geo)
+                    if held:
+                        mode[ii] = 2
+                        q[i, :] = 0.0
+                    else:
+                        q[i, 0], q[i, 1], q[i, 2] = vx, vy, vw
+                else:
+                    q[i, 0], q[i, 1], q[i, 2] = isl[i, IB_SX], isl[i, IB_SY], isl[i, IB_SW]
+    return vscale
+
+
+@njit(cache=True)
+def _linearise(b0, b1, isl, bodies, shapes, geo, tables, dt, q, s, mode, scale, W, f,
+               frozen):  # noqa: ANN001, ANN202
+    """Each body's linearised step: W = (I - dt G)^-1 (G the friction's Jacobian at q, symmetrised) and its
+    velocity with no contact impulse f = W (q* + dt (a(q) - G q)); a held body none (W = 0, f = 0). A
+    sliding body at rest to within rounding is tested for sticking first (it may become held), unless the
+    modes are ``frozen``: then it is linearised about the velocity the engine's solve gave it."""
+    G = np.zeros((3, 3))
+    A = np.zeros((3, 3))
+    qt = np.zeros(3)
+    for ii in range(b1 - b0):
+        i = b0 + ii
+        j = int(isl[i, IB_ROW])
+        W[ii, :, :] = 0.0
+        if mode[ii] == 2:
+            f[ii, :] = 0.0
+            continue
+        if mode[ii] == 0:
+            for r in range(3):
+                W[ii, r, r] = 1.0
+                f[ii, r] = isl[i, IB_SX + r]
+            continue
+        rg = isl[i, IB_RG]
+        ca = isl[i, IB_CA]
+        sa = isl[i, IB_SA]
+        nq = math.sqrt(q[i, 0] ** 2 + q[i, 1] ** 2 + q[i, 2] ** 2)
+        if nq <= PASS_REST * scale[ii] and frozen:
+            q[i, 0], q[i, 1], q[i, 2] = isl[i, IB_PX], isl[i, IB_PY], isl[i, IB_PW]
+            nq = math.sqrt(q[i, 0] ** 2 + q[i, 1] ** 2 + q[i, 2] ** 2)
+        if nq <= PASS_REST * scale[ii] and _sticky(j, bodies):
+            # at rest to within rounding: no direction to linearise about; held, or its break-away twist
+            held, vx, vy, vw = _at_rest(i, isl, s[ii], dt, bodies, shapes, geo)
+            if held:
+                mode[ii] = 2
+                q[i, :] = 0.0
+                f[ii, :] = 0.0
+                continue
+            q[i, 0], q[i, 1], q[i, 2] = vx, vy, vw
+            nq = math.sqrt(vx * vx + vy * vy + vw * vw)
+        a0x, a0y, a0w = _accel(j, ca, sa, q[i, 0], q[i, 1], q[i, 2], rg, bodies, shapes, geo, tables)
+        h = FD_STEP * max(nq, PASS_REST * scale[ii])
+        for r in range(3):
+            qt[0] = q[i, 0]
+            qt[1] = q[i, 1]
+            qt[2] = q[i, 2]
+            qt[r] += h
+            ax, ay, aw = _accel(j, ca, sa, qt[0], qt[1], qt[2], rg, bodies, shapes, geo, tables)
+            G[0, r] = (ax - a0x) / h
+            G[1, r] = (ay - a0y) / h
+            G[2, r] = (aw - a0w) / h
+        for r in range(3):
+            for c2 in range(3):
+                G[r, c2] = 0.5 * (G[r, c2] + G[c2, r]) if r <= c2 else G[c2, r]
+        for r in range(3):
+            for c2 in range(3):
+                A[r, c2] = (1.0 if r == c2 else 0.0) - dt * G[r, c2]
+        if not _inv3(A, W[ii]):  # not monotone here (a law whose friction falls with speed): explicit
+            for r in range(3):
+                for c2 in range(3):
+                    W[ii, r, c2] = 1.0 if r == c2 else 0.0
+                    G[r, c2] = 0.0
+        g0 = isl[i, IB_SX] + dt * (a0x - G[0, 0] * q[i, 0] - G[0, 1] * q[i, 1] - G[0, 2] * q[i, 2])
+        g1 = isl[i, IB_SY] + dt * (a0y - G[1, 0] * q[i, 0] - G[1, 1] * q[i, 1] - G[1, 2] * q[i, 2])
+        g2 = isl[i, IB_SW] + dt * (a0w - G[2, 0] * q[i, 0] - G[2, 1] * q[i, 1] - G[2, 2] * q[i, 2])
+        for r in range(3):
+            f[ii, r] = W[ii, r, 0] * g0 + W[ii, r, 1] * g1 + W[ii, r, 2] * g2
+
+
+@njit(cache=True)
+def _programme(b0, b1, k0, k1, isl, con, W, f, lam, s, qn, keff, jac, slack, max_sweeps):  # noqa: ANN001, ANN202
+    """The linearised step's quadratic programme by projected Gauss-Seidel over the contact points, from
+    the impulses ``lam``: the velocities ``qn`` and the contacts' impulses per unit mass ``s`` on each body.
+    Stops when no sweep moves a relative velocity by more than ``slack`` (m/s). Returns the sweeps."""
+    nb = b1 - b0
+    for ii in range(nb):
+        s[ii, :] = 0.0
+    for k in range(k0, k1):
+        _rows(con, k, isl, jac)
+        a = int(con[k, CN_A])
+        b = int(con[k, CN_B])
+        for r in range(2):
+            kr = 0.0
+            for side in range(2):
+                bi = a if side == 0 else b
+                if bi < 0:
+                    continue
+                m = isl[bi, IB_M]
+                for c1 in range(3):
+                    for c2 in range(3):
+                        kr += jac[r, 3 * side + c1] * W[bi - b0, c1, c2] * jac[r, 3 * side + c2] / m
+                    s[bi - b0, c1] += jac[r, 3 * side + c1] * lam[k, r] / m
+            keff[k - k0, r] = kr
+    for ii in range(nb):
+        for r in range(3):
+            qn[ii, r] = f[ii, r] + W[ii, r, 0] * s[ii, 0] + W[ii, r, 1] * s[ii, 1] + W[ii, r, 2] * s[ii, 2]
+    sw = 0
+    for sw in range(1, max_sweeps + 1):
+        biggest = 0.0
+        for k in range(k0, k1):
+            _rows(con, k, isl, jac)
+            a = int(con[k, CN_A])
+            b = int(con[k, CN_B])
+            for r in range(2):
+                kr = keff[k - k0, r]
+                if kr <= 0.0:
+                    continue
+                v = con[k, CN_VN0] if r == 0 else con[k, CN_VT0]
+                if a >= 0:
+                    for c1 in range(3):
+                        v += jac[r, c1] * qn[a - b0, c1]
+                if b >= 0:
+                    for c1 in range(3):
+                        v += jac[r, 3 + c1] * qn[b - b0, c1]
+                old = lam[k, r]
+                if r == 0:
+                    new = max(old - (v + con[k, CN_BOUNCE]) / kr, 0.0)
+                else:
+                    bound = con[k, CN_FRICTION] * lam[k, 0]
+                    new = min(max(old - v / kr, -bound), bound)
+                d = new - old
+                if d == 0.0:
+                    continue
+                lam[k, r] = new
+                biggest = max(biggest, abs(d) * kr)
+                for side in range(2):
+                    bi = a if side == 0 else b
+                    if bi < 0:
+                        continue
+                    m = isl[bi, IB_M]
+                    for c1 in range(3):
+                        ds = jac[r, 3 * side + c1] * d / m
+                        s[bi - b0, c1] += ds
+                        for c2 in range(3):
+                            qn[bi - b0, c2] += W[bi - b0, c2, c1] * ds
+        if biggest <= slack:
+            break
+    return sw
+
+
+@njit(cache=True)
+def _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s, qn, mode, flips, scale, vscale,
+            tol, max_iter, max_sweeps, max_flips):  # noqa: ANN001, ANN202
+    """Newton's method on the island from ``q`` (each body's starting velocity) in its ``mode``s: the
+    linearised step's programme, then sticking and letting go with its impulses (at most ``max_flips``
+    times a body; 0 keeps the modes), then a line search on the objective. Leaves the last programme's
+    answer in ``qn`` (the impulses in ``lam``, ``s``). Returns (iterations, sweeps, the last relative
+    change, its body's index in the island or -1)."""
+    nb = b1 - b0
+    nk = k1 - k0
+    W = np.zeros((nb, 3, 3))
+    f = np.zeros((nb, 3))
+    keff = np.zeros((max(nk, 1), 2))
+    jac = np.zeros((2, 6))
+    qt = np.zeros(3)
+    dry = np.zeros(nb, dtype=np.bool_)
+    for ii in range(nb):
+        dry[ii] = bodies[int(isl[b0 + ii, IB_ROW]), LAW] == LAW_DRY
+    slack = 1e-3 * tol * vscale
+    sweeps = 0
+    feasible = False  # whether q meets the contacts (a programme's answer, or between two of them)
+    change = math.inf
+    worst = -1
+    it = 0
+    for it in range(1, max_iter + 1):
+        _linearise(b0, b1, isl, bodies, shapes, geo, tables, dt, q, s, mode, scale, W, f, max_flips == 0)
+        sweeps += _programme(b0, b1, k0, k1, isl, con, W, f, lam, s, qn, keff, jac, slack, max_sweeps)
+        # sticking and letting go, with the impulses just found (a body that has changed max_flips times
+        # keeps sliding: the line search below then takes it to rest, if that is where it goes)
+        changed = False
+        for ii in range(nb):
+            i = b0 + ii
+            j = int(isl[i, IB_ROW])
+            if flips[ii] >= max_flips:
+                continue
+            if mode[ii] == 2 and _pushed(i, b0, k0, k1, con, isl, qn, mode, jac, slack):
+                # something that cannot give way pushes into it: it moves, from where the engine's solve put it
+                mode[ii] = 1
+                q[i, 0], q[i, 1], q[i, 2] = isl[i, IB_PX], isl[i, IB_PY], isl[i, IB_PW]
+                flips[ii] += 1
+                changed = True
+            elif mode[ii] == 2:
+                held, vx, vy, vw = _at_rest(i, isl, s[ii], dt, bodies, shapes, geo)
+                if not held:
+                    mode[ii] = 1
+                    q[i, 0], q[i, 1], q[i, 2] = vx, vy, vw
+                    flips[ii] += 1
+                    changed = True
+            elif mode[ii] == 1 and _sticky(j, bodies):
+                nq = math.sqrt(qn[ii, 0] ** 2 + qn[ii, 1] ** 2 + qn[ii, 2] ** 2)
+                through = qn[ii, 0] * q[i, 0] + qn[ii, 1] * q[i, 1] + qn[ii, 2] * q[i, 2] <= 0.0
+                if nq <= PASS_REST * scale[ii] or through:
+                    held, vx, vy, vw = _at_rest(i, isl, s[ii], dt, bodies, shapes, geo)
+                    mode[ii] = 2  # (tried: a body its contacts would push out of rest again is not held)
+                    if held and not _pushed(i, b0, k0, k1, con, isl, qn, mode, jac, slack):
+                        q[i, :] = 0.0
+                        flips[ii] += 1
+                        changed = True
+                    else:
+                        mode[ii] = 1
+        if changed:
+            feasible = False  # a body restarted from a guess: the next step is taken whole
+            change = math.inf
+            worst = -1
+            continue
+        # the line search on the objective, from a velocity that meets the contacts (dry friction; other laws
+        # take the full step)
+        step = 1.0
+        stalled = False
+        all_dry = True
+        for ii in range(nb):
+            if mode[ii] == 1 and not dry[ii]:
+                all_dry = False
+        if all_dry and feasible:
+            phi0 = _objective(b0, nb, k0, k1, isl, con, lam, q, qn, 0.0, mode, dt, bodies, shapes, geo, tables, qt,
+                              jac)
+            stalled = True
+            for _ in range(40):
+                if _objective(b0, nb, k0, k1, isl, con, lam, q, qn, step, mode, dt, bodies, shapes, geo, tables, qt,
+                              jac) <= phi0:
+                    stalled = False
+                    break
+                step *= 0.5
+            if stalled:  # no decrease along the step: as far as rounding lets it go (reported below)
+                step = 0.0
+        feasible = True
+        change = 0.0
+        worst = -1
+        for ii in range(nb):
+            i = b0 + ii
+            dq = 0.0
+            full = 0.0
+            for r in range(3):
+                d = qn[ii, r] - q[i, r]
+                full += d * d
+                dq += (step * d) ** 2
+                q[i, r] += step * d
+            rel = math.sqrt(full if stalled else dq) / scale[ii]
+            if rel > change:
+                change = rel
+                worst = ii
+        if change <= tol or stalled:
+            break
+    return it, sweeps, change, worst
+
+
+@njit(cache=True)
+def _consistent(b0, b1, k0, k1, isl, con, bodies, shapes, geo, dt, qn, s, mode, tol, vscale):  # noqa: ANN001, ANN202
+    """Whether a converged Newton answer's modes hold: every held body's load inside its limit set and not
+    pushed by what cannot give way."""
+    jac = np.zeros((2, 6))
+    for ii in range(b1 - b0):
+        i = b0 + ii
+        if mode[ii] == 2:
+            if _pushed(i, b0, k0, k1, con, isl, qn, mode, jac, 1e-3 * tol * vscale):
+                return False
+            if not _at_rest(i, isl, s[ii], dt, bodies, shapes, geo)[0]:
+                return False
+    return True
+
+
+@njit(cache=True)
+def _solve_island(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, pinned, fric, tol,
+                  max_iter, max_sweeps, out):  # noqa: ANN001, ANN202
+    """One island: bodies [b0, b1) of ``isl``, contact points [k0, k1) of ``con`` (their body indices
+    into ``isl``). ``q`` holds each body's starting guess and receives its velocity (q coordinates),
+    ``lam`` each point's normal and tangential impulse (N s: warm start in, answer out), ``pinned``
+    1 for a body held at rest, ``fric`` its friction per unit mass (q coordinates, m/s^2). Writes the
+    report to ``out``.
+
+    Newton's method first (:func:`_newton`). Where it does not settle which bodies stick (its active set
+    cycles: several bodies sticking and letting go in turn through their contacts), the nonsmooth
+    Gauss-Seidel iteration (:func:`_nsgs`) takes over from where it stopped and settles them, and Newton,
+    the modes now fixed, polishes its answer; if that answer's modes do not hold, the Gauss-Seidel answer
+    stands, with its own last change reported."""
+    nb = b1 - b0
+    s = np.zeros((nb, 3))  # the contact impulses per unit mass on each body, q coordinates
+    qn = np.zeros((nb, 3))
+    scale = np.zeros(nb)
+    mode = np.zeros(nb, dtype=np.int64)
+    flips = np.zeros(nb, dtype=np.int64)
+    vscale = _start(b0, b1, isl, bodies, shapes, geo, dt, q, s, mode, scale)
+    it, sweeps, change, worst = _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s, qn,
+                                        mode, flips, scale, vscale, tol, max_iter, max_sweeps, MAX_FLIPS)
+    for ii in range(nb):
+        for r in range(3):
+            q[b0 + ii, r] = 0.0 if mode[ii] == 2 else qn[ii, r]
+    if change > tol:
+        jac = np.zeros((2, 6))
+        n_sw, change, worst = _nsgs(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s, scale,
+                                    max(tol, SETTLED), NSGS_PER_ITER * max_iter, jac)
+        sweeps += n_sw
+        # Newton from there, the modes the Gauss-Seidel answer has
+        keep_q = q[b0:b1].copy()
+        keep_lam = lam[k0:k1].copy()
+        keep_s = s.copy()
+        for ii in range(nb):
+            if mode[ii] != 0:
+                held = q[b0 + ii, 0] == 0.0 and q[b0 + ii, 1] == 0.0 and q[b0 + ii, 2] == 0.0
+                mode[ii] = 2 if held and _sticky(int(isl[b0 + ii, IB_ROW]), bodies) else 1
+        for ii in range(nb):  # a body at rest that what cannot give way pushes moves (its bounce, a pusher)
+            if mode[ii] == 2 and _pushed(b0 + ii, b0, k0, k1, con, isl, q[b0:b1], mode, jac, 1e-3 * tol * vscale):
+                mode[ii] = 1
+        it2, sw2, change2, worst2 = _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s, qn,
+                                            mode, flips, scale, vscale, tol, max_iter, max_sweeps, 0)
+        it += it2
+        sweeps += sw2
+        if change2 <= tol and _consistent(b0, b1, k0, k1, isl, con, bodies, shapes, geo, dt, qn, s, mode, tol, vscale):
+            change, worst = change2, worst2
+            for ii in range(nb):
+                for r in range(3):
+                    q[b0 + ii, r] = 0.0 if mode[ii] == 2 else qn[ii, r]
+        else:  # the Gauss-Seidel answer stands: on to the tolerance
+            q[b0:b1] = keep_q
+            lam[k0:k1] = keep_lam
+            s[:, :] = keep_s
+            if change > tol:
+                n_sw, change, worst = _nsgs(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s,
+                                            scale, tol, NSGS_PER_ITER * max_iter, jac)
+                sweeps += n_sw
+    for ii in range(nb):
+        i = b0 + ii
+        held = q[i, 0] == 0.0 and q[i, 1] == 0.0 and q[i, 2] == 0.0 and _sticky(int(isl[i, IB_ROW]), bodies)
+        for r in range(3):
+            fric[i, r] = (q[i, r] - isl[i, IB_SX + r] - s[ii, r]) / dt
+        pinned[i] = 1 if held else 0
+    out[OUT_ITER] = it
+    out[OUT_SWEEPS] = sweeps
+    out[OUT_RESIDUAL] = change
+    out[OUT_WORST] = -1 if worst < 0 else b0 + worst
+
+
+@njit(cache=True)
+def _prox(i, isl, u, dt, bodies, shapes, geo, tables, guess):  # noqa: ANN001, ANN202
+    """Island body i's velocity after one implicit step of its friction alone from the velocity u (q
+    coordinates): the proximal map. Dry friction: at rest if its limit set holds the load u / dt (static
+    friction's coefficient for a body at rest at the step's start), else the maximum-dissipation twist
+    (:func:`rrbody.physics.limit.at_rest`). Other laws: Newton on q = u + dt a(q) from ``guess``."""
+    j = int(isl[i, IB_ROW])
+    sx = u[0] - isl[i, IB_SX]
+    sy = u[1] - isl[i, IB_SY]
+    sw = u[2] - isl[i, IB_SW]
+    s = np.array([sx, sy, sw])
+    if _sticky(j, bodies):
+        held, vx, vy, vw = _at_rest(i, isl, s, dt, bodies, shapes, geo)
+        if held:
+            return 0.0, 0.0, 0.0
+        if bodies[j, LAW] == LAW_DRY:
+            return vx, vy, vw
+        guess = np.array([vx, vy, vw])
+    rg = isl[i, IB_RG]
+    ca = isl[i, IB_CA]
+    sa = isl[i, IB_SA]
+    qv = guess.copy()
+    G = np.zeros((3, 3))
+    W = np.zeros((3, 3))
+    for _ in range(30):
+        a0x, a0y, a0w = _accel(j, ca, sa, qv[0], qv[1], qv[2], rg, bodies, shapes, geo, tables)
+        rx = qv[0] - u[0] - dt * a0x
+        ry = qv[1] - u[1] - dt * a0y
+        rw = qv[2] - u[2] - dt * a0w
+        scale = math.sqrt(u[0] ** 2 + u[1] ** 2 + u[2] ** 2) + dt * bodies[j, COEFF] + 1e-300
+        if math.sqrt(rx * rx + ry * ry + rw * rw) <= 1e-14 * scale:
+            break
+        h = FD_STEP * max(math.sqrt(qv[0] ** 2 + qv[1] ** 2 + qv[2] ** 2), PASS_REST * scale)
+        for r in range(3):
+            qt = qv.copy()
+            qt[r] += h
+            ax, ay, aw = _accel(j, ca, sa, qt[0], qt[1], qt[2], rg, bodies, shapes, geo, tables)
+            G[0, r] = (ax - a0x) / h
+            G[1, r] = (ay - a0y) / h
+            G[2, r] = (aw - a0w) / h
+        A = np.eye(3) - 0.5 * dt * (G + G.T)
+        if not _inv3(A, W):
+            W[:, :] = np.eye(3)
+        qv[0] -= W[0, 0] * rx + W[0, 1] * ry + W[0, 2] * rw
+        qv[1] -= W[1, 0] * rx + W[1, 1] * ry + W[1, 2] * rw
+        qv[2] -= W[2, 0] * rx + W[2, 1] * ry + W[2, 2] * rw
+    return qv[0], qv[1], qv[2]
+
+
+@njit(cache=True)
+def _nsgs(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s, scale, tol, max_sweeps,
+          jac):  # noqa: ANN001, ANN202
+    """The nonsmooth Gauss-Seidel iteration over one island, from velocities ``q`` and impulses ``lam``
+    (``s``: the contacts' impulses per unit mass on each body, kept up to date): blocks of each contact point
+    (its normal and tangential impulse, the plain masses) and of each body's friction (its proximal map,
+    :func:`_prox`: the friction impulse that the body's velocity, less its last friction impulse, calls for).
+    Block coordinate ascent on the dual of a convex problem: it converges, linearly. Returns (sweeps, the
+    last sweep's largest relative change, that body)."""
+    nb = b1 - b0
+    pt = np.zeros((nb, 3))  # each body's friction impulse per unit mass
+    for ii in range(nb):
+        i = b0 + ii
+        for r in range(3):
+            pt[ii, r] = q[i, r] - isl[i, IB_SX + r] - s[ii, r]
+    u = np.zeros(3)
+    last_u = np.full((nb, 3), np.nan)
+    change = math.inf
+    worst = -1
+    sw = 0
+    for sw in range(1, max_sweeps + 1):
+        start = q[b0:b1].copy()
+        for k in range(k0, k1):
+            _rows(con, k, isl, jac)
+            a = int(con[k, CN_A])
+            b = int(con[k, CN_B])
+            for r in range(2):
+                kr = 0.0
+                v = con[k, CN_VN0] if r == 0 else con[k, CN_VT0]
+                for side in range(2):
+                    bi = a if side == 0 else b
+                    if bi < 0:
+                        continue
+                    for c1 in range(3):
+                        kr += jac[r, 3 * side + c1] ** 2 / isl[bi, IB_M]
+                        v += jac[r, 3 * side + c1] * q[bi, c1]
+                if kr <= 0.0:
+                    continue
+                old = lam[k, r]
+                if r == 0:
+                    new = max(old - (v + con[k, CN_BOUNCE]) / kr, 0.0)
+                else:
+                    bound = con[k, CN_FRICTION] * lam[k, 0]
+                    new = min(max(old - v / kr, -bound), bound)
+                d = new - old
+                if d == 0.0:
+                    continue
+                lam[k, r] = new
+                for side in range(2):
+                    bi = a if side == 0 else b
+                    if bi < 0:
+                        continue
+                    for c1 in range(3):
+                        dv = jac[r, 3 * side + c1] * d / isl[bi, IB_M]
+                        q[bi, c1] += dv
+                        s[bi - b0, c1] += dv
+        for ii in range(nb):
+            i = b0 + ii
+            if bodies[int(isl[i, IB_ROW]), COEFF] == 0.0:
+                continue
+            for r in range(3):
+                u[r] = q[i, r] - pt[ii, r]
+            if u[0] == last_u[ii, 0] and u[1] == last_u[ii, 1] and u[2] == last_u[ii, 2]:
+                continue  # the same load as last time: the same answer
+            last_u[ii, :] = u
+            q[i, 0], q[i, 1], q[i, 2] = _prox(i, isl, u, dt, bodies, shapes, geo, tables, q[i].copy())
+            for r in range(3):
+                pt[ii, r] = q[i, r] - u[r]
+        change = 0.0
+        worst = -1
+        for ii in range(nb):
+            d = math.sqrt((q[b0 + ii, 0] - start[ii, 0]) ** 2 + (q[b0 + ii, 1] - start[ii, 1]) ** 2
+                          + (q[b0 + ii, 2] - start[ii, 2]) ** 2) / scale[ii]
+            if d > change:
+                change = d
+                worst = ii
+        if change <= tol:
+            break
+    return sw, change, worst
+
+
+@njit(cache=True)
+def couple(isl: np.ndarray, con: np.ndarray, bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray,
+           tables: np.ndarray, dt: float, q: np.ndarray, lam: np.ndarray, pinned: np.ndarray, fric: np.ndarray,
+           tol: float, max_iter: int, max_sweeps: int, report: np.ndarray) -> int:
+    """The coupled step of every island: ``isl`` rows sorted by island (IB_ISLAND: 0, 1, ...), ``con``
+    rows sorted by the island of their bodies. ``q`` (start guesses in, velocities out), ``lam``,
+    ``pinned``, ``fric``: see :func:`_solve_island`; ``report`` gets a row (N_OUT) per island. Returns
+    the number of islands that did not converge to ``tol`` within ``max_iter`` Newton iterations."""
+    nb = isl.shape[0]
+    nk = con.shape[0]
+    b0 = 0
+    k0 = 0
+    bad = 0
+    n_isl = 0
+    while b0 < nb:
+        label = isl[b0, IB_ISLAND]
+        b1 = b0
+        while b1 < nb and isl[b1, IB_ISLAND] == label:
+            b1 += 1
+        k1 = k0
+        while k1 < nk:
+            a = int(con[k1, CN_A])
+            b = int(con[k1, CN_B])
+            owner = a if a >= 0 else b
+            if owner < b0 or owner >= b1:
+                break
+            k1 += 1
+        _solve_island(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, pinned, fric, tol,
+                      max_iter, max_sweeps, report[n_isl])
+        if report[n_isl, OUT_RESIDUAL] > tol:
+            bad += 1
+        n_isl += 1
+        b0 = b1
+        k0 = k1
+    return bad
