@@ -156,7 +156,7 @@ def test_a_changed_set_up_record_changes_every_span_and_the_makefile_s_step_line
     clone = tmp_path / "clone"
     clone.mkdir()
     (clone / "Makefile").write_text(rewrite((ROOT / "Makefile").read_text(), results))
-    for name in ("pyproject.toml", "rrbody"):  # the kernels' sources the Makefile lists
+    for name in ("pyproject.toml", "rrbody", "scenes"):  # the kernels' sources the Makefile lists (and Movie S1's)
         (clone / name).symlink_to(ROOT / name)
     for page in PAGES:
         if "<!--q:setup.demo.kernels-->" in page.read_text():
