@@ -41,7 +41,7 @@ UV := $(BIN)/uv
 # set, no process would ever write them, and each would compile numpy, scipy and numba from source)
 UV_PIP = $(UV) pip install --quiet --compile-bytecode --python $(BIN)/python
 
-# the venv, with uv in it and pip (`.venv/bin/pip install -e '.[mujoco]'`, README) up to date
+# the venv, with uv in it and pip (`.venv/bin/pip install -e '.[mujoco]'`, docs/getting-started.md) up to date
 $(UV):
 	@echo "==> venv: creating $(VENV) with uv in it (about $(call unq,$(T_VENV)) in the recorded run)"
 	$(PY) -m venv $(VENV)
@@ -162,7 +162,7 @@ test: $(VENV)/.installed-test $(VENV)/.kernels $(LOWEST)/.installed
 	$(MAKE_CACHE) RRBODY_NO_PRIVATE=1 MPLBACKEND=Agg $(BIN)/python -m pytest -n 2 -q -p no:cacheprovider $(PUBLIC_TESTS)
 
 
-## make bench: work-precision benchmarks -> benchmarks/results/, then every figure the README and docs quote
+## make bench: work-precision benchmarks -> benchmarks/results/, then every figure the docs quote
 bench: $(VENV)/.installed-test $(VENV)/.kernels $(LOWEST)/.installed
 	$(MAKE_CACHE) $(BIN)/python -m benchmarks.run --skip pusht
 	# Push-T against gym-pusht's own env: where gym-pusht is installed (it pins pymunk < 7)
