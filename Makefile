@@ -17,13 +17,15 @@ DOCS_EXTRAS := docs,movie,envs
 # with the empty variable E inside, so that only the quoted figures hold them
 E :=
 unq = $(filter-out <!--q$(E):%,$(subst -->,--> ,$(subst <!--/q$(E)-->,,$(1))))
-T_VENV := <!--q:setup.demo.venv-->10 s<!--/q-->
-T_REQS := <!--q:setup.demo.build-reqs-->8 s<!--/q-->
-T_DEMO_PKGS := <!--q:setup.demo.install-->3 s<!--/q-->
+T_VENV := <!--q:setup.demo.venv-->5 s<!--/q-->
+T_REQS := <!--q:setup.demo.build-reqs-->4 s<!--/q-->
+T_DEMO_PKGS := <!--q:setup.demo.install-->2 s<!--/q-->
 T_TEST_PKGS := <!--q:setup.test.install-->18 s<!--/q-->
-T_KERNELS := <!--q:setup.demo.kernels-->225 s<!--/q-->
-T_LOAD := <!--q:setup.demo.load-->1.8-2.3<!--/q-->
-T_MOVIE := <!--q:setup.demo.demo-->73 s<!--/q-->
+T_DEMO_KERNELS := <!--q:setup.demo.kernels-->46 s<!--/q-->
+T_LOAD := <!--q:setup.demo.load-->1.9-2.0<!--/q-->
+T_KERNELS := <!--q:setup.test.kernels-->227 s<!--/q-->
+T_TEST_LOAD := <!--q:setup.test.load-->1.6-2.2<!--/q-->
+T_MOVIE := <!--q:setup.demo.demo-->37 s<!--/q-->
 T_LOWEST := <!--q:setup.test.lowest-venv-->11 s<!--/q-->
 T_SUITE := <!--q:setup.test.suite-->544 s<!--/q-->
 T_SUITE_LOWEST := <!--q:setup.test.suite-lowest-->272 s<!--/q-->
@@ -39,7 +41,7 @@ UV := $(BIN)/uv
 # set, no process would ever write them, and each would compile numpy, scipy and numba from source)
 UV_PIP = $(UV) pip install --quiet --compile-bytecode --python $(BIN)/python
 
-# the venv, with uv in it and pip (`.venv/bin/pip install -e '.[mujoco]'`, README) up to date
+# the venv, with uv in it and pip (`.venv/bin/pip install -e '.[mujoco]'`, docs/getting-started.md) up to date
 $(UV):
 	@echo "==> venv: creating $(VENV) with uv in it (about $(call unq,$(T_VENV)) in the recorded run)"
 	$(PY) -m venv $(VENV)
@@ -80,18 +82,35 @@ $(VENV)/.installed-docs: pyproject.toml | $(VENV)/.build-reqs
 
 # the kernels, compiled once per version of their sources (rrbody.cli.prebuild: a line as each job
 # ends); after an edit the targets that run rrbody compile them again (a few seconds when nothing changed)
-# (rrbody._cache.KERNEL_LAYERS: the files the kernels are compiled from; the prebuild's own list of work)
+# (rrbody._cache.KERNEL_LAYERS: the files the kernels are compiled from; the prebuild's own list of work,
+# and the scene the demo's part follows)
 KERNEL_SOURCES := $(shell find rrbody/model rrbody/physics rrbody/integrate rrbody/contact rrbody/engine rrbody/mujoco_adapter -name '*.py') \
-	rrbody/_cache.py rrbody/_private.py rrbody/_version.py rrbody/cli/prebuild.py rrbody/cli/workload.py
+	rrbody/_cache.py rrbody/_private.py rrbody/_version.py rrbody/cli/prebuild.py rrbody/cli/workload.py scenes/movie_s1.py
+# every kernel, into the checkout's rrbody/_kernels (an install's): what make test, make bench and make scenes need
 $(VENV)/.kernels: $(KERNEL_SOURCES) | $(VENV)/.build-reqs
-	@echo "==> kernels: compiling rrbody's kernels with numba (about $(call unq,$(T_KERNELS)) in the recorded run, on 2 cores shared with load $(call unq,$(T_LOAD)); once per version of the sources)"
+	@echo "==> kernels: compiling every kernel of rrbody with numba (about $(call unq,$(T_KERNELS)) in the recorded run, on 2 cores shared with load $(call unq,$(T_TEST_LOAD)); once per version of the sources)"
 	$(BIN)/python -m rrbody.cli.prebuild --into rrbody/_kernels
 	touch $@
+
+# only the kernels `rrbody demo` needs (Movie S1: the part demo of rrbody.cli.prebuild.PARTS), into your
+# cache folder, where they serve your own commands too; the others compile where they are first used,
+# or all at once in make test (the step above) or with `rrbody cache build`. Nothing when every kernel
+# is compiled already (make test ran first)
+$(VENV)/.kernels-demo: $(KERNEL_SOURCES) | $(VENV)/.build-reqs
+	@echo "==> kernels: compiling the kernels Movie S1 needs with numba (about $(call unq,$(T_DEMO_KERNELS)) in the recorded run, on 2 cores shared with load $(call unq,$(T_LOAD)); the others compile where first used, or in make test)"
+	$(BIN)/python -m rrbody.cli.prebuild --part demo
+	touch $@
+
+# The targets that need every kernel compiled run on a cache folder of the venv's own, which their first
+# use fills from rrbody/_kernels: your cache folder may hold only some (make demo's part, or your own
+# first uses), and numba keeps each function's overloads in one file there, so a function begun with
+# some overloads would compile the others in the middle of the suite or of a benchmark
+MAKE_CACHE = RRBODY_CACHE_DIR=$(CURDIR)/$(VENV)/rrbody-cache
 
 venv: $(VENV)/.installed-test
 
 ## make demo: set up (core + movie extra), then run the main job: Movie S1 -> movies/movie_s1.mp4
-demo: $(VENV)/.installed-demo $(VENV)/.kernels
+demo: $(VENV)/.installed-demo $(VENV)/.kernels-demo
 	@echo "==> demo: computing Movie S1's run and rendering it to movies/movie_s1.mp4 (about $(call unq,$(T_MOVIE)) in the recorded run)"
 	$(BIN)/rrbody demo
 
@@ -136,23 +155,23 @@ venv-lowest: $(LOWEST)/.installed
 # test one at a time in the suite's order (tests/conftest.py: the slow ones first)
 test: $(VENV)/.installed-test $(VENV)/.kernels $(LOWEST)/.installed
 	@echo "==> suite: running the test suite on 2 workers (about $(call unq,$(T_SUITE)) in the recorded run)"
-	$(BIN)/python -m pytest -n 2 --dist loadgroup --durations=15 tests
+	$(MAKE_CACHE) $(BIN)/python -m pytest -n 2 --dist loadgroup --durations=15 tests
 	@echo "==> suite-lowest: running part of it on the oldest versions (about $(call unq,$(T_SUITE_LOWEST)) in the recorded run; compiles its kernels)"
 	$(LOWEST_RUN) -m pytest -n 2 -q -p no:cacheprovider -k 'not rerun and not film_it' $(LOWEST_TESTS)
 	@echo "==> suite-public: running part of it with every private fast path off, RRBODY_NO_PRIVATE=1 (about $(call unq,$(T_SUITE_PUBLIC)) in the recorded run; compiles its kernels)"
-	RRBODY_NO_PRIVATE=1 MPLBACKEND=Agg $(BIN)/python -m pytest -n 2 -q -p no:cacheprovider $(PUBLIC_TESTS)
+	$(MAKE_CACHE) RRBODY_NO_PRIVATE=1 MPLBACKEND=Agg $(BIN)/python -m pytest -n 2 -q -p no:cacheprovider $(PUBLIC_TESTS)
 
 
-## make bench: work-precision benchmarks -> benchmarks/results/, then every figure the README and docs quote
+## make bench: work-precision benchmarks -> benchmarks/results/, then every figure the docs quote
 bench: $(VENV)/.installed-test $(VENV)/.kernels $(LOWEST)/.installed
-	$(BIN)/python -m benchmarks.run --skip pusht
+	$(MAKE_CACHE) $(BIN)/python -m benchmarks.run --skip pusht
 	# Push-T against gym-pusht's own env: where gym-pusht is installed (it pins pymunk < 7)
 	$(LOWEST_RUN) -m benchmarks.run --only pusht
 	$(BIN)/python -m benchmarks.quotes
 
 ## make scenes: every paper figure and the report -> results/
 scenes: $(VENV)/.installed-test $(VENV)/.kernels
-	$(BIN)/rrbody scene all
+	$(MAKE_CACHE) $(BIN)/rrbody scene all
 
 ## make docs: the documentation site -> docs/_build/html (from the committed results/; warnings are errors)
 docs: $(VENV)/.installed-docs

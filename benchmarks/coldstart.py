@@ -13,7 +13,7 @@ command uses. Scenarios (the cold-start targets, "the first answer in seconds"):
 1. ``rrbody flip-time`` of the rod-mass body under dry friction (phixtpm's H 0.2, k 0.05, omega 0.6);
 2. the first ``PlaneFriction.step`` of a program with one box (timed inside the program, around
    that call, and as the whole process);
-3. ``rrbody simulate`` of an ellipse (the README's: R0 0.3, delta 0.9, l 0.2, k 0.0033, 10 s);
+3. ``rrbody simulate`` of an ellipse (docs/cli.md's: R0 0.3, delta 0.9, l 0.2, k 0.0033, 10 s);
 4. a stiff flip time (k = 1e4 s^-2, where the automatic mode switches to Radau IIA);
 5. one effect added to a scene run before: the cache filled by scenario 1 (dry friction), then the
    same body under viscous friction, a combination not compiled yet.
@@ -38,7 +38,7 @@ TITLE = "Cold start: the first answer with an empty cache, beside the same call 
 
 RRBODY = [sys.executable, "-m", "rrbody.cli"]
 FLIP = ["flip-time", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--json"]
-#: a user's first plugin program (the README's): one box, one step, the step's wall time printed
+#: a user's first plugin program: one box, one step, the step's wall time printed
 PLUGIN_PROGRAM = """
 import time, pymunk
 from rrbody.plugin import PlaneFriction

@@ -1,4 +1,4 @@
-"""One source for every benchmark figure the README and the docs quote: ``benchmarks/results/``.
+"""One source for every benchmark figure the docs quote: ``benchmarks/results/``.
 
 A quoted figure sits between two HTML comments, invisible on GitHub and in the Sphinx site (MyST
 passes inline and block HTML through as raw HTML, and a browser shows no comment)::

@@ -7,14 +7,14 @@ Usage (from the repository root; each target takes minutes and both cores)::
 
 Each target runs in a fresh ``git clone`` of this repository's HEAD (committed work only: the record
 names the commit), with an empty rrbody cache folder (``RRBODY_CACHE_DIR``) and no ``PYTHONPATH``,
-exactly as the README's set-up commands. uv's own download cache stays the machine's: packages an
+exactly as the README's two set-up commands. uv's own download cache stays the machine's: packages an
 earlier install downloaded are not downloaded again (the record says so; a machine that must
 download them takes longer). The Makefile announces each long step with a line ``==> STEP: ...``;
 every line of make's output is timestamped as it arrives, and a step's time runs from its line to the
 next step's line (or to the end). Written to ``setup.json``: per target the date, the commit, the
 load average before and after (the machine may be shared), the total wall time, each step's time and
 the tests each pytest run passed. ``python -m benchmarks.quotes`` then writes the figures the
-README, the docs, the CHANGELOG and the Makefile's own step lines quote (``setup.TARGET.STEP``).
+docs, the CHANGELOG and the Makefile's own step lines quote (``setup.TARGET.STEP``).
 """
 
 from __future__ import annotations

@@ -19,10 +19,11 @@ Kernels compiled at install: the build backend compiles every kernel once
 (:mod:`rrbody.cli.prebuild`) into the package's ``_kernels/<version>-<sources>/``; the first use of
 rrbody copies that folder into the cache folder (``seed_kernels``), where numba loads it like
 kernels of its own (its version, the CPU and every function's bytecode are still checked: a kernel
-that does not match is compiled again, never used). The first run of new sources removes the kernel
-folders of other sources beyond the four newest that have gone unused for an hour. ``rrbody cache
-clear`` removes what rrbody wrote there (:data:`LAYOUT`, :func:`entries`) and nothing else: the folder
-may be one other programs use too (``RRBODY_CACHE_DIR=~/.cache``); ``rrbody cache info`` shows it.
+that does not match is compiled again, never used). A folder begun before them (``make demo``'s
+part, a first use) is completed function by function at the next start. The first run of new sources
+removes the kernel folders of other sources beyond the four newest that have gone unused for an hour.
+``rrbody cache clear`` removes what rrbody wrote there (:data:`LAYOUT`, :func:`entries`) and nothing else:
+the folder may be one other programs use too (``RRBODY_CACHE_DIR=~/.cache``); ``rrbody cache info`` shows it.
 
 A damaged or foreign file in the folder (truncated, garbage, a folder in a file's place) is rebuilt:
 numba's files of a kernel it cannot read are removed and the kernel compiled again (``_guard_numba``),
@@ -195,6 +196,8 @@ def seed_kernels() -> bool:
 
     built_by = built_by_numba(shipped)
     if built_by != numba.__version__:
+        if target.is_dir():  # said on these sources' first run only (this runs at each start until complete)
+            return False
         import warnings
 
         warnings.warn(f"rrbody's kernels were compiled at install by numba {built_by}, this is numba "
@@ -212,6 +215,20 @@ def seed_kernels() -> bool:
         shutil.rmtree(tmp, ignore_errors=True)
         return False
     return True
+
+
+def _ready_kernels() -> None:
+    """At a process's start: these sources' kernel folder, absent or not complete (begun by a first use or
+    ``make demo``'s part), gets the install's kernels (:func:`seed_kernels`); a complete one costs one look."""
+    target = kernels_dir()
+    if (target / BUILD_FILE).exists():
+        return
+    try:
+        if not target.is_dir():
+            prune_kernels()
+        seed_kernels()
+    except OSError:
+        pass
 
 
 def prune_kernels(now: float | None = None) -> list[Path]:
@@ -369,12 +386,7 @@ def use_for_kernels() -> None:
             return self
 
     _guard_numba(caching, _Locator)
-    if not kernels_dir().is_dir():  # the first run of these sources: the time to tidy up old ones
-        try:
-            prune_kernels()
-            seed_kernels()
-        except OSError:
-            pass
+    _ready_kernels()
     _Locator.__name__ = _Locator.__qualname__ = "RrbodyCacheLocator"
     impl._locator_classes.insert(0, _Locator)
     # keep the class reachable by name for pickling and debugging

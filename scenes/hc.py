@@ -1,6 +1,6 @@
 """Hc: critical geometry H_c vs k = mu g/d, dry and viscous, with q-exponential fits (paper Fig. Hc).
 
-H_c(k) is the largest H for which reverse rotation exists (the README's "Definitions rrbody fixes")
+H_c(k) is the largest H for which reverse rotation exists (docs/physics.md, "Definitions rrbody fixes")
 at omega = 0.3 rad/s, phi0 = pi, found by scan + bisection (rrbody.analysis.critical_h) on a uniform grid of k. The fit
 protocol that reproduces the paper's q and lambda: H_c(0) fixed at the exact frictionless value,
 unweighted least squares over k in [0, 1] s^-2 (101 points per law); other ranges are reported too.

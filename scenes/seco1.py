@@ -1,7 +1,7 @@
 """seco1: flip time vs phi0 for k = 7.5, 12.5, 17.5 s^-2 (H = 0.25, omega = 100 rad/s); inset: 250 s CM history (paper Fig. seco1).
 
 The phi0 interval with reverse rotation is centred on pi and does not depend on friction: its
-edges are located by bisection on the RR test (the README's "Definitions rrbody fixes") for each k and without friction.
+edges are located by bisection on the RR test (docs/physics.md, "Definitions rrbody fixes") for each k and without friction.
 Inset: k = 0.0015 s^-2, H = 0.2, omega = 0.6 rad/s, phi0 = pi, CM position over 250 s.
 """
 

@@ -3,8 +3,9 @@
 Copy this into your own program: an ordinary pymunk space without gravity (we look down on the
 table), your own bodies and shapes, and rrbody's PlaneFriction in place of hand-tuned damping or
 pymunk's tank-example joints. Each body gets Coulomb friction integrated over the area of its own
-shapes; ``pf.step(dt)`` replaces ``space.step(dt)``. Output: results/topdown/summary.json (where and
-when each body stopped).
+shapes; ``pf.step(dt)`` replaces ``space.step(dt)``; a Recorder films them. Output:
+results/topdown/summary.json (where and when each body stopped) and topdown.png (a poster of four
+instants with their velocities and friction forces, and their trails; the README's picture).
 """
 
 from __future__ import annotations
@@ -14,6 +15,11 @@ from pathlib import Path
 import pymunk
 
 from rrbody.plugin import PlaneFriction
+from rrbody.render.recorder import Recorder  # rrbody.plugin.Recorder: its pictures need the movie extra
+
+
+#: the poster's instants (s)
+POSTER_TIMES = (0.0, 0.2, 0.5, 1.0)
 
 
 def main(out_dir: Path, *, force: bool = True) -> None:
@@ -35,9 +41,11 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     pf.add(puck, mu=0.3)
     pf.add(box, mu=0.5)
 
+    rec = Recorder(space, pf)  # films them: poses, velocities and the friction applied, per step
     dt = 1.0 / 240.0
     while pf.t < 5.0:
         pf.step(dt)  # friction for every body of the plugin, then space.step(dt)
+        rec.capture()
 
     from rrbody.analysis.report import write_summary
 
@@ -45,6 +53,9 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     write_summary(Path(out_dir), {name: {"stopped_at_s": pf.stop_time(b), "position_m": list(b.position),
                                          "angle_rad": b.angle}
                                   for name, b in (("puck", puck), ("box", box))}, force=force)
+    # the poster: launch, while both slide, the box at rest, both at rest (the stops: summary.json)
+    rec.poster(Path(out_dir) / "topdown.png", times=POSTER_TIMES, arrows=("velocity", "friction"), trails=True,
+               force=force)
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 """Run the real ``rrbody`` command in subprocesses (several at once) and check the error contract.
 
-The contract (README, "Errors"): bad input prints one line on stderr that names the option, no
+The contract (docs/cli.md, "The error contract"): bad input prints one line on stderr that names the option, no
 traceback, nothing on stdout, nothing written, exit status 2, and no process left behind.
 """
 

@@ -9,7 +9,7 @@ from pathlib import Path
 from tests.clirun import run_here
 
 PHIXTPM = ["--H", "0.2", "--k", "0.05", "--omega", "0.6"]
-#: the default accuracy's stated error on t_f (README "Accuracy presets": `default` puts t_f within
+#: the default accuracy's stated error on t_f (docs/accuracy.md, the presets: `default` puts t_f within
 #: 1e-6 relative of the reference on every benchmark case)
 DEFAULT_TF_ERROR = 1e-6
 

@@ -55,7 +55,7 @@ def test_core_computes_without_optional_packages(tmp_path: Path) -> None:
     assert p.returncode == 0, p.stderr
     out = json.loads(p.stdout.strip().splitlines()[-1])
     assert out["code"] == 0 and out["loaded"] == []
-    assert out["t_f"] == pytest.approx(12.928094823, abs=1e-8)  # the README's number (ODE path, default rtol)
+    assert out["t_f"] == pytest.approx(12.928094823, abs=1e-8)  # docs/cli.md's number (ODE path, default rtol)
     assert (tmp_path / "t.csv").exists()
 
 

@@ -1,5 +1,5 @@
-"""Flip time (README, "Definitions rrbody fixes"): agreement with an independent scipy solution, convergence as the
-tolerance tightens, the stopping rule, the phi0 = pi start and the regimes."""
+"""Flip time (docs/physics.md, "Definitions rrbody fixes"): agreement with an independent scipy solution,
+convergence as the tolerance tightens, the stopping rule, the phi0 = pi start and the regimes."""
 
 from __future__ import annotations
 

@@ -159,7 +159,7 @@ def test_non_editable_install_lists_scenes_and_writes_nothing_inside(tmp_path: P
     # the first flip time of a fresh install loads the install's kernels: numba compiles (and saves) nothing
     assert [line for line in p.stdout.splitlines() if "data saved" in line] == []
     out = json.loads(p.stdout.strip().splitlines()[-1])
-    assert out["t_f"] == pytest.approx(12.928094823, abs=1e-8)  # the README's pinned value
+    assert out["t_f"] == pytest.approx(12.928094823, abs=1e-8)  # docs/cli.md's pinned value
     assert set(out["absent"]) >= {"pymunk", "matplotlib", "rerun", "xarray"}
     m = run("simulate", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--t-max", "2", "--movie", "m.mp4", code=2)
     assert m.stderr.strip().count("\n") == 0 and not (work / "m.mp4").exists()
@@ -188,13 +188,14 @@ def test_non_editable_install_lists_scenes_and_writes_nothing_inside(tmp_path: P
 
 
 def readme_plugin_program(movie: bool) -> str:
-    """The README's ``rrbody.plugin`` example, as the README has it now; without its movie line when the
-    environment has no movie extra."""
+    """The README's ``rrbody.plugin`` example, as the README has it now; without its poster and movie
+    lines when the environment has no movie extra."""
     from tests.test_readme import snippets
 
     code = next(c for lang, c in snippets((ROOT / "README.md").read_text())
                 if lang == "python" and "from rrbody.plugin import" in c)
-    return code if movie else "\n".join(line for line in code.splitlines() if not line.startswith("rec.movie("))
+    return code if movie else "\n".join(line for line in code.splitlines()
+                                         if not line.startswith(("rec.movie(", "rec.poster(")))
 
 
 @pytest.mark.install

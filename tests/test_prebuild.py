@@ -257,3 +257,149 @@ def test_a_new_combination_of_effects_reuses_the_loop() -> None:
     assert loop.advance_for(20) is not loop.advance_for(10)  # viscous: another law
     assert loop.advance_for(11) is loop.advance_for(21) is loop.advance_for(101)  # free: any law, any area
     assert dynamics.rhs_for(210) is dynamics.rhs_for(10)
+
+
+#: Movie S1's own scene script, run with a few frames (the drawing compiles nothing; its computation is the
+#: script's: its body, law, horizon and output grid)
+_MOVIE_S1 = """
+import sys
+from pathlib import Path
+from rrbody.cli.scenes import load_scene
+s1 = load_scene("movie-s1")
+s1.SPEED, s1.HOLD = 400.0, 0.0
+s1.main(Path(sys.argv[1]) / "results" / "movie-s1", force=True)
+"""
+
+
+def _numba_log(cmd: list[str], cache: Path, cwd: Path) -> tuple[set[str], list[str]]:
+    """(the compiled functions a process loads, each ``FOLDER/FILE.N.nbc``: one overload; the lines in
+    which it compiles and saves one), read from numba's own log."""
+    env = {**os.environ, _cache.ENV: str(cache), "NUMBA_DEBUG_CACHE": "1", "MPLBACKEND": "Agg"}
+    p = subprocess.run(cmd, env=env, cwd=cwd, capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr[-2000:]
+    name = _cache.kernels_dir().name
+    loaded = {ln.split(name + "/", 1)[1].rstrip("'") for ln in p.stdout.splitlines() if "data loaded from" in ln}
+    return loaded, [ln for ln in p.stdout.splitlines() if "data saved" in ln]
+
+
+@pytest.mark.slow
+def test_the_demo_part_is_what_movie_s1_needs(tmp_path: Path) -> None:
+    """``make demo`` compiles only the part demo (rrbody.cli.prebuild.PARTS) before ``rrbody demo``: every
+    compiled function Movie S1's own script calls, overload for overload, is one the part calls too (so
+    the part compiles it), read from numba's log on the install's kernels; neither compiles anything
+    there (the whole build covers the demo's part)."""
+    cache = tmp_path / "cache"
+    shutil.copytree(_kernels(tmp_path), cache / "kernels" / _cache.kernels_dir().name)
+    part, part_saved = _numba_log([sys.executable, "-m", "rrbody.cli.workload", "--movie-s1"], cache, ROOT)
+    movie, movie_saved = _numba_log([sys.executable, "-c", _MOVIE_S1, str(tmp_path)], cache, tmp_path)
+    assert (tmp_path / "movies" / "movie_s1.mp4").stat().st_size > 0
+    assert any("advance" in f or "run" in f for f in movie)  # the stepping loop: the script computed its run
+    assert movie <= part, sorted(movie - part)
+    assert part_saved == movie_saved == []
+
+
+def test_the_demo_part_fills_the_cache_folder_only_and_only_where_needed(tmp_path: Path,
+                                                                          monkeypatch: pytest.MonkeyPatch) -> None:
+    """The part demo runs its one job (no second pass) into the user's cache folder and leaves it
+    incomplete (no build file: the install's kernels fill it in later); it is refused for a package
+    folder, and skipped where every kernel is compiled already (the cache folder complete, or the
+    install's kernels of this numba, which a first use copies in)."""
+    import json
+
+    import numba
+
+    from rrbody.cli import prebuild
+    from rrbody.cli.prebuild import PARTS
+
+    monkeypatch.setattr(_cache, "_PKG", tmp_path / "pkg")
+    monkeypatch.setattr(_cache, "source_hash", lambda: "abc")
+    monkeypatch.setenv(_cache.ENV, str(tmp_path / "c"))
+    ran: list[list[str]] = []
+
+    def fake_jobs(jobs: list[list[str]], env: dict[str, str], *args: object, **kwargs: object) -> None:
+        ran.extend(jobs)
+        (Path(env[_cache.ENV]) / "kernels" / _cache.kernels_dir().name / "integrate").mkdir(parents=True, exist_ok=True)
+
+    monkeypatch.setattr(prebuild, "_run_jobs", fake_jobs)
+    with pytest.raises(ValueError, match="part 'demo' compiles into the cache folder only"):
+        prebuild.build(tmp_path / "into", part="demo")
+    with pytest.raises(ValueError, match="part must be one of all, demo, got 'nope'"):
+        prebuild.build(None, part="nope")
+    got = prebuild.build(None, quiet=True, part="demo")
+    assert got == _cache.kernels_dir() and not (got / _cache.BUILD_FILE).exists()
+    assert [cmd[-1] for cmd in ran] == [args[-1] for _, args in PARTS["demo"]] == ["--movie-s1"]
+    ran.clear()
+    shipped = _cache.shipped_kernels_dir()
+    shipped.mkdir(parents=True)
+    (shipped / _cache.BUILD_FILE).write_text(json.dumps({"numba": numba.__version__}))
+    assert prebuild.build(None, quiet=True, part="demo") == shipped and ran == []
+    (shipped / _cache.BUILD_FILE).write_text(json.dumps({"numba": "0.0.1"}))  # another numba's: no help
+    prebuild.build(None, quiet=True, part="demo")
+    assert len(ran) == 1
+    ran.clear()
+    (_cache.kernels_dir() / _cache.BUILD_FILE).write_text("{}")
+    assert prebuild.build(None, quiet=True, part="demo") == _cache.kernels_dir() and ran == []
+
+
+def test_a_folder_begun_before_the_install_is_completed_at_the_next_start(tmp_path: Path,
+                                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    """A kernel folder that exists but is not complete (``make demo``'s part, or a first use, before the
+    install's kernels existed) is completed from them when a process starts, not only on these sources'
+    first run; then a start costs one look. Kernels of another numba are said to be useless once, on the
+    first run, not at every start."""
+    import json
+    import warnings
+
+    import numba
+
+    monkeypatch.setattr(_cache, "_PKG", tmp_path / "pkg")
+    monkeypatch.setattr(_cache, "source_hash", lambda: "abc")
+    monkeypatch.setenv(_cache.ENV, str(tmp_path / "c"))
+    target, shipped = _cache.kernels_dir(), _cache.shipped_kernels_dir()
+    (target / "integrate").mkdir(parents=True)
+    (target / "integrate" / "loop.run-1.py311.nbi").write_bytes(b"the demo's")
+    _cache._ready_kernels()  # nothing shipped yet: left as it is
+    assert sorted(p.name for p in target.rglob("*")) == ["integrate", "loop.run-1.py311.nbi"]
+    (shipped / "integrate").mkdir(parents=True)
+    for name in ("loop.run-1.py311.nbi", "plugin.step-2.py311.nbi", "plugin.step-2.py311.1.nbc"):
+        (shipped / "integrate" / name).write_bytes(b"shipped")
+    (shipped / _cache.BUILD_FILE).write_text(json.dumps({"numba": "0.0.1"}))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # another numba's kernels: no warning at a later start
+        _cache._ready_kernels()
+    assert not (target / "integrate" / "plugin.step-2.py311.nbi").exists()
+    (shipped / _cache.BUILD_FILE).write_text(json.dumps({"numba": numba.__version__}))
+    _cache._ready_kernels()
+    got = {p.name: p.read_bytes() for p in (target / "integrate").iterdir()}
+    assert got == {"loop.run-1.py311.nbi": b"the demo's", "plugin.step-2.py311.nbi": b"shipped",
+                   "plugin.step-2.py311.1.nbc": b"shipped"}
+    assert (target / _cache.BUILD_FILE).exists()
+    monkeypatch.setattr(_cache, "seed_kernels", lambda: pytest.fail("a complete folder was seeded again"))
+    _cache._ready_kernels()
+
+
+def test_make_demo_compiles_the_demo_part_and_make_test_every_kernel_first(tmp_path: Path) -> None:
+    """What the two set-up commands run (make -n: nothing runs): make demo compiles the part demo into
+    the cache folder before `rrbody demo` and never the whole; make test compiles every kernel into
+    rrbody/_kernels before the suite, which runs on the venv's own cache folder (filled from them)."""
+    if shutil.which("make") is None:
+        pytest.skip("make is not installed")
+    for name in ("Makefile", "pyproject.toml", "rrbody", "scenes"):
+        (tmp_path / name).symlink_to(ROOT / name)
+
+    def commands(target: str) -> list[str]:
+        p = subprocess.run(["make", "-n", target], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+        assert p.returncode == 0, p.stderr
+        return p.stdout.splitlines()
+
+    demo = commands("demo")
+    part = [i for i, c in enumerate(demo) if "rrbody.cli.prebuild --part demo" in c]
+    run = [i for i, c in enumerate(demo) if c.endswith("/rrbody demo")]
+    assert len(part) == len(run) == 1 and part[0] < run[0]
+    assert not any("rrbody.cli.prebuild --into" in c for c in demo)
+    test = commands("test")
+    whole = [i for i, c in enumerate(test) if c.endswith("rrbody.cli.prebuild --into rrbody/_kernels")]
+    suite = [i for i, c in enumerate(test) if "-m pytest" in c and "--dist loadgroup" in c]
+    assert len(whole) == len(suite) == 1 and whole[0] < suite[0]
+    assert f"RRBODY_CACHE_DIR={tmp_path}/.venv/rrbody-cache " in test[suite[0]]
+    assert not any("--part" in c for c in test)

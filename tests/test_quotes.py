@@ -34,9 +34,12 @@ def test_every_quoted_span_equals_what_the_generator_writes(page: Path) -> None:
 
 
 def test_the_pages_quote_the_recorded_benchmarks() -> None:
-    """The known contested figures are all quoted spans (batch, plugin, engine step), on both pages."""
+    """The known contested figures are all quoted spans (batch, plugin, engine step), on the pages that
+    state them; the README quotes none (its snippets state their own output: tests/test_readme.py)."""
     names = {p.name: {m["name"] for m in MARKER.finditer(p.read_text())} for p in PAGES}
-    assert {"head.startup.1", "head.engine.2", "head.engine.4", "table.targets-brief"} <= names["README.md"]
+    assert names["README.md"] == set()
+    assert {"head.startup.1", "head.engine.2", "head.engine.4", "table.targets-brief"} <= names["benchmarks.md"]
+    assert {"head.startup.1", "startup.single"} <= names["cli.md"]
     assert {"table.targets", "head.startup.1"} <= names["accuracy.md"]
     assert {"table.plugin", "head.engine.4"} <= names["engine.md"]
     assert sum(len(v) for v in names.values()) >= 40
@@ -111,17 +114,16 @@ def test_a_wrong_quote_name_is_an_error_naming_it(name: str, says: str) -> None:
 SETUP_STALE = ["about a minute", "15-30 s", "20-30 s", "1.3 to\n1.8", "1.3 to 1.8", "make demo does not install"]
 #: where each set-up figure must be quoted, and by which names
 SETUP_QUOTES = {
-    "README.md": {"setup.demo.kernels", "setup.test.total", "coldstart.compile", "head.coldstart.1",
-                  "mujoco.own-smooth", "mujoco.own-cylinder", "mujoco.adapter-smooth", "mujoco.adapter-cylinder",
-                  "summary.minutes"},
-    "getting-started.md": {"setup.demo.kernels", "coldstart.compile", "head.coldstart.1"},
-    "compile.md": {"setup.demo.kernels", "setup.test.total", "setup.test.suite", "setup.test.set-up",
-                   "coldstart.compile"},
-    "mujoco.md": {"mujoco.own-smooth", "mujoco.own-cylinder", "mujoco.adapter-cylinder"},
+    "getting-started.md": {"setup.demo.total", "setup.demo.kernels", "setup.test.total", "setup.test.kernels",
+                           "coldstart.compile", "head.coldstart.1"},
+    "compile.md": {"setup.demo.kernels", "setup.test.kernels", "setup.test.total", "setup.test.suite",
+                   "setup.test.set-up", "coldstart.compile"},
+    "benchmarks.md": {"summary.minutes", "head.coldstart.1"},
+    "mujoco.md": {"mujoco.own-smooth", "mujoco.own-cylinder", "mujoco.adapter-smooth", "mujoco.adapter-cylinder"},
     "CHANGELOG.md": {"setup.test.total", "setup.demo.kernels"},
     "Makefile": {"setup.demo.venv", "setup.demo.build-reqs", "setup.demo.install", "setup.test.install",
-                 "setup.demo.kernels", "setup.demo.demo", "setup.test.suite", "setup.test.lowest-venv",
-                 "setup.test.suite-lowest"},
+                 "setup.demo.kernels", "setup.test.kernels", "setup.demo.demo", "setup.test.suite",
+                 "setup.test.lowest-venv", "setup.test.suite-lowest"},
 }
 
 
@@ -156,7 +158,7 @@ def test_a_changed_set_up_record_changes_every_span_and_the_makefile_s_step_line
     clone = tmp_path / "clone"
     clone.mkdir()
     (clone / "Makefile").write_text(rewrite((ROOT / "Makefile").read_text(), results))
-    for name in ("pyproject.toml", "rrbody"):  # the kernels' sources the Makefile lists
+    for name in ("pyproject.toml", "rrbody", "scenes"):  # the kernels' sources the Makefile lists (and Movie S1's)
         (clone / name).symlink_to(ROOT / name)
     for page in PAGES:
         if "<!--q:setup.demo.kernels-->" in page.read_text():
@@ -167,19 +169,19 @@ def test_a_changed_set_up_record_changes_every_span_and_the_makefile_s_step_line
     assert "<!--" not in p.stdout  # the markers stay in the Makefile, out of what it prints
 
 
-def test_the_readme_s_mujoco_sentence_is_its_table_s(tmp_path: Path) -> None:
-    """The README's MuJoCo figures are read from the rows docs/mujoco.md tabulates: change MuJoCo's
-    cylinder row and the README follows."""
+def test_the_mujoco_summary_is_its_table_s(tmp_path: Path) -> None:
+    """docs/mujoco.md's summary sentence reads its figures from the rows the page tabulates: change
+    MuJoCo's cylinder row and the sentence follows."""
     results = tmp_path / "results"
     shutil.copytree(quotes.DEFAULT_OUT, results)
     csv_path = results / "mujoco.csv"
     text = csv_path.read_text()
     row = next(ln for ln in text.splitlines() if ln.startswith('"MuJoCo condim 4, elliptic",disk (cylinder)'))
     csv_path.write_text(text.replace(row, '"MuJoCo condim 4, elliptic",disk (cylinder),0.3,4.0'))
-    readme = (ROOT / "README.md").read_text()
+    page = (ROOT / "docs" / "mujoco.md").read_text()
     low = quote("mujoco.own-cylinder").split(" to ")[0]
-    assert f"<!--q:mujoco.own-cylinder-->{low}" in readme
-    assert "<!--q:mujoco.own-cylinder-->0.30 to " in rewrite(readme, results)
+    assert f"<!--q:mujoco.own-cylinder-->{low}" in page
+    assert "<!--q:mujoco.own-cylinder-->0.30 to " in rewrite(page, results)
 
 
 def test_the_set_up_recorder_times_each_announced_step() -> None:

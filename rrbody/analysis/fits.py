@@ -1,4 +1,4 @@
-"""Least-squares fits with standard errors: the q-exponential of README "Definitions rrbody fixes" and power laws.
+"""Least-squares fits with standard errors: the q-exponential of H_c(k) (docs/reproduce.md) and power laws.
 
 Every fit returns a :class:`Fit` holding the parameters, their standard errors (square roots of
 the diagonal of ``scipy.optimize.curve_fit``'s covariance, scaled by the residual variance:

@@ -1,4 +1,4 @@
-"""Flip time, the reverse-rotation (RR) test and the critical geometry H_c (README, "Definitions rrbody fixes").
+"""Flip time, the reverse-rotation (RR) test and the critical geometry H_c (docs/physics.md, "Definitions rrbody fixes").
 
 Definitions
 -----------

@@ -1,7 +1,7 @@
 """Rotating-frame phase portraits (theta, theta') and the line of valid initial conditions.
 
-theta = phi - omega t + pi is the angle of the rod in the frame rotating with the drive (README
-section 1); theta' = phi' - omega (rad/s). The impulsive start phi'(0) = (omega/H) cos(phi0)
+theta = phi - omega t + pi is the angle of the rod in the frame rotating with the drive
+(docs/physics.md); theta' = phi' - omega (rad/s). The impulsive start phi'(0) = (omega/H) cos(phi0)
 (the paper's Eq. 3) puts every start on one curve of the (theta, theta') plane, the paper's "line of
 valid initial conditions": theta = phi0 + pi, theta' = (omega/H) cos(phi0) - omega, i.e.
 theta' = -(omega/H) cos(theta) - omega.

@@ -112,7 +112,7 @@ def write_report(results: str | Path = "results", *, out: str | Path | None = No
              "Each section: the paper's claim beside our number, then the figure. Scenes are rerun by "
              "`rrbody scene NAME`; everything by `rrbody scene all`.")
     L.append("")
-    L.append("Definitions (README, section 'Definitions rrbody fixes'): flip time t_f = time of the global minimum of phi; reverse rotation "
+    L.append("Definitions (docs/physics.md, section 'Definitions rrbody fixes'): flip time t_f = time of the global minimum of phi; reverse rotation "
              "(RR) exists iff theta = phi - omega t + pi falls by 2 pi within the first driving period; "
              "H_c(k) = largest H with RR at omega = 0.3 rad/s, phi0 = pi.")
     L.append("")

@@ -20,7 +20,7 @@ from rrbody.model.trajectory import Trajectory, driven_trajectory
 
 __all__ = ["simulate", "METHODS", "ACCURACY", "register_method", "default_dt_out", "resolve_rtol"]
 
-#: accuracy presets -> ODE relative tolerance (chosen from benchmarks/results: see README)
+#: accuracy presets -> ODE relative tolerance (chosen from benchmarks/results: see docs/accuracy.md)
 ACCURACY: dict[str, float] = {"draft": 1e-9, "default": 1e-13, "paper": 1e-14}
 
 #: the most output samples a trajectory may hold (memory: 7 columns of float64, about 1 GB)

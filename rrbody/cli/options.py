@@ -103,7 +103,7 @@ def add_friction_options(g: Any, *, params: bool = False) -> None:
 def add_accuracy_options(g: Any) -> None:
     """``--accuracy`` and ``--rtol`` (every command that integrates the ODE)."""
     g.add_argument("--accuracy", choices=("draft", "default", "paper"), default="default",
-                   help="ODE tolerance preset: draft 1e-9, default 1e-13, paper 1e-14 (README: Accuracy and cost)")
+                   help="ODE tolerance preset: draft 1e-9, default 1e-13, paper 1e-14 (docs/accuracy.md)")
     g.add_argument("--rtol", type=number("--rtol"), default=None,
                    help=option_help("rtol", "ODE relative tolerance (overrides --accuracy)"))
 

@@ -13,10 +13,11 @@ import importlib.util
 import os
 import time
 from pathlib import Path
+from typing import Any
 
 from rrbody.model.paths import output_root, scenes_dir
 
-__all__ = ["scenes_dir", "output_root", "list_scenes", "run_scene", "scene_needs", "check_scene"]
+__all__ = ["scenes_dir", "output_root", "list_scenes", "load_scene", "run_scene", "scene_needs", "check_scene"]
 
 #: rrbody modules that import an optional package where they are used: a scene importing one needs it
 _RRBODY_NEEDS = {"rrbody.plugin": ("pymunk",), "rrbody.engine": ("pymunk",), "rrbody.mujoco": ("mujoco",),
@@ -90,14 +91,21 @@ def check_scene(name: str) -> Path:
     return path
 
 
-def run_scene(name: str, *, force: bool = True, report: bool = False) -> None:
-    """Run scene ``name``: its outputs go to ``results/<name>/``."""
-    path = check_scene(name)
+def load_scene(name: str, path: Path | None = None) -> Any:
+    """Scene ``name``'s script as a module (its constants and ``main``), run nothing else: a script
+    imports what it draws with inside ``main``."""
+    path = _scene_path(name) if path is None else path
     spec = importlib.util.spec_from_file_location(f"rrbody_scene_{name.replace('-', '_')}", path)
     if spec is None or spec.loader is None:
         raise ValueError(f"scene {name!r}: cannot load {path}")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
+    return mod
+
+
+def run_scene(name: str, *, force: bool = True, report: bool = False) -> None:
+    """Run scene ``name``: its outputs go to ``results/<name>/``."""
+    mod = load_scene(name, check_scene(name))
     out_dir = output_root() / "results" / name
     out_dir.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()

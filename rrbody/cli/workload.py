@@ -2,9 +2,14 @@
 which between them reach every compiled kernel.
 
 ``python -m rrbody.cli.workload --job I`` runs command I of :data:`COMMANDS` (as ``rrbody`` would,
-its output discarded), ``--extras`` the workload outside the command line (the plugin, the
-stand-alone right-hand sides), ``--all`` everything, one after the other in one process. Nothing in
-rrbody imports this module (it imports the command line, which imports the prebuild).
+its output discarded), ``--extras`` the workload outside the command line (the plugin, the batched
+wrench and the MuJoCo adapter, the stand-alone right-hand sides), ``--movie-s1`` what ``rrbody
+demo`` computes (Movie S1: the prebuild's part ``demo``, which ``make demo`` compiles alone),
+``--all`` everything, one after the other in one process. A new kernel joins the whole build with
+one line: a command in :data:`COMMANDS`, or a call in one of the workloads :func:`run_extras` runs;
+the demo's part runs the Movie S1 scene's own computation, so it follows that scene and nothing
+else. Nothing in rrbody imports this module (it imports the command line, which imports the
+prebuild).
 """
 
 from __future__ import annotations
@@ -16,7 +21,7 @@ import sys
 
 from rrbody.model.laws import LAW_TABLE, Law
 
-__all__ = ["COMMANDS", "run_command", "run_extras", "run_all", "main"]
+__all__ = ["COMMANDS", "run_command", "run_extras", "run_movie_s1", "run_all", "main"]
 
 _ROD = ["--H", "0.2", "--omega", "0.6"]
 
@@ -37,11 +42,11 @@ def _free_contact_job(law: Law) -> list[str]:
 
 
 #: the command-line workload (each a tiny horizon), heaviest first: the first driven run of each law
-#: and the first free run compile a loop (15-30 s each), the rest mostly load them
+#: and the first free run compile a loop, the rest mostly load them
 COMMANDS: tuple[list[str], ...] = (
-    # the four jobs that compile a stepping loop (15-30 s each) first, ordered so that two workers
-    # finish them together (measured: dry 27 s, free 27 s, viscous 20 s, none 16 s); the free runs
-    # cover every law (run-time choices in the one free loop)
+    # the four jobs that compile a stepping loop first (the prebuild's first pass runs them: its
+    # N_LOOPS), ordered so that two workers finish them together; the free runs cover every law
+    # (run-time choices in the one free loop)
     ["flip-time", *_ROD, "--k", "0.05", "--json"],
     ["simulate", "--body", "disk", "--R0", "0.3", "--no-drive", "--v0", "1,0", "--spin0", "3", "--k", "1",
      "--t-max", "0.5", "--json"],
@@ -71,6 +76,23 @@ COMMANDS: tuple[list[str], ...] = (
     ["simulate", "--body", "disk", "--R0", "0.3", "--no-drive", "--v0", "1,0", "--k", "1", "--friction", "viscous",
      "--active-force", "1", "--rot-drag", "2", "--rot-diffusion", "0.1", "--seed", "1", "--t-max", "0.5", "--json"],
 )
+
+
+def run_movie_s1() -> None:
+    """What ``rrbody demo`` computes before it draws (the scene ``movie-s1``): the flip time, the run
+    sampled for the movie, and the friction the movie's arrows show (the scene's own wrench kernel,
+    :func:`rrbody.render.quantities.mechanics`), on a short horizon, with the scene script's own body,
+    law and numbers (which decide the kernels); the drawing itself compiles nothing."""
+    from rrbody.analysis.flip import flip_time
+    from rrbody.analysis.simulate import simulate
+    from rrbody.cli.scenes import load_scene
+    from rrbody.model.scene import rod_mass_scene
+    from rrbody.render.quantities import mechanics
+
+    s1 = load_scene("movie-s1")
+    scene = rod_mass_scene(s1.H, s1.K, s1.OMEGA, s1.PHI0)
+    flip_time(scene)
+    mechanics(simulate(scene, t_max=1.0, dt_out=s1.DT_OUT))
 
 
 def _plugin_workload() -> None:
@@ -205,6 +227,7 @@ def run_all() -> None:
     for argv in COMMANDS:
         run_command(argv)
     run_extras()
+    run_movie_s1()
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -212,12 +235,15 @@ def main(argv: list[str] | None = None) -> int:
     group = ap.add_mutually_exclusive_group(required=True)
     group.add_argument("--job", type=int, choices=range(len(COMMANDS)), help="run command I of COMMANDS")
     group.add_argument("--extras", action="store_true", help="the plugin and the stand-alone right-hand sides")
+    group.add_argument("--movie-s1", action="store_true", help="what `rrbody demo` computes (the part demo)")
     group.add_argument("--all", action="store_true", help="everything, in this process")
     args = ap.parse_args(argv)
     if args.job is not None:
         run_command(COMMANDS[args.job])
     elif args.extras:
         run_extras()
+    elif args.movie_s1:
+        run_movie_s1()
     else:
         run_all()
     return 0

@@ -4,7 +4,8 @@ Events (times in s, angles in rad):
 
 - local minima of phi (phi' crosses 0 upwards): every one is recorded (up to a buffer size); the
   lowest is the flip candidate;
-- T_1, the first time theta = phi - omega t + pi has fallen by 2 pi (the RR test, README, "Definitions rrbody fixes");
+- T_1, the first time theta = phi - omega t + pi has fallen by 2 pi (the RR test, docs/physics.md,
+  "Definitions rrbody fixes");
 - the stop rules: flip settled, RR decided (:func:`stop_reached`);
 - rest of a free body under dry friction (:func:`rest_reached` and the step rules that approach it).
 

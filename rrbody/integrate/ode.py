@@ -5,7 +5,8 @@ stiff); the events and stop rules are those of :mod:`rrbody.integrate.events`:
 
 - local minima of phi (phi' crosses 0 upwards): every one is recorded (up to a buffer size),
   located by Newton iteration on the step size (each iterate a fresh step of the method);
-- T_1, the first time theta = phi - omega t + pi has fallen by 2 pi (the RR test, README, "Definitions rrbody fixes").
+- T_1, the first time theta = phi - omega t + pi has fallen by 2 pi (the RR test, docs/physics.md,
+  "Definitions rrbody fixes").
 
 Error control: phi is an angle that grows without bound (|phi| ~ 1e4 in long fast-driving runs),
 so its error scale is absolute, ``rtol * pi``; phi' is scaled by ``rtol * max(omega, |phi'(0)|,
