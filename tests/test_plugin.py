@@ -332,3 +332,60 @@ def test_collision_scene_counts_episodes() -> None:
     assert eps[0]["starts_at_collision"] and eps[0]["t_start"] == pytest.approx(5.0, abs=0.02)
     assert eps[0]["turns_back"] == pytest.approx(5.0 / (2 * math.pi), rel=1e-2)
     assert not mod._episodes(t, phi, phid, hits=[1.0])[0]["starts_at_collision"]
+
+
+@pytest.mark.parametrize("scheme", ["coupled", "split"])
+@pytest.mark.parametrize("steps", [(1e-3, 2e-3), (1e-3, 2e-3, 0.5e-3, 3e-3)])
+def test_a_step_that_changes_size_keeps_the_stop_exact(scheme: str, steps: tuple[float, ...]) -> None:
+    """dt changed from step to step (alternating 1 and 2 ms, and an irregular cycle): a box launched at 1 m/s
+    on mu 0.5 stops at v0^2 / (2 mu g) within mu g dt^2 / 8 for the largest step, the bound of a constant
+    step (it stopped 3.3e-4 m long when each step's kick ignored the change); a square's spin-down too."""
+    import pymunk
+
+    from rrbody.plugin import PlaneFriction
+
+    space = pymunk.Space()
+    box = pymunk.Body()
+    shape = pymunk.Poly.create_box(box, (0.1, 0.1))
+    shape.density = 100.0
+    space.add(box, shape)
+    box.velocity = (1.0, 0.0)
+    spin = pymunk.Body()
+    sq = pymunk.Poly.create_box(spin, (0.2, 0.2))
+    sq.density = 100.0
+    spin.position = (5.0, 0.0)
+    space.add(spin, sq)
+    spin.angular_velocity = 10.0
+    pf = PlaneFriction(space, g=9.81, scheme=scheme)
+    pf.add(box, mu=0.5)
+    pf.add(spin, mu=0.5)
+    k = 0
+    while pf.t < 0.5:
+        pf.step(steps[k % len(steps)])
+        k += 1
+    bound = 0.5 * 9.81 * max(steps) ** 2 / 8
+    assert box.position.x == pytest.approx(1.0 / (2 * 0.5 * 9.81), abs=bound)
+    alpha = 0.5 * 9.81 * (math.sqrt(2) + math.log1p(math.sqrt(2))) / 0.2  # mu g (sqrt 2 + ln(1 + sqrt 2)) / a, a the side
+    turn = 10.0 ** 2 / (2 * alpha)
+    assert spin.angle == pytest.approx(turn, abs=alpha * max(steps) ** 2 / 8)
+
+
+def test_step_refuses_a_dt_that_is_not_a_number() -> None:
+    """``pf.step("0.01")`` is a ValueError naming dt and its value (it was a TypeError from the comparison),
+    and nothing changes."""
+    import pymunk
+
+    from rrbody.plugin import PlaneFriction
+
+    space = pymunk.Space()
+    b = pymunk.Body()
+    s = pymunk.Circle(b, 0.1)
+    s.density = 1.0
+    space.add(b, s)
+    b.velocity = (1.0, 0.0)
+    pf = PlaneFriction(space)
+    pf.add(b, mu=0.3)
+    for bad in ("0.01", None, [0.01]):
+        with pytest.raises(ValueError, match=r"dt must be a number > 0 s and finite, got "):
+            pf.step(bad)
+    assert pf.t == 0.0 and b.position == (0.0, 0.0)

@@ -132,6 +132,7 @@ class PlaneFriction(PlaneRows):
         self.n_stopped = 0  # stops made by the rest rule so far
         self._t_stop: dict[Any, float] = {}
         self._coupling = Coupling(space, tol=float(tol), max_iter=max_iter) if self.scheme == "coupled" else None
+        self._dt = math.nan  # the last step's dt (s): a step of another size first moves the staggered velocities
 
     # ---- membership --------------------------------------------------------------------------
     def add(self, body: Any, *, mu: float, pressure: Pressure | str = "uniform", mu_static: float | None = None,
@@ -271,9 +272,16 @@ class PlaneFriction(PlaneRows):
             # about 0.3 against 2.3 us per physics step, measured; docs/plugin.md). dt was checked then.
             dt, n_flag = still[5], 0
         else:
-            if not 0.0 < dt < _INF:  # (also refuses NaN; no check helper: this is the hot path)
-                raise ValueError(f"dt must be > 0 s and finite, got {dt!r}")
+            try:
+                ok = 0.0 < dt < _INF  # (also refuses NaN; no check helper: this is the hot path)
+            except TypeError:  # not a number
+                ok = False
+            if not ok:
+                raise ValueError(f"dt must be a number > 0 s and finite, got {dt!r}")
             dt = float(dt)
+            if dt != self._dt and self._list:
+                self._resync(dt)
+            self._dt = dt
             plan = self._plan
             if not self._list:
                 if self._dirty:
@@ -427,6 +435,31 @@ class PlaneFriction(PlaneRows):
         raise ValueError(f"body {self._name(gone[0])} is no longer in the space but still in this PlaneFriction"
                          f"{more}; the step was refused and nothing changed: call pf.remove(body) when you "
                          f"remove a body from the space")
+
+    def _resync(self, dt: float) -> None:
+        """A step of another size than the last: each body's velocity, which belongs to half the last step
+        after it, moved to half this step after it with the acceleration it had (the friction and the loads
+        the last step applied, and the space's gravity): (dt - gap) / 2 times it. pymunk moves the pose with
+        the velocity first, so without this a step that changes size would move it with a velocity of
+        another time (an error of order dt per change, which a step of alternating sizes piles up). A body
+        the rest rule stopped, one with no history yet and a driven body (its driver keeps pace) are left."""
+        rows = self._bodies
+        gap = rows[:, K.GAP]
+        shift = np.where((gap > 0.0) & (rows[:, K.STAG] > 0.0) & (rows[:, K.STOP] == 0.0) & (rows[:, K.DRV] == 0.0),
+                         0.5 * (dt - gap), 0.0)
+        moved = np.flatnonzero(shift)
+        if not moved.size:
+            return
+        gx, gy = self.space.gravity
+        for j in moved.tolist():
+            body, k, r = self._list[j], shift[j], rows[j]
+            m = r[K.MASS]
+            v = body.velocity
+            body.velocity = (v.x + k * (gx + (r[K.FFX] + r[K.LDX]) / m), v.y + k * (gy + (r[K.FFY] + r[K.LDY]) / m))
+            body.angular_velocity += k * (r[K.FFT] + r[K.LDT]) / (m * r[K.IPM])
+        self._still = None  # velocities written outside the compiled call
+        if self._sio is not None:
+            self._sio.forget()
 
     def _couple(self, dt: float) -> None:
         """The coupled step after pymunk's (:mod:`rrbody.engine.coupling`), and its bookkeeping: the rest

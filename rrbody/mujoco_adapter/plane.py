@@ -65,6 +65,18 @@ TOUCH = 1e-3
 _NO_TABLES = np.zeros((0, 3))
 
 
+def _resync(rows: np.ndarray, gap: np.ndarray, dt: float) -> None:
+    """A step of another size than the last (``gap``, s, per body): MuJoCo's velocity after a step belongs to
+    half that step before its end, so the kick from the last step's velocity to this one's spans (gap + dt) / 2,
+    not dt: each body's friction (FFX, FFY, FFT, which :func:`rrbody.mujoco_adapter.kernel.scatter` applies)
+    is scaled by (gap + dt) / (2 dt). Without it a step that changes size moves the staggered velocity off
+    its time (an error of order dt per change, which steps of alternating sizes pile up). A body the rest
+    rule acts on (its impulse stops it within the step) or with no history is left."""
+    k = np.flatnonzero((gap > 0.0) & (gap != dt) & (rows[:, K.STOP] == 0.0))
+    if k.size:
+        rows[k, K.FFX:K.FFT + 1] *= ((gap[k] + dt) / (2.0 * dt))[:, None]
+
+
 def _timestep(model: Any) -> float:
     """MuJoCo's step (s), read where the adapter uses it (a user may change it between steps): ValueError
     naming it unless it is a finite number > 0 (a negative one runs time back and friction with it)."""
@@ -333,10 +345,12 @@ class PlaneFriction:
                     self._refuse()
                 self._kick(dt)
             self._gather(dt)
+            gap = self._bodies[:, K.GAP].copy()  # the last step's size, before plane_step writes this one's
             n_flag = self._call("plane_step", self._got, self._k_ids, self._lookup, self._cache, self._bodies,
                                 self._shapes, self._geo, _NO_TABLES, float(d.time), dt, self._out, *NO_ACTIVE)
             if n_flag < 0:
                 self._refuse()
+            _resync(self._bodies, gap, dt)
             self.n_stopped += self._call("scatter", self._dof, self._qadr, self._ids, self._ipos, self._frame,
                                          self._bodies, d.qpos, d.qvel, d.xfrc_applied, self._user, self._got,
                                          self._moving, self._t_stop, float(d.time), dt)
