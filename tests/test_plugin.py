@@ -292,7 +292,7 @@ def test_bad_input() -> None:
     space.add(line, seg)
     with pytest.raises(ValueError, match="at least one shape with area"):
         pf.add(line, mu=0.5)
-    with pytest.raises(ValueError, match="dt must be > 0"):
+    with pytest.raises(ValueError, match="dt must be a number > 0"):
         pf.step(0.0)
 
 

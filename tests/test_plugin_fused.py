@@ -196,7 +196,7 @@ def test_the_still_check_says_false_for_any_change() -> None:
     assert pf._still is not None  # the plugin's next step starts with the still call
     b.force = (0.3, 0.0)
     for bad in (0.0, -0.01, math.nan, math.inf):  # the still call says no: refused as on any step
-        with pytest.raises(ValueError, match="dt must be > 0"):
+        with pytest.raises(ValueError, match="dt must be a number > 0"):
             pf.step(bad)
     assert _still(pf, 0.01)  # (it writes the forces: the load is set again before each call)
     t = pf.t

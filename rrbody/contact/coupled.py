@@ -49,7 +49,8 @@ from numba import njit
 
 from rrbody.contact import rest as R
 from rrbody.contact.accel import accel_at
-from rrbody.contact.columns import COEFF, IPM, LAW, LAW_DRY, MUS, S0, S1, SNAP
+from rrbody.contact.columns import COEFF, IPM, LAW, LAW_DRY, MUS, REACH, S0, S1, SNAP, VGX, VGY
+from rrbody.physics.contact import footprint_wrench
 from rrbody.physics.limit import at_rest
 
 __all__ = ["IB_ROW", "IB_M", "IB_RG", "IB_CA", "IB_SA", "IB_SX", "IB_SY", "IB_SW", "IB_VX", "IB_VY", "IB_VW",
@@ -83,6 +84,9 @@ N_OUT = 4
 #: forward-difference step of the friction's Jacobian, relative to the twist (the wrench is homogeneous of
 #: degree zero: its curvature scale is the twist itself, so the Jacobian is good to about this)
 FD_STEP = 1e-7
+#: a Newton iteration whose step moved a body by more than this fraction of its scale is followed by one with
+#: a fresh Jacobian; closer to the answer the last one serves (the chord method)
+CHORD = 1e-2
 #: a Newton step that brings a body below this fraction of its scale passes through rest: test sticking
 PASS_REST = 1e-9
 #: how often a body may stick or let go in one step's solve (the active set's cycles end there)
@@ -122,6 +126,13 @@ def _at_rest(i, isl, s, dt, bodies, shapes, geo):  # noqa: ANN001, ANN202
     lt = (isl[i, IB_SW] + s[2]) / dt * rg  # torque per unit mass (m^2/s^2)
     ck = bodies[j, COEFF]
     cs = bodies[j, MUS] if (isl[i, IB_REST] > 0.0 and bodies[j, MUS] > 0.0) else ck
+    # where the load is centred on the centre of gravity, a load inside the double cone spanned by the unit
+    # force disk (the pure translations' wrenches) and the pure spins' torques is inside the limit set
+    # (convex): held, no search
+    if abs(bodies[j, VGX]) + abs(bodies[j, VGY]) <= 1e-12 * bodies[j, REACH]:
+        tmax = abs(footprint_wrench(shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), 0.0, 0.0, 1.0, 0.0)[2])
+        if tmax > 0.0 and math.sqrt(lx * lx + ly * ly) / cs + abs(lt) / (cs * tmax) <= 1.0 - 1e-12:
+            return True, 0.0, 0.0, 0.0
     ax, ay, aw, held = at_rest(shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), ca * lx + sa * ly,
                                -sa * lx + ca * ly, lt, bodies[j, IPM], cs, ck)
     if held:
@@ -188,11 +199,12 @@ def _merit(i, isl, q, dt, bodies, shapes, geo, tables):  # noqa: ANN001, ANN202
 
 
 @njit(cache=True)
-def _objective(b0, nb, k0, k1, isl, con, lam, q, qn, step, mode, dt, bodies, shapes, geo, tables, qt,
-               jac):  # noqa: ANN001, ANN202
+def _objective(b0, nb, k0, k1, isl, con, lam, q, qn, step, mode, dt, bodies, shapes, geo, tables, qt, jac,
+               a0s):  # noqa: ANN001, ANN202
     """The island's objective at q + step (qn - q) (J): each body's mass times its part per unit mass (a held
     body is at rest: its part constant), and the contacts' own friction as the dissipation of a friction
-    bounded by the current normal impulses (the Coulomb bound of this iteration, held fixed: Tresca)."""
+    bounded by the current normal impulses (the Coulomb bound of this iteration, held fixed: Tresca). At
+    step 0 the friction at q is the linearisation's (``a0s``)."""
     total = 0.0
     for k in range(k0, k1):
         u = con[k, CN_FRICTION]
@@ -213,7 +225,11 @@ def _objective(b0, nb, k0, k1, isl, con, lam, q, qn, step, mode, dt, bodies, sha
         i = b0 + ii
         for r in range(3):
             qt[r] = q[i, r] + step * (qn[ii, r] - q[i, r])
-        if mode[ii] == 1:
+        if mode[ii] == 1 and step == 0.0:
+            total += isl[i, IB_M] * (0.5 * ((qt[0] - isl[i, IB_SX]) ** 2 + (qt[1] - isl[i, IB_SY]) ** 2
+                                            + (qt[2] - isl[i, IB_SW]) ** 2)
+                                     - dt * (a0s[ii, 0] * qt[0] + a0s[ii, 1] * qt[1] + a0s[ii, 2] * qt[2]))
+        elif mode[ii] == 1:
             total += isl[i, IB_M] * _merit(i, isl, qt, dt, bodies, shapes, geo, tables)
         else:
             total += 0.5 * isl[i, IB_M] * ((qt[0] - isl[i, IB_SX]) ** 2 + (qt[1] - isl[i, IB_SY]) ** 2
@@ -273,13 +289,15 @@ def _start(b0, b1, isl, bodies, shapes, geo, dt, q, s, mode, scale):  # noqa: AN
 
 
 @njit(cache=True)
-def _linearise(b0, b1, isl, bodies, shapes, geo, tables, dt, q, s, mode, scale, W, f,
-               frozen):  # noqa: ANN001, ANN202
-    """Each body's linearised step: W = (I - dt G)^-1 (G the friction's Jacobian at q, symmetrised) and its
-    velocity with no contact impulse f = W (q* + dt (a(q) - G q)); a held body none (W = 0, f = 0). A
-    sliding body at rest to within rounding is tested for sticking first (it may become held), unless the
-    modes are ``frozen``: then it is linearised about the velocity the engine's solve gave it."""
-    G = np.zeros((3, 3))
+def _linearise(b0, b1, isl, bodies, shapes, geo, tables, dt, q, s, mode, scale, W, f, frozen, Gs, a0s,
+               refresh):  # noqa: ANN001, ANN202
+    """Each body's linearised step: W = (I - dt G)^-1 (G the friction's Jacobian, symmetrised) and its
+    velocity with no contact impulse f = W (q* + dt (a(q) - G q)); a held body none (W = 0, f = 0). The
+    friction a(q) is evaluated at q (kept in ``a0s``); its Jacobian by forward differences there where
+    ``refresh`` says so for the body, else the one kept in ``Gs`` (the chord method: close to the solution it
+    hardly changes). A sliding body at rest to within rounding is tested for sticking first (it may become
+    held), unless the modes are ``frozen``: then it is linearised about the velocity the engine's solve gave
+    it (and its Jacobian computed afresh)."""
     A = np.zeros((3, 3))
     qt = np.zeros(3)
     for ii in range(b1 - b0):
@@ -311,20 +329,27 @@ def _linearise(b0, b1, isl, bodies, shapes, geo, tables, dt, q, s, mode, scale, 
                 continue
             q[i, 0], q[i, 1], q[i, 2] = vx, vy, vw
             nq = math.sqrt(vx * vx + vy * vy + vw * vw)
+            refresh[ii] = True
         a0x, a0y, a0w = _accel(j, ca, sa, q[i, 0], q[i, 1], q[i, 2], rg, bodies, shapes, geo, tables)
-        h = FD_STEP * max(nq, PASS_REST * scale[ii])
-        for r in range(3):
-            qt[0] = q[i, 0]
-            qt[1] = q[i, 1]
-            qt[2] = q[i, 2]
-            qt[r] += h
-            ax, ay, aw = _accel(j, ca, sa, qt[0], qt[1], qt[2], rg, bodies, shapes, geo, tables)
-            G[0, r] = (ax - a0x) / h
-            G[1, r] = (ay - a0y) / h
-            G[2, r] = (aw - a0w) / h
-        for r in range(3):
-            for c2 in range(3):
-                G[r, c2] = 0.5 * (G[r, c2] + G[c2, r]) if r <= c2 else G[c2, r]
+        a0s[ii, 0] = a0x
+        a0s[ii, 1] = a0y
+        a0s[ii, 2] = a0w
+        G = Gs[ii]
+        if refresh[ii]:
+            h = FD_STEP * max(nq, PASS_REST * scale[ii])
+            for r in range(3):
+                qt[0] = q[i, 0]
+                qt[1] = q[i, 1]
+                qt[2] = q[i, 2]
+                qt[r] += h
+                ax, ay, aw = _accel(j, ca, sa, qt[0], qt[1], qt[2], rg, bodies, shapes, geo, tables)
+                G[0, r] = (ax - a0x) / h
+                G[1, r] = (ay - a0y) / h
+                G[2, r] = (aw - a0w) / h
+            for r in range(3):
+                for c2 in range(3):
+                    G[r, c2] = 0.5 * (G[r, c2] + G[c2, r]) if r <= c2 else G[c2, r]
+            refresh[ii] = False
         for r in range(3):
             for c2 in range(3):
                 A[r, c2] = (1.0 if r == c2 else 0.0) - dt * G[r, c2]
@@ -333,6 +358,7 @@ def _linearise(b0, b1, isl, bodies, shapes, geo, tables, dt, q, s, mode, scale, 
                 for c2 in range(3):
                     W[ii, r, c2] = 1.0 if r == c2 else 0.0
                     G[r, c2] = 0.0
+            refresh[ii] = True
         g0 = isl[i, IB_SX] + dt * (a0x - G[0, 0] * q[i, 0] - G[0, 1] * q[i, 1] - G[0, 2] * q[i, 2])
         g1 = isl[i, IB_SY] + dt * (a0y - G[1, 0] * q[i, 0] - G[1, 1] * q[i, 1] - G[1, 2] * q[i, 2])
         g2 = isl[i, IB_SW] + dt * (a0w - G[2, 0] * q[i, 0] - G[2, 1] * q[i, 1] - G[2, 2] * q[i, 2])
@@ -423,6 +449,9 @@ def _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s
     nk = k1 - k0
     W = np.zeros((nb, 3, 3))
     f = np.zeros((nb, 3))
+    Gs = np.zeros((nb, 3, 3))  # each body's friction Jacobian (the chord method keeps it between iterations)
+    a0s = np.zeros((nb, 3))  # its friction at the current velocity
+    refresh = np.ones(nb, dtype=np.bool_)
     keff = np.zeros((max(nk, 1), 2))
     jac = np.zeros((2, 6))
     qt = np.zeros(3)
@@ -432,11 +461,21 @@ def _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s
     slack = 1e-3 * tol * vscale
     sweeps = 0
     feasible = False  # whether q meets the contacts (a programme's answer, or between two of them)
+    phi_known = False  # whether phi holds the objective at q
+    phi = 0.0
+    last = math.inf  # the last step's relative size
+    rubbing = False  # whether a contact has friction of its own (its part of the objective moves with the impulses)
+    for k in range(k0, k1):
+        if con[k, CN_FRICTION] > 0.0:
+            rubbing = True
     change = math.inf
     worst = -1
     it = 0
     for it in range(1, max_iter + 1):
-        _linearise(b0, b1, isl, bodies, shapes, geo, tables, dt, q, s, mode, scale, W, f, max_flips == 0)
+        if it == 1 or last > CHORD:
+            refresh[:] = True  # (far from the answer, or a restart: a fresh Jacobian)
+        _linearise(b0, b1, isl, bodies, shapes, geo, tables, dt, q, s, mode, scale, W, f, max_flips == 0, Gs, a0s,
+                   refresh)
         sweeps += _programme(b0, b1, k0, k1, isl, con, W, f, lam, s, qn, keff, jac, slack, max_sweeps)
         # sticking and letting go, with the impulses just found (a body that has changed max_flips times
         # keeps sliding: the line search below then takes it to rest, if that is where it goes)
@@ -473,7 +512,9 @@ def _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s
                         mode[ii] = 1
         if changed:
             feasible = False  # a body restarted from a guess: the next step is taken whole
+            phi_known = False
             change = math.inf
+            last = math.inf
             worst = -1
             continue
         # the line search on the objective, from a velocity that meets the contacts (dry friction; other laws
@@ -485,17 +526,23 @@ def _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s
             if mode[ii] == 1 and not dry[ii]:
                 all_dry = False
         if all_dry and feasible:
-            phi0 = _objective(b0, nb, k0, k1, isl, con, lam, q, qn, 0.0, mode, dt, bodies, shapes, geo, tables, qt,
-                              jac)
+            # (the objective at q is the last search's accepted value, where no contact has friction of its own:
+            # only those parts change with the impulses)
+            phi0 = phi if (phi_known and not rubbing) else _objective(b0, nb, k0, k1, isl, con, lam, q, qn, 0.0, mode,
+                                                                      dt, bodies, shapes, geo, tables, qt, jac, a0s)
             stalled = True
             for _ in range(40):
-                if _objective(b0, nb, k0, k1, isl, con, lam, q, qn, step, mode, dt, bodies, shapes, geo, tables, qt,
-                              jac) <= phi0:
+                phi = _objective(b0, nb, k0, k1, isl, con, lam, q, qn, step, mode, dt, bodies, shapes, geo, tables, qt,
+                                 jac, a0s)
+                if phi <= phi0:
                     stalled = False
                     break
                 step *= 0.5
+            phi_known = not stalled
             if stalled:  # no decrease along the step: as far as rounding lets it go (reported below)
                 step = 0.0
+        else:
+            phi_known = False
         feasible = True
         change = 0.0
         worst = -1
@@ -514,6 +561,12 @@ def _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s
                 worst = ii
         if change <= tol or stalled:
             break
+        # converging fast: the next step's size is about this one's times their ratio (an estimate that
+        # overstates a quadratic rate); where that is within tol, this step has landed
+        if step == 1.0 and last < math.inf and change < 0.5 * last and change * change / last <= tol:
+            change = change * change / last
+            break
+        last = change
     return it, sweeps, change, worst
 
 

@@ -300,15 +300,18 @@ class PlaneFriction(PlaneRows):
                         n_flag = self._step_apart(dt, NO_ACTIVE)
             else:
                 n_flag = self._step_first(dt)
+        stopping = None
         if n_flag is not None:
             if self.pre_step:
                 for f in self.pre_step:
                     f(dt)
             if n_flag:
-                self._rest(dt)
+                stopping = self._rest()
         self.space.step(dt)
         if self._coupling is not None and self._list:
             self._couple(dt)
+        if stopping:
+            self._stops(stopping, dt)
         y = dt - self._tc
         t = self.t + y
         self._tc = (t - self.t) - y
@@ -463,36 +466,44 @@ class PlaneFriction(PlaneRows):
 
     def _couple(self, dt: float) -> None:
         """The coupled step after pymunk's (:mod:`rrbody.engine.coupling`), and its bookkeeping: the rest
-        rule's flags of the bodies it solved are its own now, a body it brought to rest has stopped."""
-        done = self._coupling.after_step(dt, self._slots, self._bodies, (self._k_shapes, self._k_geo, self._k_tables))
-        if not done:
+        rule's flags of the bodies it solved are its own now (cleared), a body it brought to rest has stopped."""
+        if self._dirty:
+            self._relink()
+        events = self._coupling.after_step(dt, self._list, self._slots, self._bodies,
+                                           (self._k_shapes, self._k_geo, self._k_tables), self._k_lookup,
+                                           self.members)
+        if events is None:
             return
         self._still = None  # velocities written outside the compiled call: no step repeats the last one
         if self._sio is not None:
             self._sio.forget()
-        flags = self._bodies[:, K.STOP]
-        for body, held, was_at_rest in done:
-            j = self._slots[body]
-            stopping = flags[j] == K.STOPPING
-            flags[j] = 0.0
-            if held and not was_at_rest and not stopping:
-                self.n_stopped += 1
-                self._t_stop[body] = self.t + dt
-            elif stopping and not held:  # the force pass's stop did not happen: contacts kept it moving
-                self.n_stopped -= 1
-                self._t_stop.pop(body, None)
+        for j in events.tolist():  # the bodies it brought to rest in this step
+            self.n_stopped += 1
+            self._t_stop[self._list[j]] = self.t + dt
 
-    def _rest(self, dt: float) -> None:
-        """Bookkeeping of the rest rule: stop times, and exact zeros the step after a stop."""
+    def _rest(self) -> list[int]:
+        """The rest rule before pymunk's step: exact zeros the step after a stop; returns the rows it stops in
+        this step (their stop times are counted after the step, :meth:`_stops`: the coupled step may keep
+        them moving)."""
         flags = self._bodies[:, K.STOP]
-        for j in np.flatnonzero(flags):
-            b = self._list[int(j)]
+        stopping = []
+        for j in np.flatnonzero(flags).tolist():
             if flags[j] == K.ZEROED:
+                b = self._list[j]
                 b.velocity = (0.0, 0.0)
                 b.angular_velocity = 0.0
             else:
+                stopping.append(j)
+        return stopping
+
+    def _stops(self, rows: list[int], dt: float) -> None:
+        """Count the rest rule's stops of this step (``rows``) that stand: those the coupled step did not take
+        over (it clears the flag of every body it solves)."""
+        flags = self._bodies[:, K.STOP]
+        for j in rows:
+            if flags[j] == K.STOPPING:
                 self.n_stopped += 1
-                self._t_stop[b] = self.t + dt
+                self._t_stop[self._list[j]] = self.t + dt
 
     def stop_time(self, body: Any) -> float | None:
         """When the rest rule last stopped ``body`` (s, the plugin's clock), if it is at rest now; else None."""
