@@ -23,17 +23,11 @@ AGENT_R = 15.0
 
 
 def tee(space: pymunk.Space, position: tuple[float, float] = (256.0, 300.0)) -> pymunk.Body:
-    """gym-pusht's T (its add_tee): two bars of mass 1 in all, moment 3000 (the bar's moment counted twice,
-    as gym-pusht does), the centre of gravity midway between the bars' centroids, frictionless shapes."""
-    bar = [(-60.0, 30.0), (60.0, 30.0), (60.0, 0.0), (-60.0, 0.0)]
-    stem = [(-15.0, 30.0), (-15.0, 120.0), (15.0, 120.0), (15.0, 30.0)]
-    body = pymunk.Body(1.0, 2.0 * pymunk.moment_for_poly(1.0, vertices=bar))
-    shapes = [pymunk.Poly(body, bar), pymunk.Poly(body, stem)]
-    body.center_of_gravity = ((shapes[0].center_of_gravity.x + shapes[1].center_of_gravity.x) / 2,
-                              (shapes[0].center_of_gravity.y + shapes[1].center_of_gravity.y) / 2)
-    body.position = position
-    space.add(body, *shapes)
-    return body
+    """gym-pusht's T (rrbody.envs.pusht.tee_body: mass 1, moment 3000, the centre of gravity midway between
+    the bars' centroids, frictionless shapes)."""
+    from rrbody.envs.pusht import tee_body
+
+    return tee_body(space, position)[0]
 
 
 def push_tee(mu: float, speed: float, dt: float, offset: float, travels: tuple[float, ...], scheme: str = "coupled"):

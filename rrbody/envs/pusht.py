@@ -40,7 +40,7 @@ from rrbody.envs.tabletop import G, MU, SCALE, make_table
 from rrbody.model.checks import check_choice, check_int, check_range
 from rrbody.physics.overlap import overlap_area, pieces_area
 
-__all__ = ["OBS_TYPES", "TEE", "PushTEnv", "tee_corners"]
+__all__ = ["OBS_TYPES", "TEE", "PushTEnv", "tee_body", "tee_corners"]
 
 #: gym-pusht 0.1.8's observation types
 OBS_TYPES = ("state", "environment_state_agent_pos", "pixels", "pixels_agent_pos")
@@ -69,6 +69,23 @@ def _tee_vertices(scale: float = 30.0, length: float = 4.0) -> tuple[list[tuple[
 
 #: the T's corners in the body frame, (2, 4, 2) units: the top bar's 4, then the stem's
 TEE = np.array(_tee_vertices(), dtype=np.float64)
+
+
+def tee_body(space: Any, position: tuple[float, float] = (256.0, 300.0), angle: float = 0.0) -> tuple[Any, list[Any]]:
+    """gym-pusht's T (its ``add_tee``) added to the pymunk ``space``: mass 1 and gym-pusht's moment (the top
+    bar's about the body origin, twice: its second term reuses the top bar), the centre of gravity midway
+    between the two bars' centroids, frictionless shapes; its body origin at ``position`` (units) turned by
+    ``angle`` (rad). Returns (the body, its two shapes: the top bar, the stem)."""
+    import pymunk
+
+    top, stem = _tee_vertices()
+    block = pymunk.Body(1, 2 * pymunk.moment_for_poly(1, vertices=top))
+    shapes = [pymunk.Poly(block, top), pymunk.Poly(block, stem)]
+    block.center_of_gravity = (shapes[0].center_of_gravity + shapes[1].center_of_gravity) / 2
+    block.angle = angle
+    block.position = position
+    space.add(block, *shapes)
+    return block, shapes
 
 
 def tee_corners(x: float, y: float, angle: float) -> np.ndarray:
@@ -212,14 +229,7 @@ class PushTEnv(gym.Env):
         agent = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
         agent.position = (256, 400)
         space.add(agent, pymunk.Circle(agent, 15))
-        top, stem = _tee_vertices()
-        # gym-pusht's moment: the top bar's about the body origin, twice (its second term reuses the top bar)
-        block = pymunk.Body(1, 2 * pymunk.moment_for_poly(1, vertices=top))
-        shapes = [pymunk.Poly(block, top), pymunk.Poly(block, stem)]
-        block.center_of_gravity = (shapes[0].center_of_gravity + shapes[1].center_of_gravity) / 2
-        block.angle = 0
-        block.position = (256, 300)
-        space.add(block, *shapes)
+        block, shapes = tee_body(space, (256, 300), 0)
         if self.block_cog is not None:
             block.center_of_gravity = self.block_cog
         self.space, self.agent, self.block, self._block_shapes = space, agent, block, shapes
