@@ -56,7 +56,7 @@ from rrbody.physics.limit import at_rest
 __all__ = ["IB_ROW", "IB_M", "IB_RG", "IB_CA", "IB_SA", "IB_SX", "IB_SY", "IB_SW", "IB_VX", "IB_VY", "IB_VW",
            "IB_REST", "IB_ISLAND", "IB_PX", "IB_PY", "IB_PW", "N_IB", "CN_A", "CN_B", "CN_NX", "CN_NY", "CN_R1X", "CN_R1Y", "CN_R2X", "CN_R2Y",
            "CN_FRICTION", "CN_BOUNCE", "CN_VN0", "CN_VT0", "N_CN", "OUT_ITER", "OUT_SWEEPS", "OUT_RESIDUAL",
-           "OUT_WORST", "N_OUT", "couple"]
+           "OUT_WORST", "OUT_LEFT", "N_OUT", "couple"]
 
 #: island-body columns (one row per body on the plane in an island): its row in ``bodies``, mass (kg),
 #: radius of gyration r_g = sqrt(I / m) (m), cosine and sine of its angle after the engine's position
@@ -76,10 +76,10 @@ N_IB = 16
 #: surface velocity give (m/s)
 (CN_A, CN_B, CN_NX, CN_NY, CN_R1X, CN_R1Y, CN_R2X, CN_R2Y, CN_FRICTION, CN_BOUNCE, CN_VN0, CN_VT0) = range(12)
 N_CN = 12
-#: the per-island report: Newton iterations, contact sweeps in all, the last relative change, and the
-#: island body whose change it was (-1: none)
-OUT_ITER, OUT_SWEEPS, OUT_RESIDUAL, OUT_WORST = range(4)
-N_OUT = 4
+#: the per-island report: Newton iterations, contact sweeps in all, the last relative change, the island
+#: body whose change it was (-1: none), and 1.0 where the island was left to the engine (squeezed: SQUEEZE)
+OUT_ITER, OUT_SWEEPS, OUT_RESIDUAL, OUT_WORST, OUT_LEFT = range(5)
+N_OUT = 5
 
 #: forward-difference step of the friction's Jacobian, relative to the twist (the wrench is homogeneous of
 #: degree zero: its curvature scale is the twist itself, so the Jacobian is good to about this)
@@ -89,6 +89,16 @@ FD_STEP = 1e-7
 CHORD = 1e-2
 #: a Newton step that brings a body below this fraction of its scale passes through rest: test sticking
 PASS_REST = 1e-9
+#: a contact programme that, its sweeps spent, still has a contact closing faster than this fraction of the
+#: island's velocity scale has no answer: a body squeezed between bodies that cannot give way (a kinematic
+#: pusher driving it into a wall). The engine's own answer (its penetration correction) stands there
+SQUEEZE = 1e-3
+#: a Newton step smaller than this fraction of every body's scale is taken whole where the line search finds
+#: no decrease (after a first step: the iteration is then in its last, fast stage)
+SMALL_STEP = 1e-3
+#: a proximal map's slide slower than this fraction of the body's scale is checked against the limit-set
+#: test (held there, its answer is exactly rest)
+NEAR_REST = 1e-3
 #: how often a body may stick or let go in one step's solve (the active set's cycles end there)
 MAX_FLIPS = 6
 #: the nonsmooth Gauss-Seidel iteration's sweeps at most, per Newton iteration allowed (``max_iter``)
@@ -238,6 +248,18 @@ def _objective(b0, nb, k0, k1, isl, con, lam, q, qn, step, mode, dt, bodies, sha
 
 
 @njit(cache=True)
+def _largest(b0, nb, q, qn, scale):  # noqa: ANN001, ANN202
+    """The largest relative size of a body's step from q to qn (over its scale)."""
+    big = 0.0
+    for ii in range(nb):
+        d = 0.0
+        for r in range(3):
+            d += (qn[ii, r] - q[b0 + ii, r]) ** 2
+        big = max(big, math.sqrt(d) / scale[ii])
+    return big
+
+
+@njit(cache=True)
 def _pushed(i, b0, k0, k1, con, isl, qn, mode, jac, slack):  # noqa: ANN001, ANN202
     """Whether a contact of island body i, at rest, with a body that cannot give way either (a static or
     kinematic body, or another held body, at rest) closes faster than its bounce allows: no impulse can hold
@@ -370,7 +392,8 @@ def _linearise(b0, b1, isl, bodies, shapes, geo, tables, dt, q, s, mode, scale, 
 def _programme(b0, b1, k0, k1, isl, con, W, f, lam, s, qn, keff, jac, slack, max_sweeps):  # noqa: ANN001, ANN202
     """The linearised step's quadratic programme by projected Gauss-Seidel over the contact points, from
     the impulses ``lam``: the velocities ``qn`` and the contacts' impulses per unit mass ``s`` on each body.
-    Stops when no sweep moves a relative velocity by more than ``slack`` (m/s). Returns the sweeps."""
+    Stops when no sweep moves a relative velocity by more than ``slack`` (m/s). Returns the sweeps and, where they did not settle
+    within ``max_sweeps``, the largest speed at which a contact still closes beyond its bounce (m/s; 0 if settled)."""
     nb = b1 - b0
     for ii in range(nb):
         s[ii, :] = 0.0
@@ -433,8 +456,23 @@ def _programme(b0, b1, k0, k1, isl, con, W, f, lam, s, qn, keff, jac, slack, max
                         for c2 in range(3):
                             qn[bi - b0, c2] += W[bi - b0, c2, c1] * ds
         if biggest <= slack:
-            break
-    return sw
+            return sw, 0.0
+    # not settled within max_sweeps: how far the contacts' normal conditions are from met (a squeeze between
+    # bodies that cannot give way has no answer, and its impulses only grow)
+    worst = 0.0
+    for k in range(k0, k1):
+        _rows(con, k, isl, jac)
+        a = int(con[k, CN_A])
+        b = int(con[k, CN_B])
+        v = con[k, CN_VN0] + con[k, CN_BOUNCE]
+        if a >= 0:
+            for c1 in range(3):
+                v += jac[0, c1] * qn[a - b0, c1]
+        if b >= 0:
+            for c1 in range(3):
+                v += jac[0, 3 + c1] * qn[b - b0, c1]
+        worst = max(worst, -v)
+    return sw, worst
 
 
 @njit(cache=True)
@@ -453,6 +491,10 @@ def _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s
     a0s = np.zeros((nb, 3))  # its friction at the current velocity
     refresh = np.ones(nb, dtype=np.bool_)
     keff = np.zeros((max(nk, 1), 2))
+    Wt = np.zeros((nb, 3, 3))  # the programme's arrays for a body tried at rest
+    ft = np.zeros((nb, 3))
+    st = np.zeros((nb, 3))
+    qt2 = np.zeros((nb, 3))
     jac = np.zeros((2, 6))
     qt = np.zeros(3)
     dry = np.zeros(nb, dtype=np.bool_)
@@ -464,6 +506,7 @@ def _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s
     phi_known = False  # whether phi holds the objective at q
     phi = 0.0
     last = math.inf  # the last step's relative size
+    crawl = 0  # line searches in a row that cut the step below a quarter
     rubbing = False  # whether a contact has friction of its own (its part of the objective moves with the impulses)
     for k in range(k0, k1):
         if con[k, CN_FRICTION] > 0.0:
@@ -476,7 +519,9 @@ def _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s
             refresh[:] = True  # (far from the answer, or a restart: a fresh Jacobian)
         _linearise(b0, b1, isl, bodies, shapes, geo, tables, dt, q, s, mode, scale, W, f, max_flips == 0, Gs, a0s,
                    refresh)
-        sweeps += _programme(b0, b1, k0, k1, isl, con, W, f, lam, s, qn, keff, jac, slack, max_sweeps)
+        inner = slack
+        n_sw, closing = _programme(b0, b1, k0, k1, isl, con, W, f, lam, s, qn, keff, jac, inner, max_sweeps)
+        sweeps += n_sw
         # sticking and letting go, with the impulses just found (a body that has changed max_flips times
         # keeps sliding: the line search below then takes it to rest, if that is where it goes)
         changed = False
@@ -502,14 +547,28 @@ def _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s
                 nq = math.sqrt(qn[ii, 0] ** 2 + qn[ii, 1] ** 2 + qn[ii, 2] ** 2)
                 through = qn[ii, 0] * q[i, 0] + qn[ii, 1] * q[i, 1] + qn[ii, 2] * q[i, 2] <= 0.0
                 if nq <= PASS_REST * scale[ii] or through:
-                    held, vx, vy, vw = _at_rest(i, isl, s[ii], dt, bodies, shapes, geo)
-                    mode[ii] = 2  # (tried: a body its contacts would push out of rest again is not held)
-                    if held and not _pushed(i, b0, k0, k1, con, isl, qn, mode, jac, slack):
+                    # tried at rest: the programme again with it held (its contacts' impulses then are those that
+                    # hold it), and held only where its limit set takes the load those leave and nothing that
+                    # cannot give way pushes it
+                    mode[ii] = 2
+                    held = not _pushed(i, b0, k0, k1, con, isl, qn, mode, jac, slack)
+                    if held:
+                        Wt[:, :, :] = W
+                        ft[:, :] = f
+                        Wt[ii, :, :] = 0.0
+                        ft[ii, :] = 0.0
+                        lt = lam.copy()
+                        sweeps += _programme(b0, b1, k0, k1, isl, con, Wt, ft, lt, st, qt2, keff, jac, inner,
+                                             max_sweeps)[0]
+                        held = _at_rest(i, isl, st[ii], dt, bodies, shapes, geo)[0]
+                    if held:
                         q[i, :] = 0.0
                         flips[ii] += 1
                         changed = True
                     else:
                         mode[ii] = 1
+        if not changed and closing > SQUEEZE * vscale:
+            return it, sweeps, -1.0, -1  # squeezed: no body lets go, and no velocity meets the contacts
         if changed:
             feasible = False  # a body restarted from a guess: the next step is taken whole
             phi_known = False
@@ -539,7 +598,13 @@ def _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s
                     break
                 step *= 0.5
             phi_known = not stalled
-            if stalled:  # no decrease along the step: as far as rounding lets it go (reported below)
+            if stalled and last < math.inf and _largest(b0, nb, q, qn, scale) <= SMALL_STEP:
+                # close to the answer the objective's fixed-bound model of the contacts' own friction (the
+                # programme's Coulomb bounds move with its impulses) can miss a decrease the step makes: the
+                # step is taken whole, as Newton's near its answer
+                stalled = False
+                step = 1.0
+            elif stalled:  # no decrease along a large step: as far as rounding lets it go (reported below)
                 step = 0.0
         else:
             phi_known = False
@@ -566,6 +631,13 @@ def _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s
         if step == 1.0 and last < math.inf and change < 0.5 * last and change * change / last <= tol:
             change = change * change / last
             break
+        # crawling: a body that may stick or let go no more, and the line search cutting step after step (the
+        # kink of its friction at rest in the way): the Gauss-Seidel iteration settles such an island faster
+        crawl = crawl + 1 if step < 0.25 else 0
+        if crawl >= 3 and max_flips > 0:
+            for ii in range(nb):
+                if flips[ii] >= max_flips:
+                    return it, sweeps, change, worst
         last = change
     return it, sweeps, change, worst
 
@@ -608,6 +680,15 @@ def _solve_island(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, 
     vscale = _start(b0, b1, isl, bodies, shapes, geo, dt, q, s, mode, scale)
     it, sweeps, change, worst = _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s, qn,
                                         mode, flips, scale, vscale, tol, max_iter, max_sweeps, MAX_FLIPS)
+    if change < 0.0:  # squeezed: left to the engine (its velocities, its friction as the split step applied it)
+        for ii in range(nb):
+            pinned[b0 + ii] = -1
+        out[OUT_ITER] = it
+        out[OUT_SWEEPS] = sweeps
+        out[OUT_RESIDUAL] = 0.0
+        out[OUT_WORST] = -1
+        out[OUT_LEFT] = 1.0
+        return
     for ii in range(nb):
         for r in range(3):
             q[b0 + ii, r] = 0.0 if mode[ii] == 2 else qn[ii, r]
@@ -631,7 +712,7 @@ def _solve_island(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, 
                                             mode, flips, scale, vscale, tol, max_iter, max_sweeps, 0)
         it += it2
         sweeps += sw2
-        if change2 <= tol and _consistent(b0, b1, k0, k1, isl, con, bodies, shapes, geo, dt, qn, s, mode, tol, vscale):
+        if 0.0 <= change2 <= tol and _consistent(b0, b1, k0, k1, isl, con, bodies, shapes, geo, dt, qn, s, mode, tol, vscale):
             change, worst = change2, worst2
             for ii in range(nb):
                 for r in range(3):
@@ -654,43 +735,38 @@ def _solve_island(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, 
     out[OUT_SWEEPS] = sweeps
     out[OUT_RESIDUAL] = change
     out[OUT_WORST] = -1 if worst < 0 else b0 + worst
+    out[OUT_LEFT] = 0.0
 
 
 @njit(cache=True)
-def _prox(i, isl, u, dt, bodies, shapes, geo, tables, guess):  # noqa: ANN001, ANN202
-    """Island body i's velocity after one implicit step of its friction alone from the velocity u (q
-    coordinates): the proximal map. Dry friction: at rest if its limit set holds the load u / dt (static
-    friction's coefficient for a body at rest at the step's start), else the maximum-dissipation twist
-    (:func:`rrbody.physics.limit.at_rest`). Other laws: Newton on q = u + dt a(q) from ``guess``."""
+def _prox_newton(i, isl, u, dt, bodies, shapes, geo, tables, qv, iters):  # noqa: ANN001, ANN202
+    """Newton on q = u + dt a(q) from ``qv`` (updated in place), at most ``iters`` iterations; True where it
+    met the equation (to 1e-14 of its scale) without passing through rest (a sliding answer: the proximal map
+    is unique, so that is it)."""
     j = int(isl[i, IB_ROW])
-    sx = u[0] - isl[i, IB_SX]
-    sy = u[1] - isl[i, IB_SY]
-    sw = u[2] - isl[i, IB_SW]
-    s = np.array([sx, sy, sw])
-    if _sticky(j, bodies):
-        held, vx, vy, vw = _at_rest(i, isl, s, dt, bodies, shapes, geo)
-        if held:
-            return 0.0, 0.0, 0.0
-        if bodies[j, LAW] == LAW_DRY:
-            return vx, vy, vw
-        guess = np.array([vx, vy, vw])
     rg = isl[i, IB_RG]
     ca = isl[i, IB_CA]
     sa = isl[i, IB_SA]
-    qv = guess.copy()
+    scale = math.sqrt(u[0] ** 2 + u[1] ** 2 + u[2] ** 2) + dt * bodies[j, COEFF] + 1e-300
     G = np.zeros((3, 3))
     W = np.zeros((3, 3))
-    for _ in range(30):
+    qt = np.zeros(3)
+    sticky = _sticky(j, bodies)
+    for _ in range(iters):
+        nq = math.sqrt(qv[0] ** 2 + qv[1] ** 2 + qv[2] ** 2)
+        if sticky and nq <= PASS_REST * scale:
+            return False
         a0x, a0y, a0w = _accel(j, ca, sa, qv[0], qv[1], qv[2], rg, bodies, shapes, geo, tables)
         rx = qv[0] - u[0] - dt * a0x
         ry = qv[1] - u[1] - dt * a0y
         rw = qv[2] - u[2] - dt * a0w
-        scale = math.sqrt(u[0] ** 2 + u[1] ** 2 + u[2] ** 2) + dt * bodies[j, COEFF] + 1e-300
         if math.sqrt(rx * rx + ry * ry + rw * rw) <= 1e-14 * scale:
-            break
-        h = FD_STEP * max(math.sqrt(qv[0] ** 2 + qv[1] ** 2 + qv[2] ** 2), PASS_REST * scale)
+            return True
+        h = FD_STEP * max(nq, PASS_REST * scale)
         for r in range(3):
-            qt = qv.copy()
+            qt[0] = qv[0]
+            qt[1] = qv[1]
+            qt[2] = qv[2]
             qt[r] += h
             ax, ay, aw = _accel(j, ca, sa, qt[0], qt[1], qt[2], rg, bodies, shapes, geo, tables)
             G[0, r] = (ax - a0x) / h
@@ -699,9 +775,41 @@ def _prox(i, isl, u, dt, bodies, shapes, geo, tables, guess):  # noqa: ANN001, A
         A = np.eye(3) - 0.5 * dt * (G + G.T)
         if not _inv3(A, W):
             W[:, :] = np.eye(3)
-        qv[0] -= W[0, 0] * rx + W[0, 1] * ry + W[0, 2] * rw
-        qv[1] -= W[1, 0] * rx + W[1, 1] * ry + W[1, 2] * rw
-        qv[2] -= W[2, 0] * rx + W[2, 1] * ry + W[2, 2] * rw
+        n0 = qv[0] - (W[0, 0] * rx + W[0, 1] * ry + W[0, 2] * rw)
+        n1 = qv[1] - (W[1, 0] * rx + W[1, 1] * ry + W[1, 2] * rw)
+        n2 = qv[2] - (W[2, 0] * rx + W[2, 1] * ry + W[2, 2] * rw)
+        if sticky and n0 * qv[0] + n1 * qv[1] + n2 * qv[2] <= 0.0:
+            return False  # through rest: the limit-set test decides
+        qv[0], qv[1], qv[2] = n0, n1, n2
+    return False
+
+
+@njit(cache=True)
+def _prox(i, isl, u, dt, bodies, shapes, geo, tables, guess):  # noqa: ANN001, ANN202
+    """Island body i's velocity after one implicit step of its friction alone from the velocity u (q
+    coordinates): the proximal map. From a sliding ``guess`` (the body's last answer), Newton on
+    q = u + dt a(q) with the body's own friction evaluation (a wrench table where it has one); where that
+    does not settle as a slide, or there is no sliding guess, dry friction's exact answer: at rest if its
+    limit set holds the load u / dt (static friction's coefficient for a body at rest at the step's start),
+    else the maximum-dissipation twist (:func:`rrbody.physics.limit.at_rest`); another law that sticks starts
+    Newton from that twist."""
+    j = int(isl[i, IB_ROW])
+    scale = math.sqrt(u[0] ** 2 + u[1] ** 2 + u[2] ** 2) + dt * bodies[j, COEFF] + 1e-300
+    qv = guess.copy()
+    if math.sqrt(qv[0] ** 2 + qv[1] ** 2 + qv[2] ** 2) > PASS_REST * scale:
+        if _prox_newton(i, isl, u, dt, bodies, shapes, geo, tables, qv, 8) and (
+                math.sqrt(qv[0] ** 2 + qv[1] ** 2 + qv[2] ** 2) > NEAR_REST * scale or not _sticky(j, bodies)):
+            return qv[0], qv[1], qv[2]
+        qv[:] = guess  # (a slide this slow may be a rest the Newton iteration only approaches: the test decides)
+    if _sticky(j, bodies):
+        s = np.array([u[0] - isl[i, IB_SX], u[1] - isl[i, IB_SY], u[2] - isl[i, IB_SW]])
+        held, vx, vy, vw = _at_rest(i, isl, s, dt, bodies, shapes, geo)
+        if held:
+            return 0.0, 0.0, 0.0
+        if bodies[j, LAW] == LAW_DRY:
+            return vx, vy, vw
+        qv[0], qv[1], qv[2] = vx, vy, vw
+    _prox_newton(i, isl, u, dt, bodies, shapes, geo, tables, qv, 30)
     return qv[0], qv[1], qv[2]
 
 
@@ -713,7 +821,8 @@ def _nsgs(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s, 
     (its normal and tangential impulse, the plain masses) and of each body's friction (its proximal map,
     :func:`_prox`: the friction impulse that the body's velocity, less its last friction impulse, calls for).
     Block coordinate ascent on the dual of a convex problem: it converges, linearly. Returns (sweeps, the
-    last sweep's largest relative change, that body)."""
+    last sweep's largest relative change of a body's velocity or of its contacts' impulse per unit mass, that
+    body)."""
     nb = b1 - b0
     pt = np.zeros((nb, 3))  # each body's friction impulse per unit mass
     for ii in range(nb):
@@ -727,6 +836,7 @@ def _nsgs(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s, 
     sw = 0
     for sw in range(1, max_sweeps + 1):
         start = q[b0:b1].copy()
+        start_s = s.copy()
         for k in range(k0, k1):
             _rows(con, k, isl, jac)
             a = int(con[k, CN_A])
@@ -776,8 +886,12 @@ def _nsgs(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s, 
         change = 0.0
         worst = -1
         for ii in range(nb):
+            # (the velocity's change and the contacts' impulses': a body held while a contact's impulse on it
+            # still grows has not settled)
             d = math.sqrt((q[b0 + ii, 0] - start[ii, 0]) ** 2 + (q[b0 + ii, 1] - start[ii, 1]) ** 2
                           + (q[b0 + ii, 2] - start[ii, 2]) ** 2) / scale[ii]
+            d = max(d, math.sqrt((s[ii, 0] - start_s[ii, 0]) ** 2 + (s[ii, 1] - start_s[ii, 1]) ** 2
+                                 + (s[ii, 2] - start_s[ii, 2]) ** 2) / scale[ii])
             if d > change:
                 change = d
                 worst = ii

@@ -261,8 +261,10 @@ def couple_islands(raw: np.ndarray, n_raw: int, body: np.ndarray, bodies: np.nda
     into the caller's arrays (a row per plane row at least) the plane rows solved (``order``), their
     velocities (``vel``: m/s, rad/s), the plane rows of the bodies it brought to rest in this step
     (``stopped``: held now, moving at the step's start) and each island's report (``report``: a row of
-    :data:`rrbody.contact.coupled.N_OUT`, its worst body as a plane row). Returns (the bodies solved, the
-    bodies stopped, the islands, how many islands did not converge)."""
+    :data:`rrbody.contact.coupled.N_OUT`, its worst body as a plane row). Returns (the bodies whose velocity
+    it set, the bodies stopped, the islands, how many islands did not converge). An island squeezed between
+    bodies that cannot give way (:data:`rrbody.contact.coupled.SQUEEZE`) keeps the engine's velocities and the
+    plane step's friction: none of its bodies is among those set."""
     isl, con, rows = assemble(raw, n_raw, body, bodies, dt, damp, gx, gy)
     nb = isl.shape[0]
     q = np.zeros((nb, 3))
@@ -279,22 +281,26 @@ def couple_islands(raw: np.ndarray, n_raw: int, body: np.ndarray, bodies: np.nda
     n_bad = CP.couple(isl, con, bodies, shapes, geo, tables, dt, q, lam, pinned, fric, tol, max_iter, max_sweeps,
                       report)
     n_ev = 0
+    n_set = 0
     for i in range(nb):
+        if pinned[i] < 0:
+            continue  # left to the engine: its velocity, and the friction the plane step applied before it
         j = rows[i]
         rg = isl[i, CP.IB_RG]
         m = isl[i, CP.IB_M]
-        order[i] = j
-        vel[i, 0] = q[i, 0]
-        vel[i, 1] = q[i, 1]
-        vel[i, 2] = q[i, 2] / rg
+        order[n_set] = j
+        vel[n_set, 0] = q[i, 0]
+        vel[n_set, 1] = q[i, 1]
+        vel[n_set, 2] = q[i, 2] / rg
+        n_set += 1
         bodies[j, FFX] = m * fric[i, 0]
         bodies[j, FFY] = m * fric[i, 1]
         bodies[j, FFT] = m * rg * fric[i, 2]
         bodies[j, STOP] = 0.0  # (the plane step's rest rule does not act on a body the coupled step solved)
-        if pinned[i] and isl[i, CP.IB_REST] == 0.0:
+        if pinned[i] > 0 and isl[i, CP.IB_REST] == 0.0:
             stopped[n_ev] = j
             n_ev += 1
     for r in range(n_isl):
         if report[r, CP.OUT_WORST] >= 0:
             report[r, CP.OUT_WORST] = rows[int(report[r, CP.OUT_WORST])]
-    return nb, n_ev, n_isl, n_bad
+    return n_set, n_ev, n_isl, n_bad

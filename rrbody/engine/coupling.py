@@ -37,7 +37,7 @@ TOL = 1e-10
 #: Newton iterations at most per island (a step that needs more warns, naming the body)
 MAX_ITER = 60
 #: projected Gauss-Seidel sweeps over an island's contact points at most per Newton iteration
-MAX_SWEEPS = 2000
+MAX_SWEEPS = 500
 
 
 class Coupling:

@@ -226,6 +226,23 @@ def _residual(shapes, geo, s0, s1, lx, ly, lt, j, c, ax, ay, aw):  # noqa: ANN00
 
 
 @njit(cache=True)
+def _solve3(J: np.ndarray, rx: float, ry: float, rt: float) -> tuple[float, float, float]:
+    """J^-1 (rx, ry, rt) by Cramer's rule; NaNs where J is singular to rounding (its determinant below 1e-14
+    of the product of its rows' sizes)."""
+    a, b, c = J[0, 0], J[0, 1], J[0, 2]
+    d, e, f = J[1, 0], J[1, 1], J[1, 2]
+    g, h, i = J[2, 0], J[2, 1], J[2, 2]
+    det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
+    size = (math.sqrt(a * a + b * b + c * c) * math.sqrt(d * d + e * e + f * f) * math.sqrt(g * g + h * h + i * i))
+    if not abs(det) > 1e-14 * size:
+        return math.nan, math.nan, math.nan
+    x = (rx * (e * i - f * h) - b * (ry * i - f * rt) + c * (ry * h - e * rt)) / det
+    y = (a * (ry * i - f * rt) - rx * (d * i - f * g) + c * (d * rt - ry * g)) / det
+    z = (a * (e * rt - ry * h) - b * (d * rt - ry * g) + rx * (d * h - e * g)) / det
+    return x, y, z
+
+
+@njit(cache=True)
 def _polish(shapes, geo, s0, s1, lx, ly, lt, j, c, ax, ay, aw):  # noqa: ANN001 (numba)
     """Newton's method on M a = L + c F(a) from GJK's answer (GJK converges only linearly on a smooth
     limit set): its Jacobian M - c dF/da is positive definite (dF/da is minus the Hessian of the
@@ -251,7 +268,9 @@ def _polish(shapes, geo, s0, s1, lx, ly, lt, j, c, ax, ay, aw):  # noqa: ANN001 
             J[0, k] = (px - mx) / (2.0 * hk)
             J[1, k] = (py - my) / (2.0 * hk)
             J[2, k] = (pt - mt) / (2.0 * hk)
-        step = np.linalg.solve(J, np.array([rx, ry, rt]))
+        step = _solve3(J, rx, ry, rt)
+        if step[0] != step[0]:  # a singular Jacobian (the twist on a kink of the wrench): GJK's answer stands
+            break
         nx, ny, nw = ax - step[0], ay - step[1], aw - step[2]
         qx, qy, qt = _residual(shapes, geo, s0, s1, lx, ly, lt, j, c, nx, ny, nw)
         q2 = qx * qx + qy * qy + qt * qt / j
