@@ -1,8 +1,8 @@
 """Examples a user copies run again unchanged: every snippet of the README and the docs that writes a
 file says ``--force`` (command line) or ``force=True`` (Python) where it means to replace what a first
 run wrote, and the Python snippets write files of their own names, so that reading the pages top to
-bottom in one folder, twice, fails nowhere. The README's Python snippets and getting-started's run
-twice here for real.
+bottom in one folder, twice, fails nowhere. The README's plugin snippet, the command line page's Python
+snippet and getting-started's run twice here for real.
 """
 
 from __future__ import annotations
@@ -68,7 +68,8 @@ def test_every_python_writer_says_force_and_names_its_own_file() -> None:
             name = first.group(1)
             assert names.setdefault(name, page.name) == page.name, f"{name} is written by {names[name]} and {page.name}"
     assert seen >= 8
-    assert "traj_py.csv" in names and names["traj_py.csv"] == "README.md"
+    assert "topdown.mp4" in names and names["topdown.mp4"] == "README.md"
+    assert "traj_py.csv" in names and names["traj_py.csv"] == "cli.md"
 
 
 def _python_block(page: Path, marker: str) -> str:
@@ -80,9 +81,10 @@ def _python_block(page: Path, marker: str) -> str:
 
 @pytest.mark.slow
 def test_the_first_snippets_run_twice_in_one_folder(tmp_path: Path) -> None:
-    """README's plugin and "From Python" snippets and getting-started's, in document order, twice."""
+    """README's plugin snippet, the command line page's "From Python" and getting-started's, in document
+    order, twice."""
     blocks = [_python_block(ROOT / "README.md", "Recorder(space, pf)"),
-              _python_block(ROOT / "README.md", "traj.save("),
+              _python_block(ROOT / "docs" / "cli.md", "traj.save("),
               _python_block(ROOT / "docs" / "getting-started.md", "render_movie(")]
     env = {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg"}
     for round_ in (1, 2):
@@ -90,5 +92,5 @@ def test_the_first_snippets_run_twice_in_one_folder(tmp_path: Path) -> None:
             p = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=env, capture_output=True, text=True,
                                timeout=1200)
             assert p.returncode == 0, f"run {round_}:\n{code}\n{p.stderr[-2000:]}"
-    assert sorted(x.name for x in tmp_path.iterdir()) == ["box.mp4", "run_started.mp4", "traj_py.csv",
-                                                          "traj_started.csv"]
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["run_started.mp4", "topdown.mp4", "topdown.png",
+                                                          "traj_py.csv", "traj_started.csv"]
