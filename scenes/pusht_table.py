@@ -18,13 +18,19 @@ impulse per step mu g dt doubles, so the pair tells friction's presence from its
    table that travel is exactly 0 unless a wall touched the T after its release (checked: RuntimeError).
 2. The demonstrator in closed loop on each table (does feedback make up for the table?).
 3. An off-centre push square to the top bar's upper face at offsets b = 0-60 units from the T's
-   axis, at 10-300 units/s, at the environment's 10 ms step and at 1 ms: the T's rotation per unit
-   travel (limit surface against inertia), beside two exact predictions: inertia, dtheta/ds = m b / I;
-   quasi-static pushing, the twist whose friction wrench balances the push (the plugin's footprint).
+   axis, at 10-300 units/s: the T's rotation per unit travel (limit surface against inertia). The
+   agent is driven by its targets, as an action drives it. Stepped at the environment's 10 ms with the
+   plugin's coupled step (its default: the env's table) and with its split step (friction before
+   pymunk's contact solve, ``PlaneFriction(scheme="split")``), and at 0.1 ms (the dt -> 0 limit of
+   this push), beside three exact answers: inertia, dtheta/ds = m b / I; quasi-static pushing, the
+   twist whose friction wrench balances the push (the plugin's footprint); and at b = 60 the exact push
+   of a disk at constant speed (rrbody.analysis.pushing.push_limit, an ODE, not the plugin: the push of
+   ``rrbody scene coupled-push``, which differs from the driven one in its start from rest).
 Outputs: results/pusht-table/ (episodes.csv: a row per sequence and world; closed_loop.csv; pushes.csv;
 summary.json; table.md, the tables docs/envs-study.md shows; recorder.mp4 and recorder.rrd: the movie's
 table run filmed by rrbody's Recorder), docs/figures/pusht_table.png, movies/pusht_table.mp4 (one
-demonstration, no table | mu 0.3). About 3 minutes on one core; ``--episodes N`` runs fewer.
+demonstration, no table | mu 0.3). One core; the random walks' pinches on the tables take most of
+its time (the coupled step's solves there); ``--episodes N`` runs fewer.
 """
 
 from __future__ import annotations
@@ -52,7 +58,13 @@ COG = (0.0, 45.0)  # the T's centre of gravity in its body frame (gym-pusht's), 
 AGENT_R, REACH = 15.0, 76.5  # the agent's radius; the T's farthest point from its centre of gravity (units)
 PUSH_OFFSETS = (0.0, 10.0, 20.0, 30.0, 40.0, 50.0, 60.0)  # units from the T's axis along the top bar
 PUSH_SPEEDS = (10.0, 30.0, 50.0, 100.0, 300.0)  # the push's target speed, units/s (x 1/600: 1.7 cm/s to 0.5 m/s)
-PUSH_DTS = (0.01, 0.001)  # physics steps (s): the environment's, and a tenth of it (a convergence check)
+PUSH_DTS = (0.01, 0.0001)  # physics steps (s): the environment's, and a hundredth of it (the dt -> 0 limit)
+#: the push series: (world, physics step, the plugin's scheme; None without a table). The split step only at
+#: the environment's step, where it and the coupled step differ (both tend to the same limit as dt -> 0)
+PUSH_SERIES: tuple[tuple[str, float, str | None], ...] = (
+    ("no table", PUSH_DTS[0], None), ("mu 0.3", PUSH_DTS[0], "coupled"), ("mu 0.6", PUSH_DTS[0], "coupled"),
+    ("mu 0.3", PUSH_DTS[0], "split"), ("mu 0.6", PUSH_DTS[0], "split"),
+    ("mu 0.3", PUSH_DTS[1], "coupled"), ("mu 0.6", PUSH_DTS[1], "coupled"))
 SQUIRT = 1.5  # a T released faster than this x the agent's speed was squirted out of a pinch
 PUSH_TRAVEL, RATE_AT = 60.0, 3.0  # the agent's push travel; the T's travel at which dtheta/ds is read (units)
 
@@ -68,10 +80,12 @@ def cog(x: float, y: float, a: float) -> np.ndarray:
     return np.array([x + c * COG[0] - s * COG[1], y + s * COG[0] + c * COG[1]])
 
 
-def make(world: str, seed: int | None = None, state: Sequence[float] | None = None) -> Any:
+def make(world: str, seed: int | None = None, state: Sequence[float] | None = None, *,
+         scheme: str = "coupled") -> Any:
     """A fresh environment of ``world`` (the class gymnasium.make("rrbody/PushT-v0", ...) wraps; unwrapped,
     so that no time limit or order check stands between the study and its actions), reset with ``seed``
-    or to ``state`` ([agent x, agent y, T x, T y, T angle]), then the world's nudge."""
+    or to ``state`` ([agent x, agent y, T x, T y, T angle]), then the world's nudge. ``scheme``: the
+    plugin's step on a table ("coupled", the env's own; "split": :func:`split_table`)."""
     from rrbody.envs.pusht import PushTEnv
 
     kw = dict(WORLDS[world])
@@ -80,7 +94,29 @@ def make(world: str, seed: int | None = None, state: Sequence[float] | None = No
     env.reset(seed=seed, options=None if state is None else {"reset_to_state": list(state)})
     if nudge:
         env.block.position = (env.block.position.x + nudge, env.block.position.y)
+    if scheme == "split":
+        split_table(env)
+    elif scheme != "coupled":
+        raise ValueError(f"scheme must be 'coupled' or 'split', got {scheme!r}")
     return env
+
+
+def split_table(env: Any) -> None:
+    """Put the split step (``PlaneFriction(scheme="split")``: the table's friction applied before pymunk's
+    contact solve, the plugin's step before the coupled one) under ``env``'s T in place of the env's
+    coupled table, after its reset (which rebuilds the space and the table): the same table (g, mu,
+    mu_static, pressure) and the same sub-steps near a wall. The env takes no scheme of its own. The
+    reset's one physics step ran on the coupled table; a T at rest that nothing touches steps alike on
+    both. Call it again after every reset."""
+    from rrbody.engine.plugin import PlaneFriction
+    from rrbody.envs.substep import guarded
+
+    t = env.table
+    if t is None:
+        raise ValueError("the split step needs a table (table=True)")
+    env.plane = PlaneFriction(env.space, g=t.g_space, scheme="split")
+    env.plane.add(env.block, mu=t.mu, mu_static=t.mu_static, pressure=t.pressure)
+    env._advance = guarded(env.plane.step, [env.block], env.space)
 
 
 class Probe:
@@ -262,15 +298,19 @@ def demonstrate(seed: int, world: str = "no table", n: int = N_ACTIONS) -> tuple
 
 
 # ---- the off-centre push -------------------------------------------------------------------------
-def push(world: str, offset: float, speed: float, dt: float = 0.01) -> dict[str, Any]:
+def push(world: str, offset: float, speed: float, dt: float = 0.01, scheme: str | None = None) -> dict[str, Any]:
     """The T at rest at origin (256, 300), angle 0; the agent just above its top bar's upper face (0.5
     units clear) at ``offset`` (units) from its axis; the agent's target runs PUSH_TRAVEL units down at
     ``speed`` (units/s), stays 0.5 s, then the agent backs off for 1 s; physics steps of ``dt`` (s; the
-    environment's is 0.01, 10 per action). Returns the T's rotation per unit travel of its centre of
-    gravity when that travel first reaches RATE_AT units (rad/unit), its rotation (rad) and travel
-    (units) at the end."""
+    environment's is 0.01, 10 per action); on a table the plugin's ``scheme`` (None: the env's, coupled).
+    Returns the T's rotation per unit travel of its centre of gravity when that travel first reaches
+    RATE_AT units (rad/unit), its rotation (rad) and travel (units) at the end."""
     y0 = 300.0 - AGENT_R - 0.5  # the face is the T's origin's line, y = 300
-    env = make(world, state=[256.0 + offset, y0, 256.0, 300.0, 0.0])
+    table = WORLDS[world]["table"]
+    if scheme is not None and not table:
+        raise ValueError(f"world {world!r} has no table: its scheme is None, got {scheme!r}")
+    scheme = ("coupled" if scheme is None else scheme) if table else None
+    env = make(world, state=[256.0 + offset, y0, 256.0, 300.0, 0.0], scheme=scheme or "coupled")
     env.dt = dt  # PushTEnv.step runs 1 / (dt x 10 Hz) physics steps per action
     probe = Probe(env)
     targets = [y0 + min(speed * 0.1 * k, PUSH_TRAVEL) for k in range(1, math.ceil(PUSH_TRAVEL / (speed * 0.1)) + 1)]
@@ -279,8 +319,8 @@ def push(world: str, offset: float, speed: float, dt: float = 0.01) -> dict[str,
     pose = np.array(probe.pose)
     s = np.hypot(*(np.array([cog(*p[:3]) for p in pose]) - cog(256.0, 300.0, 0.0)).T)
     i = int(np.argmax(s >= RATE_AT))
-    return {"world": world, "dt": dt, "speed": speed, "offset": offset, "rate": pose[i, 2] / s[i], "turn": pose[-1, 2],
-            "travel": s[-1]}
+    return {"world": world, "dt": dt, "scheme": scheme or "", "speed": speed, "offset": offset,
+            "rate": pose[i, 2] / s[i], "turn": pose[-1, 2], "travel": s[-1]}
 
 
 def predictions(offsets: Sequence[float]) -> dict[str, list[float]]:
@@ -308,6 +348,26 @@ def predictions(offsets: Sequence[float]) -> dict[str, list[float]]:
 
     return {"m b / I (inertia)": [env.block.mass * b / env.block.moment for b in offsets],
             "quasi-static (limit surface)": [quasi_static(b) for b in offsets]}
+
+
+def exact_push(offset: float, speeds: Sequence[float], worlds: Sequence[str]) -> dict[str, dict[str, float]]:
+    """dtheta/ds (rad/unit) at RATE_AT units of the centre of gravity's travel of the exact push
+    (rrbody.analysis.pushing.push_limit: the dt -> 0 limit, an ODE with impacts and releases, not the
+    plugin): the T as :func:`push` places it, the agent's disk from where it starts there, at ``offset``,
+    moving along +y at each of ``speeds`` (units/s) from the start, on each of ``worlds``' tables
+    (mu g, g the env's). That is ``rrbody scene coupled-push``'s push: a kinematic disk at constant speed,
+    where the study's agent is driven by its targets (from rest, lagging them); the two agree where the
+    agent reaches the target's speed before the T has turned much. {world: {speed: rate}}."""
+    from rrbody.analysis.pushing import PushGeometry, push_limit
+
+    y0 = 300.0 - AGENT_R - 0.5
+    out: dict[str, dict[str, float]] = {}
+    for world in worlds:
+        env = make(world, state=[256.0 + offset, y0, 256.0, 300.0, 0.0])
+        mu_g = env.table.mu * env.table.g_space
+        out[world] = {f"{v:g}": push_limit(PushGeometry(env.block, AGENT_R, (256.0 + offset, y0), (0.0, v)), mu_g,
+                                           [RATE_AT])[RATE_AT] for v in speeds}
+    return out
 
 
 # ---- the study -----------------------------------------------------------------------------------
@@ -368,15 +428,17 @@ def summarize(rows: list[dict[str, Any]]) -> dict[str, Any]:
     return out
 
 
-def push_key(world: str, dt: float) -> str:
-    """The name of a push series: its world and physics step."""
-    return f"{world}, dt {1e3 * dt:g} ms"
+def push_key(world: str, dt: float, scheme: str | None = None) -> str:
+    """The name of a push series: its world, physics step and, on a table, the plugin's scheme."""
+    return f"{world}, dt {1e3 * dt:g} ms" + (f", {scheme} step" if scheme else "")
 
 
-def by_series(pushes: list[dict[str, Any]], series: list[tuple[str, float]], m: str) -> dict[str, dict[str, list]]:
+def by_series(pushes: list[dict[str, Any]], series: Sequence[tuple[str, float, str | None]],
+              m: str) -> dict[str, dict[str, list]]:
     """The pushes' measure ``m``: {series name: {speed: [one per offset, in PUSH_OFFSETS' order]}}."""
-    return {push_key(w, dt): {f"{v:g}": [p[m] for p in pushes if (p["world"], p["dt"], p["speed"]) == (w, dt, v)]
-                              for v in PUSH_SPEEDS} for w, dt in series}
+    return {push_key(w, dt, sch): {f"{v:g}": [p[m] for p in pushes
+                                              if (p["world"], p["dt"], p["scheme"], p["speed"]) == (w, dt, sch or "", v)]
+                                   for v in PUSH_SPEEDS} for w, dt, sch in series}
 
 
 def _q(s: dict[str, float], digits: int = 2) -> str:
@@ -386,7 +448,8 @@ def _q(s: dict[str, float], digits: int = 2) -> str:
 def markdown(summary: dict[str, Any]) -> str:
     """The tables of docs/envs-study.md, from summary.json alone (tests/test_envs_study.py checks the
     page's copy against it): the replays (medians [quartiles]), the pusher in closed loop, and
-    dtheta/ds of the push at the top bar's end against its speed."""
+    dtheta/ds of the push at the top bar's end against its speed: each series of the driven push, the
+    exact push of a disk at constant speed, and the two speed-free answers."""
     lines = ["| actions | world | success | final coverage | position error (units) | abs angle error (rad) "
              "| end apart from no table (units) | travel after the last contact (units) | squirted out "
              "| travel, the others (units) |", "|---|---|---|---|---|---|---|---|---|---|"]
@@ -405,6 +468,9 @@ def markdown(summary: dict[str, Any]) -> str:
               + " | ".join(f"{v:g} units/s" for v in p["speeds"]) + " |", "|---|" + "---|" * len(p["speeds"])]
     for key, by_speed in p["rate"].items():
         lines.append(f"| {key} | " + " | ".join(f"{1e3 * by_speed[f'{v:g}'][i]:.2f}" for v in p["speeds"]) + " |")
+    for world, by_speed in p["exact_push"].items():
+        lines.append(f"| {world}, exact push at constant speed (dt -> 0) | "
+                     + " | ".join(f"{1e3 * by_speed[f'{v:g}']:.2f}" for v in p["speeds"]) + " |")
     for name, values in p["predictions"].items():
         cells = " | ".join([f"{1e3 * values[i]:.2f}"] * len(p["speeds"]))
         lines.append(f"| {name} (exact, any speed) | {cells} |")
@@ -418,7 +484,8 @@ COLOURS = {"no table": "0.3", "no table, nudged": "0.65", "mu 0.3": "tab:blue", 
 def figure(rows: list[dict[str, Any]], summary: dict[str, Any], path: Path, *, force: bool) -> Path:
     """Box plots per family and world (coverage, position error, angle error, travel after the last
     contact) and the off-centre pushes (dtheta/ds against the offset at 50 units/s and against the
-    speed at the top bar's end, beside both predictions)."""
+    speed at the top bar's end, beside both speed-free answers and, there, the exact push): the
+    coupled step filled, the split step crosses, the fine step open."""
     import matplotlib.pyplot as plt
 
     from rrbody.model.io import atomic_path
@@ -451,10 +518,16 @@ def figure(rows: list[dict[str, Any]], summary: dict[str, Any], path: Path, *, f
         a.plot(p["offsets"], 1e3 * np.array(values), style, lw=1.2, label=name)
         b.axhline(1e3 * values[i60], color="k", ls=style[1:], lw=1.2, label=name)
     for key, by_speed in p["rate"].items():
-        world, fine = key.split(", dt")[0], "1 ms" in key
-        look = {"color": COLOURS[world], "mfc": "none" if fine else COLOURS[world], "ls": ":" if fine else "-"}
-        a.plot(p["offsets"], 1e3 * np.array(by_speed[f"{PUSH_SPEEDS[v50]:g}"]), "o", label=key, **look)
-        b.plot(p["speeds"], [1e3 * by_speed[f"{v:g}"][i60] for v in p["speeds"]], "o", label=key, **look)
+        world, fine, split = key.split(", dt")[0], f"dt {1e3 * PUSH_DTS[0]:g} ms" not in key, "split" in key
+        look = {"color": COLOURS[world], "mfc": "none" if fine else COLOURS[world], "ls": ":" if fine else "-",
+                "marker": "x" if split else "o", "ms": 7 if split else 5, "alpha": 0.6 if split else 1.0}
+        if split:
+            look["ls"] = "--"
+        a.plot(p["offsets"], 1e3 * np.array(by_speed[f"{PUSH_SPEEDS[v50]:g}"]), label=key, **look)
+        b.plot(p["speeds"], [1e3 * by_speed[f"{v:g}"][i60] for v in p["speeds"]], label=key, **look)
+    for world, by_speed in p["exact_push"].items():
+        b.plot(p["speeds"], [1e3 * by_speed[f"{v:g}"] for v in p["speeds"]], "-", color=COLOURS[world], lw=3,
+               alpha=0.35, label=f"{world}, exact push at constant speed")
     a.set(xlabel="push offset b from the T's axis (units)", ylabel="dtheta/ds (mrad per unit)")
     a.set_title(f"a push along the top bar's normal at 50 units/s: rotation per unit travel\n"
                 f"of the centre of gravity over its first {RATE_AT:g} units", fontsize=10)
@@ -576,8 +649,7 @@ def run(out_dir: Path, *, force: bool = True, episodes: int | None = None, movie
     closed += [{"seed": r["seed"], "world": "no table", "success_action": r["success_action"]} for r in rows
                if r["family"] == "demonstrations" and r["world"] == "no table"]
     # 3. the off-centre pushes
-    series = [(w, dt) for dt in PUSH_DTS for w in PUSH_WORLDS if dt == PUSH_DTS[0] or WORLDS[w]["table"]]
-    pushes = [push(w, b, v, dt) for w, dt in tqdm(series, desc="off-centre pushes", file=sys.stderr)
+    pushes = [push(w, b, v, dt, sch) for w, dt, sch in tqdm(PUSH_SERIES, desc="off-centre pushes", file=sys.stderr)
               for v in PUSH_SPEEDS for b in PUSH_OFFSETS]
     summary = {
         "worlds": WORLDS, "seeds": {f: [s[0], s[-1]] for f, s in seeds.items() if s}, "actions_per_episode": N_ACTIONS,
@@ -589,14 +661,17 @@ def run(out_dir: Path, *, force: bool = True, episodes: int | None = None, movie
                         for w in PUSH_WORLDS for by_world in [[r for r in closed if r["world"] == w]]},
         "push": {"offsets": PUSH_OFFSETS, "speeds": PUSH_SPEEDS, "travel_units": PUSH_TRAVEL, "rate_at_units": RATE_AT,
                  "predictions": predictions(PUSH_OFFSETS),
-                 **{m: by_series(pushes, series, m) for m in ("rate", "turn", "travel")}}}
+                 "exact_push": exact_push(max(PUSH_OFFSETS), PUSH_SPEEDS, PUSH_WORLDS[1:]),
+                 **{m: by_series(pushes, PUSH_SERIES, m) for m in ("rate", "turn", "travel")}}}
     write_table(out_dir / "episodes.csv", COLUMNS, [[r[c] for c in COLUMNS] for r in rows], force=force,
                 meta={"worlds": WORLDS, "units": "workspace units (1/600 m), rad, s, units/s"})
     write_table(out_dir / "closed_loop.csv", ("seed", "world", "success_action"),
                 [[r[c] for c in ("seed", "world", "success_action")] for r in closed], force=force)
-    names = ("world", "dt", "speed", "offset", "rate", "turn", "travel")
+    names = ("world", "dt", "scheme", "speed", "offset", "rate", "turn", "travel")
     write_table(out_dir / "pushes.csv", names, [[p[c] for c in names] for p in pushes], force=force,
-                meta={"units": "dt s, speed units/s, offset units, rate rad/unit, turn rad, travel units"})
+                meta={"units": "dt s, speed units/s, offset units, rate rad/unit, turn rad, travel units",
+                      "scheme": "the plugin's step on a table (coupled: the env's; split: friction before "
+                                "pymunk's contact solve); empty without a table"})
     # the movie's episode: of the demonstrations that succeed without a table within 16 s, the one the
     # mu 0.3 table spoils most (the largest drop in final coverage)
     end = {(r["seed"], r["world"]): r for r in rows if r["family"] == "demonstrations"}
