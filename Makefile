@@ -120,7 +120,8 @@ demo: $(VENV)/.installed-demo $(VENV)/.kernels-demo
 # its kernels compiled by that venv's numba into a cache folder of its own (the checkout's install-time
 # kernels are the main venv's numba's: not copied, RRBODY_NO_SEED). make test runs LOWEST_TESTS there
 # after the whole suite: the kernels of a flip time, the plugin and its exact references on every route,
-# the recorder, the takeovers of private names, the MuJoCo adapter, rrbody.envs against the installed
+# the recorder, the takeovers of private names, the coupled step's two routes to the contacts, the MuJoCo adapter
+# and its push, rrbody.envs against the installed
 # gym-pusht (docs/versions.md)
 LOWEST := .venv-lowest
 LOWEST_EXTRAS := test engine mujoco movie envs
@@ -129,7 +130,7 @@ LOWEST_EXTRAS := test engine mujoco movie envs
 PUSHT := gym-pusht==0.1.8
 LOWEST_TESTS := tests/test_flip.py tests/test_plugin_io.py tests/test_plugin_fused.py tests/test_takeovers.py tests/test_plugin.py \
 	tests/test_recorder.py tests/test_mujoco.py tests/test_tableaus.py tests/test_envs_pusht.py tests/test_envs_table.py tests/test_envs_draw.py \
-	tests/test_overlap.py
+	tests/test_overlap.py tests/test_coupled_routes.py tests/test_mujoco_push.py
 LOWEST_RUN = PYTHONPATH=$(CURDIR) RRBODY_REQUIRE_PUSHT=1 RRBODY_CACHE_DIR=$(CURDIR)/$(LOWEST)/cache RRBODY_NO_SEED=1 MPLBACKEND=Agg \
 	$(LOWEST)/bin/python
 
@@ -137,7 +138,7 @@ LOWEST_RUN = PYTHONPATH=$(CURDIR) RRBODY_REQUIRE_PUSHT=1 RRBODY_CACHE_DIR=$(CURD
 # the plugin's routes and exact references, the recorder, the drive, the ODE kernels, the MuJoCo adapter
 # (the tests that compare a private path with its takeover are marked `private` and skipped there)
 PUBLIC_TESTS := tests/test_plugin_io.py tests/test_plugin.py tests/test_takeovers.py tests/test_recorder.py \
-	tests/test_flip.py tests/test_mujoco.py tests/test_private_switch.py
+	tests/test_flip.py tests/test_mujoco.py tests/test_private_switch.py tests/test_coupled_routes.py
 
 $(LOWEST)/.installed: pyproject.toml | $(UV)
 	@echo "==> lowest-venv: installing the oldest versions pyproject allows into $(LOWEST) (about $(call unq,$(T_LOWEST)) in the recorded run)"

@@ -19,8 +19,15 @@ interleaved (each repeat times every variant in turn on a freshly built space), 
    the repeats. Target: 10,000 adds cost at most 15x 1,000 (linear growth is 10x; rebuilding the
    arrays on every add made it quadratic).
 
-The engine study (``python -m benchmarks.run --only engine``) runs all three and records study 3 in
-``engine_plugin_adds.csv`` and as the last of its targets.
+4. **One pushed body**: gym-pusht's T (mass 1, moment 3000 units^2, frictionless shapes) on a table of
+   mu 0.3 (g = 5886 units/s^2), pushed 30 units off its axis by a kinematic disk of radius 15 at 10
+   units/s (below mu g dt: where the coupled step matters), dt = 0.01 s, 150 steps of contact timed after
+   20; ``pf.step`` with the coupled step (the default) against the split step (``scheme="split"``), and
+   the coupled step on its public route (pymunk's Python arbiter API) beside its compiled one. Target:
+   the coupled step at most 2x the split step.
+
+The engine study (``python -m benchmarks.run --only engine``) runs all four and records study 3 in
+``engine_plugin_adds.csv`` and study 4 in ``engine_plugin_push.csv``, the last two of its targets.
 """
 
 from __future__ import annotations
@@ -215,3 +222,55 @@ def add_scaling(ns: Sequence[int] = (1000, 10_000), repeats: int = 3) -> tuple[l
                     f"{top['removes_ratio']:.2f}x)", top["adds_ratio"] <= want,
                     f"best of {repeats}, interleaved; half circles, half boxes")
     return rows, target
+
+
+PUSH_STEPS, PUSH_WARM = 150, 20
+PUSHED_MAX = 2.0  # the coupled step's cost over the split step's, for one pushed body
+
+
+def _pushed(variant: str) -> Any:
+    """Study 4's space: the T pushed by the disk, warmed up ``PUSH_WARM`` steps into its contact."""
+    import pymunk
+
+    from rrbody.engine.coupling import Coupling
+    from rrbody.envs.pusht import tee_body
+    from rrbody.plugin import PlaneFriction
+
+    space = pymunk.Space()
+    body, _ = tee_body(space)
+    agent = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+    agent.position = (286.0, 284.5)
+    space.add(agent, pymunk.Circle(agent, 15.0))
+    agent.velocity = (0.0, 10.0)
+    pf = PlaneFriction(space, g=5886.0, scheme="split" if variant == "split" else "coupled")
+    if variant == "coupled, public route":
+        pf._coupling = Coupling(space, route="public")  # (the benchmark's choice of route)
+    pf.add(body, mu=0.3)
+    for _ in range(PUSH_WARM):
+        pf.step(0.01)
+    return pf
+
+
+def pushed_body(repeats: int) -> tuple[dict[str, float], Target]:
+    """Study 4: us per ``pf.step`` of each variant (best of ``repeats`` fresh spaces, interleaved) and the
+    target."""
+    variants = ["split", "coupled", "coupled, public route"]
+    for v in variants:  # warm: the compiled kernels load, not timed
+        _pushed(v).step(0.01)
+    best = {v: math.inf for v in variants}
+    for _ in range(repeats):
+        for v in variants:
+            pf = _pushed(v)
+            t0 = time.perf_counter()
+            for _ in range(PUSH_STEPS):
+                pf.step(0.01)
+            best[v] = min(best[v], (time.perf_counter() - t0) / PUSH_STEPS)
+    us = {v: b * 1e6 for v, b in best.items()}
+    ratio = us["coupled"] / us["split"]
+    print("[engine/plugin] one pushed body, us per pf.step: " + ", ".join(f"{v} {u:.2f}" for v, u in us.items()),
+          flush=True)
+    target = Target("one pushed body (gym-pusht's T pushed at 10 units/s, dt 0.01 s): pf.step coupled vs split",
+                    f"<= {PUSHED_MAX:g}x", f"{ratio:.2f}x ({us['coupled']:.2f} vs {us['split']:.2f} us per step; "
+                    f"the coupled step on the public route {us['coupled, public route']:.2f} us)",
+                    ratio <= PUSHED_MAX, f"best of {repeats} fresh spaces x {PUSH_STEPS} steps, interleaved")
+    return us, target
