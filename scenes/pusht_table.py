@@ -29,8 +29,8 @@ impulse per step mu g dt doubles, so the pair tells friction's presence from its
 Outputs: results/pusht-table/ (episodes.csv: a row per sequence and world; closed_loop.csv; pushes.csv;
 summary.json; table.md, the tables docs/envs-study.md shows; recorder.mp4 and recorder.rrd: the movie's
 table run filmed by rrbody's Recorder), docs/figures/pusht_table.png, movies/pusht_table.mp4 (one
-demonstration, no table | mu 0.3). One core; the random walks' pinches on the tables take most of
-its time (the coupled step's solves there); ``--episodes N`` runs fewer.
+demonstration, no table | mu 0.3). One core; the replays and the off-centre pushes at 0.1 ms take most
+of its time; ``--episodes N`` runs fewer.
 """
 
 from __future__ import annotations

@@ -33,7 +33,7 @@ __all__ = ["LEVELS", "MAX_SUBSTEPS", "far_point", "guarded", "thickness", "wall_
 #: a physics step of dt is cut into pymunk steps of dt / 2^k, k <= LEVELS: at most 2^13 = 8192 of them.
 #: With gym-pusht's walls and step that keeps bodies up to 3.3e6 units/s inside (its agent pushes at most
 #: about 2,000 units/s; a T wedged by it into a wall is shot out faster: the table study's fastest squirt
-#: was 3,032 units/s). A faster body gets 8192 sub-steps, a bounded cost, and may cross a wall.
+#: was 2,897 units/s). A faster body gets 8192 sub-steps, a bounded cost, and may cross a wall.
 LEVELS = 13
 MAX_SUBSTEPS = 1 << LEVELS
 
