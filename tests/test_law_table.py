@@ -166,7 +166,7 @@ def test_bind_refuses_an_unknown_law() -> None:
 
 
 def test_the_contact_method_refuses_a_law_without_its_form(monkeypatch: pytest.MonkeyPatch) -> None:
-    """rrbody.physics.effects.area_contact gave no force for a law other than dry and viscous."""
+    """rrbody.physics.areas.area_contact gave no force for a law other than dry and viscous."""
     from rrbody.physics.bind import kernel_params
 
     _restricted(monkeypatch, "viscous", ("point", "sampled", "icr", "table"))
