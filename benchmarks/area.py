@@ -51,10 +51,10 @@ def _err(w: tuple[float, float, float], ref: tuple[float, float, float], R: floa
 def run(out: Path, *, quick: bool = False) -> StudyResult:
     ok, why = module_available("rrbody.physics.icr")
     if ok:
-        from rrbody.physics import area as A
+        from rrbody.physics import area
 
         try:
-            A.area_samples(__import__("rrbody.model.bodies", fromlist=["Disk"]).Disk(R=0.1), 48)
+            area.area_samples(__import__("rrbody.model.bodies", fromlist=["Disk"]).Disk(R=0.1), 48)
         except Exception as e:  # noqa: BLE001
             ok, why = False, f"area_samples not usable yet: {e}"
     if not ok:
@@ -83,20 +83,20 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
             # CM velocity at 30 degrees to the body x axis (a generic direction for the ellipse)
             vx, vy = speed * math.cos(0.5236), speed * math.sin(0.5236)
             if isinstance(body, Disk):
-                ref = A.disk_closed_form(R, vx, vy, spin, mu_g=1.0)
+                ref = area.disk_closed_form(R, vx, vy, spin, mu_g=1.0)
                 ref_name = "closed form (elliptic integrals)"
             else:
-                ref = A.icr_wrench(body, 0.0, vx, vy, spin, law="dry", coeff=1.0, nodes=512)
+                ref = area.icr_wrench(body, 0.0, vx, vy, spin, law="dry", coeff=1.0, nodes=512)
                 ref_name = "ICR, 512 nodes/panel"
             for n in nodes:
-                w = A.icr_wrench(body, 0.0, vx, vy, spin, law="dry", coeff=1.0, nodes=n)
+                w = area.icr_wrench(body, 0.0, vx, vy, spin, law="dry", coeff=1.0, nodes=n)
                 m = 20000
                 cost = _per_call(lambda mm: _loop_icr(a, b, n, mm, vx, vy, spin, body.inertia_per_mass), m)
                 rows.append({"body": bname, "motion": ename, "method": "icr", "resolution": n, "error": _err(w, ref, R),
                              "ns_per_eval": cost * 1e9, "reference": ref_name})
             for N in samples:
-                S = A.area_samples(body, N)
-                w = A.sampled_wrench(body, 0.0, vx, vy, spin, law="dry", coeff=1.0, samples=N)
+                S = area.area_samples(body, N)
+                w = area.sampled_wrench(body, 0.0, vx, vy, spin, law="dry", coeff=1.0, samples=N)
                 m = max(20, int(2e6 // S.shape[0]))
                 cost = _per_call(lambda mm: _loop_sampled(S, mm, vx, vy, spin), m)
                 rows.append({"body": bname, "motion": ename, "method": "sampled", "resolution": S.shape[0],

@@ -9,7 +9,7 @@ import numpy as np
 import pymunk
 import pytest
 
-from rrbody.engine import arbiters as A
+from rrbody.engine import arbiters
 from rrbody.engine.coupling import Coupling
 from rrbody.plugin import PlaneFriction
 
@@ -48,9 +48,10 @@ def _scene(route: str) -> tuple[PlaneFriction, list[pymunk.Body]]:
     return pf, bodies
 
 
-@pytest.mark.skipif(A.compiled_route() is None, reason="the compiled route is not taken on this pymunk or platform")
+@pytest.mark.skipif(arbiters.compiled_route() is None,
+                    reason="the compiled route is not taken on this pymunk or platform")
 def test_both_routes_step_a_scene_bit_for_bit() -> None:
-    runs = {route: _scene(route) for route in A.ROUTES}
+    runs = {route: _scene(route) for route in arbiters.ROUTES}
     solved = 0
     for _ in range(300):
         states = []
@@ -65,7 +66,7 @@ def test_both_routes_step_a_scene_bit_for_bit() -> None:
 def test_no_private_takes_the_public_route(monkeypatch: pytest.MonkeyPatch) -> None:
     """RRBODY_NO_PRIVATE=1: no compiled route, and asking for it is a ValueError naming it."""
     monkeypatch.setenv("RRBODY_NO_PRIVATE", "1")
-    assert A.compiled_route() is None
+    assert arbiters.compiled_route() is None
     assert Coupling(pymunk.Space()).route == "public"
     with pytest.raises(ValueError, match="route 'compiled' is not available here"):
         Coupling(pymunk.Space(), route="compiled")

@@ -50,7 +50,7 @@ def _free_disk(law: str = "viscous", **kw: object) -> object:
 
 # ---- one table, everything derived ------------------------------------------------------------
 def test_the_derived_tables_agree_with_the_law_table() -> None:
-    from rrbody.contact import columns as K
+    from rrbody.contact import columns
     from rrbody.model import friction
     from rrbody.physics import effects, params as P
     from rrbody.physics.effects import laws as EL
@@ -59,13 +59,13 @@ def test_the_derived_tables_agree_with_the_law_table() -> None:
     assert friction.LAWS == L.LAWS == tuple(codes)
     assert friction.LAW_CODES == effects.LAWS == codes
     assert (EL.NONE, EL.DRY, EL.VISCOUS) == (codes["none"], codes["dry"], codes["viscous"])
-    assert K.LAW_CODE == {n: float(c) for n, c in codes.items()}
-    assert (K.LAW_NONE, K.LAW_DRY, K.LAW_VISCOUS) == (0.0, 1.0, 2.0)
+    assert columns.LAW_CODE == {n: float(c) for n, c in codes.items()}
+    assert (columns.LAW_NONE, columns.LAW_DRY, columns.LAW_VISCOUS) == (0.0, 1.0, 2.0)
     assert list(effects.AREAS) == list(L.AREA_METHODS) and list(effects.AREAS.values()) == list(range(5))
     assert (P.BODY_POINT, P.BODY_SAMPLED, P.BODY_ICR, P.BODY_TABLE, P.BODY_CONTACT) == (0, 1, 2, 3, 4)
     assert FRICTION_METHODS == ("auto", *L.AREA_METHODS[1:])
     # the law parameters' slots, on both paths, and the scene's flat parameters
-    assert P.SIZE == P.LAWP + L.N_LAW_PARAMS and K.N_BODY >= K.LAWP + L.N_LAW_PARAMS
+    assert P.SIZE == P.LAWP + L.N_LAW_PARAMS and columns.N_BODY >= columns.LAWP + L.N_LAW_PARAMS
     assert set(L.LAW_PARAMS) <= set(SCENE_PARAMS) and set(L.LAW_PARAMS) <= set(NUMERIC_SCENE_PARAMS)
 
 
@@ -166,7 +166,7 @@ def test_bind_refuses_an_unknown_law() -> None:
 
 
 def test_the_contact_method_refuses_a_law_without_its_form(monkeypatch: pytest.MonkeyPatch) -> None:
-    """rrbody.physics.effects.area_contact gave no force for a law other than dry and viscous."""
+    """rrbody.physics.areas.area_contact gave no force for a law other than dry and viscous."""
     from rrbody.physics.bind import kernel_params
 
     _restricted(monkeypatch, "viscous", ("point", "sampled", "icr", "table"))
@@ -200,7 +200,7 @@ def test_the_quadrature_refuses_a_law_without_its_form(monkeypatch: pytest.Monke
 
 def test_the_plugin_refuses_a_law_without_its_form(monkeypatch: pytest.MonkeyPatch) -> None:
     """rrbody.contact.accel evaluated every law but viscous as dry friction."""
-    from rrbody.contact import columns as K
+    from rrbody.contact import columns
     from rrbody.engine import PlaneFriction
     from rrbody.engine.shapes import body_footprint
     from rrbody.model.pressure import uniform
@@ -217,9 +217,9 @@ def test_the_plugin_refuses_a_law_without_its_form(monkeypatch: pytest.MonkeyPat
                                          r"got 7\.0"):
         pf.add_footprint(body, law=7.0, **kw)
     with pytest.raises(ValueError, match=r"coeff must be 0 for friction 'none'"):
-        pf.add_footprint(body, law=K.LAW_NONE, **kw)
+        pf.add_footprint(body, law=columns.LAW_NONE, **kw)
     with pytest.raises(ValueError, match=r"params must be 0 numbers for friction 'dry'"):
-        pf.add_footprint(body, law=K.LAW_DRY, params=(0.1,), **kw)
+        pf.add_footprint(body, law=columns.LAW_DRY, params=(0.1,), **kw)
     # pf.add: the law by name, checked before the body is added
     with pytest.raises(ValueError, match="law must be one of 'dry', 'viscous', 'stribeck', 'none', got 'bogus'"):
         pf.add(body, mu=0.4, law="bogus")
@@ -231,7 +231,7 @@ def test_the_plugin_refuses_a_law_without_its_form(monkeypatch: pytest.MonkeyPat
     _restricted(monkeypatch, "viscous", ("point", "sampled"))
     with pytest.raises(ValueError, match=r"friction 'viscous' has no form for the area method 'contact' \(the "
                                          r"plugin integrates"):
-        pf.add_footprint(body, law=K.LAW_VISCOUS, **kw)
+        pf.add_footprint(body, law=columns.LAW_VISCOUS, **kw)
     _restricted(monkeypatch, "dry", ("point", "sampled", "icr", "table"))
     with pytest.raises(ValueError, match=r"friction 'dry' has no form for the area method 'contact' \(add "
                                          r"integrates"):
@@ -239,7 +239,7 @@ def test_the_plugin_refuses_a_law_without_its_form(monkeypatch: pytest.MonkeyPat
     assert pf.members == 0  # nothing was added
     monkeypatch.undo()
     pf.add(body, mu=0.4, law="dry", params={})  # dry friction: the plugin's own
-    assert pf.rows[0][K.LAW] == K.LAW_DRY
+    assert pf.rows[0][columns.LAW] == columns.LAW_DRY
 
 
 def test_every_declared_form_exists_in_the_kernels() -> None:

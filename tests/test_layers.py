@@ -112,6 +112,24 @@ def test_the_packages_of_one_level_do_not_import_each_other() -> None:
     assert not crossing, crossing
 
 
+#: the bottom of the physics layer and what each may import from it: the parameter layout nothing, the effects
+#: (laws, drive, tilt, the area methods that apply a law alone) the layout and each other; the kernels import
+#: them, and the area methods that call kernels stand above those (rrbody.physics.areas)
+PHYSICS_LEAVES = {"rrbody.physics.params": (),
+                  "rrbody.physics.effects": ("rrbody.physics.params", "rrbody.physics.effects")}
+
+
+def test_the_effects_and_the_parameter_layout_import_no_kernel() -> None:
+    """Within physics the imports run downward too: no effect imports a kernel that imports the effects."""
+    def under(m: str, root: str) -> bool:
+        return m == root or m.startswith(root + ".")
+
+    up = sorted(f"{m} -> {t}" for leaf, allowed in PHYSICS_LEAVES.items() for m, targets in GRAPH.items()
+                if under(m, leaf) for t in targets
+                if _package(t) == "physics" and not any(under(t, a) for a in allowed))
+    assert not up, up
+
+
 def _third_party(path: Path) -> set[str]:
     """The top-level names of the packages outside rrbody that ``path`` imports (at any depth, or through
     rrbody.model.extras.require("NAME", ...))."""

@@ -18,13 +18,13 @@ from collections.abc import Sequence
 from typing import Any
 
 from rrbody._version import __version__
-from rrbody.cli.args import CliError, Parser, angle, check_options, commands, drop_warnings, emit, flush_warnings, \
+from rrbody.cli.args import CliError, Parser, check_options, commands, drop_warnings, emit, flush_warnings, \
     number, option_help, option_message, parse
 from rrbody.cli.active_options import add_active_options, with_active
 from rrbody.cli.cache import add_parser as add_cache_parser
-from rrbody.cli.options import (SIMULATE_OUTPUTS, add_accuracy_options, add_friction_options, add_integrator_options,
-                                add_scene_options, check_contradictions, check_simulate_outputs, echo_typed,
-                                number_text, scene_from_args, stepper_option, typed)
+from rrbody.cli.options import (SIMULATE_OUTPUTS, add_accuracy_options, add_drive_option, add_friction_options,
+                                add_integrator_options, add_scene_options, check_contradictions, check_simulate_outputs,
+                                echo_typed, number_text, scene_from_args, stepper_option, typed)
 
 __all__ = ["main", "entry", "build_parser", "scene_from_args", "run_command"]
 
@@ -259,13 +259,11 @@ def build_parser() -> Parser:
     c = sub.add_parser("critical-h", help="critical geometry H_c(k) for the rod-mass body",
                        description="H_c: first RR/no-RR boundary as H grows. Example: rrbody critical-h --k 0.01 "
                                    "--omega 0.3 --json")
-    c.add_argument("--k", type=number("--k"), help=option_help("k", "friction k = mu g / d (viscous: gamma in 1/s)"))
-    c.add_argument("--mu", type=number("--mu"), help=option_help("mu", "friction coefficient (with --g, --d)"))
-    c.add_argument("--g", type=number("--g"), default=9.81, help=option_help("g", "gravity, with --mu", 9.81))
-    c.add_argument("--d", type=number("--d"), default=1.0, help=option_help("d", "driving radius, with --mu", 1))
-    c.add_argument("--omega", type=number("--omega"), help=option_help("omega", "driving rate (required)"))
-    c.add_argument("--phi0", type=angle("--phi0"), default=math.pi,
-                   help=option_help("phi0", "initial angle (number, 'pi/2', '180deg', ...)", "pi"))
+    for opt, text in (("--k", "friction k = mu g / d (viscous: gamma in 1/s)"),
+                      ("--mu", "friction coefficient (with --g, --d)"), ("--g", None),
+                      ("--d", "driving radius, with --mu"), ("--omega", None),
+                      ("--phi0", "initial angle (number, 'pi/2', '180deg', ...)")):
+        add_drive_option(c, opt, text)  # the scene's declarations, their help worded for H_c
     add_friction_options(c)
     c.add_argument("--tol", type=number("--tol"), default=1e-9, help=option_help("tol", "tolerance on H_c", "1e-9"))
     add_accuracy_options(c)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from collections.abc import Callable
 from typing import Any
 
 from rrbody.cli.args import (CliError, angle, check_options, float_list, given, integer, number, option_help,
@@ -15,7 +16,8 @@ from rrbody.model.scene import FRICTION_METHODS, SCENE_PARAMS
 
 __all__ = ["add_scene_options", "add_friction_options", "add_integrator_options", "add_accuracy_options", "scene_from_args", "scene_params",
            "SCENE_OPTIONS", "INTEGRATOR_OPTIONS", "STEPPERS", "stepper_option", "check_contradictions",
-           "SIMULATE_OUTPUTS", "check_simulate_outputs", "typed", "echo_typed", "number_text"]
+           "SIMULATE_OUTPUTS", "check_simulate_outputs", "typed", "echo_typed", "number_text", "DRIVE_OPTIONS",
+           "add_drive_option"]
 
 #: simulate's outputs: option -> (the suffix its writer needs, what the file holds)
 SIMULATE_OUTPUTS = {"--out": ("", "trajectory CSV"), "--movie": (".mp4", "movie"),
@@ -27,6 +29,25 @@ SCENE_OPTIONS = ("--H", "--l", "--R0", "--delta", "--omega", "--d", "--k", "--mu
 #: agree; spelled out here so that parsing the command line does not load the compiled core)
 STEPPERS = ("auto", "dop853", "radau", "rodas")
 INTEGRATOR_OPTIONS = ("--rtol", "--dt", "--iterations", "--max-steps", "--t-max")
+#: the drive's, the friction's and the start's options, which critical-h takes too: option -> (its argparse
+#: type's maker, default, help text, default as the help shows it)
+DRIVE_OPTIONS: dict[str, tuple[Callable[[str], Callable[[str], float]], float | None, str, object]] = {
+    "--omega": (number, None, "driving rate (required)", None),
+    "--d": (number, 1.0, "driving radius", 1),
+    "--k": (number, None, "friction k = mu g / d (viscous: gamma in 1/s); required unless --mu or --friction none",
+            None),
+    "--mu": (number, None, "friction coefficient (with --g and --d, instead of --k)", None),
+    "--g": (number, 9.81, "gravity, with --mu", 9.81),
+    "--phi0": (angle, math.pi, "initial angle of CM -> P: a number (rad) or 'pi', 'pi/2', '3pi/4', '-0.5*pi', "
+                               "'180deg'", "pi"),
+}
+
+
+def add_drive_option(g: Any, opt: str, text: str | None = None) -> None:
+    """Declare one of :data:`DRIVE_OPTIONS` on ``g`` (a parser or a group): its type, default, unit and
+    range; ``text`` replaces its help's words where a command words it its own way."""
+    kind, default, words, shown = DRIVE_OPTIONS[opt]
+    g.add_argument(opt, type=kind(opt), default=default, help=option_help(opt[2:], text or words, shown))
 
 
 def add_scene_options(p: argparse.ArgumentParser, *, free_bodies: bool = True) -> None:
@@ -49,17 +70,10 @@ def add_scene_options(p: argparse.ArgumentParser, *, free_bodies: bool = True) -
                    help=option_help("delta", "ellipse: R_A = R0 (1 + delta), R_B = R0 (1 - delta)", 0))
     g.add_argument("--orientation", choices=("x", "y"), default="x",
                    help="initial direction of the R_A semi-axis (default x)")
-    g.add_argument("--omega", type=number("--omega"), help=option_help("omega", "driving rate (required)"))
-    g.add_argument("--d", type=number("--d"), default=1.0, help=option_help("d", "driving radius", 1))
-    g.add_argument("--k", type=number("--k"), help=option_help("k", "friction k = mu g / d (viscous: gamma in 1/s); "
-                                                                "required unless --mu or --friction none"))
-    g.add_argument("--mu", type=number("--mu"), help=option_help("mu", "friction coefficient (with --g and --d, "
-                                                                  "instead of --k)"))
-    g.add_argument("--g", type=number("--g"), default=9.81, help=option_help("g", "gravity, with --mu", 9.81))
+    for opt in ("--omega", "--d", "--k", "--mu", "--g"):
+        add_drive_option(g, opt)
     add_friction_options(g, params=True)
-    g.add_argument("--phi0", type=angle("--phi0"), default=math.pi,
-                   help=option_help("phi0", "initial angle of CM -> P: a number (rad) or 'pi', 'pi/2', '3pi/4', "
-                                            "'-0.5*pi', '180deg'", "pi"))
+    add_drive_option(g, "--phi0")
     g.add_argument("--phi-dot0", type=number("--phi-dot0"), default=None,
                    help=option_help("phi_dot0", "initial phi' (default: the impulsive start (omega/H) cos phi0)"))
     g.add_argument("--friction-method", choices=FRICTION_METHODS, default="auto",

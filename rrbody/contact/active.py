@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.contact import columns as K
+from rrbody.contact import columns
 from rrbody.model.active import MAX_SEED, Active
 from rrbody.model.checks import check_int
 from rrbody.model.laws import law_coded
@@ -91,7 +91,7 @@ class ActiveSet:
             if j is None:
                 continue
             row = pf.rows[j]
-            if law_coded(row[K.LAW]).sticks and row[K.SNAP] > 0.0 and body.angular_velocity == 0.0 \
+            if law_coded(row[columns.LAW]).sticks and row[columns.SNAP] > 0.0 and body.angular_velocity == 0.0 \
                     and body.velocity == (0.0, 0.0):
                 continue
             a = self.params[body]

@@ -22,7 +22,7 @@ velocity update (pymunk's symplectic Euler: v' = v + dt a, then the pose moves w
   ODE path's arrival, then its static test);
 - a held foot whose reaction leaves the static disc breaks away: it slips with the kinetic friction
   F = -c_k w_i u'/|u'| of the slip u' it ends the step with (the maximum-dissipation rule at the
-  velocity level, as the ODE path's :func:`rrbody.physics.effects.pivot_foot.release` at the
+  velocity level, as the ODE path's :func:`rrbody.physics.pivot_foot.release` at the
   acceleration level): u' (1 + (dt c_k w_i / |u'|) K) = b, one scalar root |u'| in (0, |b|).
 
 The caller (:func:`rrbody.contact.kernel.plane_step`) keeps which foot is held between steps, hands

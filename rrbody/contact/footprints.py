@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.contact import columns as K
+from rrbody.contact import columns
 from rrbody.contact.rows import Rows
 from rrbody.physics import contact as C
 from rrbody.physics.footprint_table import build_footprint_table
@@ -76,14 +76,15 @@ class Footprints:
         its own table (one per distinct footprint: its rows and geometry, ranges local to it); else
         the exact wrench every step."""
         if shapes.shape[0] == 1 and shapes[0, C.KIND] == C.ELLIPSE and shapes[0, C.RA] == shapes[0, C.RB]:
-            return K.TABLE_CIRCLE, self._table("disk", lambda: build_table(1.0, 1.0))
+            return columns.TABLE_CIRCLE, self._table("disk", lambda: build_table(1.0, 1.0))
         if shapes.shape[0] == 1 and shapes[0, C.KIND] in (C.RING, C.HERTZ):  # radial profiles: their own disk tables
             profile = "ring" if shapes[0, C.KIND] == C.RING else "hertz"
-            return K.TABLE_CIRCLE, self._table(profile, lambda: build_radial_table(profile))
+            return columns.TABLE_CIRCLE, self._table(profile, lambda: build_radial_table(profile))
         if tabulate:
             key = "footprint:" + hashlib.sha256(shapes.tobytes() + geo.tobytes()).hexdigest()
-            return K.TABLE_FOOTPRINT, self._table(key, lambda: build_footprint_table(shapes, geo, 0, shapes.shape[0]))
-        return K.TABLE_NONE, 0.0
+            return columns.TABLE_FOOTPRINT, self._table(key, lambda: build_footprint_table(shapes, geo, 0,
+                                                                                           shapes.shape[0]))
+        return columns.TABLE_NONE, 0.0
 
     def _table(self, name: str, build: Any) -> int:
         """The first row of the wrench table ``name`` in ``tables``, appended the first time it is
@@ -109,8 +110,8 @@ class Footprints:
                 kind = rows[:, C.KIND]
                 rows[kind == C.POLYGON, C.V0:C.Q1 + 1] += ng  # V0, V1, Q0, Q1: consecutive columns
                 rows[kind == C.SAMPLED, C.Q0:C.Q1 + 1] += ng
-        bodies[j, K.S0] = s0
-        bodies[j, K.S1] = s0 + sh.shape[0]
+        bodies[j, columns.S0] = s0
+        bodies[j, columns.S1] = s0 + sh.shape[0]
 
     def drop(self, j: int) -> None:
         """Body row j's placed rows are garbage now (the caller compacts once the rows are consistent)."""

@@ -26,7 +26,7 @@ import numpy as np
 from rrbody.contact import coupled as CP
 from rrbody.contact import islands as I
 from rrbody.contact.lean import fast_entry
-from rrbody.engine import arbiters as A
+from rrbody.engine import arbiters
 from rrbody.engine.bodymem import addresses
 
 __all__ = ["Coupling", "TOL", "MAX_ITER", "MAX_SWEEPS"]
@@ -51,7 +51,7 @@ class Coupling:
         self.tol = tol
         self.max_iter = max_iter
         self.max_sweeps = max_sweeps
-        compiled = A.compiled_route() if route in (None, "compiled") else None
+        compiled = arbiters.compiled_route() if route in (None, "compiled") else None
         if route == "compiled" and compiled is None:
             raise ValueError("route 'compiled' is not available here (RRBODY_NO_PRIVATE=1, or this pymunk or "
                              "platform reads other numbers through it: rrbody.engine.arbiters)")
@@ -87,7 +87,7 @@ class Coupling:
             self._members = members
         if self._api is not None:
             if self._touch is None:
-                self._touch, touched = fast_entry(A.touching, self._api, self._addrs, self._count)
+                self._touch, touched = fast_entry(arbiters.touching, self._api, self._addrs, self._count)
             else:
                 touched = self._touch(self._api, self._addrs, self._count)
             if not touched:
@@ -100,7 +100,7 @@ class Coupling:
                 args = (self._api, self._addrs, lookup, self._rec, self._raw, self._body, rows, *arrays, dt, damp, gx,
                         gy, self.tol, self.max_iter, self.max_sweeps, self._order, self._vel, self._events, self._report)
                 if self._entry is None:
-                    self._entry, (nb, n_ev, n_isl, n_bad) = fast_entry(A.step_compiled, *args)
+                    self._entry, (nb, n_ev, n_isl, n_bad) = fast_entry(arbiters.step_compiled, *args)
                 else:
                     nb, n_ev, n_isl, n_bad = self._entry(*args)
                 if nb >= 0:
@@ -110,7 +110,7 @@ class Coupling:
                 else:
                     self._raw = np.zeros((2 * -nb, I.N_RP))
             else:
-                n_raw = A.read_public(space, bodies, slots, self._raw, self._body)
+                n_raw = arbiters.read_public(space, bodies, slots, self._raw, self._body)
                 if n_raw < 0:
                     self._raw = np.zeros((2 * -n_raw, I.N_RP))
                     continue
@@ -119,7 +119,7 @@ class Coupling:
                 nb, n_ev, n_isl, n_bad = I.couple_islands(
                     self._raw, n_raw, self._body, rows, *arrays, dt, damp, gx, gy, self.tol, self.max_iter,
                     self.max_sweeps, self._order, self._vel, self._events, self._report)
-                A.write_public(bodies, self._order[:nb], self._vel)
+                arbiters.write_public(bodies, self._order[:nb], self._vel)
                 break
         if not nb:
             return None

@@ -61,9 +61,9 @@ from rrbody.physics import params as P
 from rrbody.physics.bind import ode_params
 from rrbody.physics.contact import H_PARTS, HEADER
 from rrbody.physics.dynamics import SYSTEM_FREE, free_rhs, system_from_params
-from rrbody.physics.effects.pivot_foot import feet_of
 from rrbody.physics.footprint import packed
 from rrbody.physics.limit import at_rest
+from rrbody.physics.pivot_foot import feet_of
 
 __all__ = ["simulate_free", "FREE_STEPPERS", "STEP_FRACTION", "STOP_SPEED_FRACTION"]
 

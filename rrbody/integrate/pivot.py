@@ -13,14 +13,14 @@ them are located here:
   foot's velocity anyway is retried at half its length). Once the foot is slower than ``u_stop``
   (the body's own stop threshold, STOP_SPEED_FRACTION of the speed scale) the last stretch is
   completed with the present accelerations and the foot is set exactly at rest. If static friction
-  can hold it there (:func:`rrbody.physics.effects.pivot_foot.pinned`: the reaction lies in the
+  can hold it there (:func:`rrbody.physics.pivot_foot.pinned`: the reaction lies in the
   foot's disc mu_static N_i) the body pivots; if not, the foot breaks away at once;
 - **pivoting** on foot i (the driven system, y = (phi, phi'), with its pivot at rest:
   :func:`rrbody.physics.bind.pinned_params`): one degree of freedom, rotation about the foot under
   the other feet's friction and a tilt's pull. After every step the holding reaction is tested; the
   step in which it leaves the static disc is cut at the release by the Illinois method on its
   length (each iterate a fresh integration from the step's start, as the loop locates its own
-  events; :mod:`rrbody.integrate.refine`), and the foot breaks away (:func:`rrbody.physics.effects.pivot_foot.release`: the
+  events; :mod:`rrbody.integrate.refine`), and the foot breaks away (:func:`rrbody.physics.pivot_foot.release`: the
   maximum-dissipation slip direction): the run goes on sliding, the foot's first stretch of
   ``BREAK_TAU`` of the time scale taken with the break-away's accelerations (exact to O(tau^2)),
   the foot no slower than 100 v_eps there so that the friction kernel sees its direction. Spin
@@ -56,9 +56,9 @@ from rrbody.integrate.events import E_TSTOP, STEP_FRACTION, STOP_T_END, new_even
 from rrbody.integrate.loop import L_H, L_NEXTOUT, L_NOUT, L_NREJ, L_NSTEP, L_T, advance_for, new_loop_state
 from rrbody.integrate.refine import illinois_on_step
 from rrbody.physics import params as P
+from rrbody.physics import pivot_foot as PF
 from rrbody.physics.bind import pinned_params
 from rrbody.physics.dynamics import SYSTEM_DRIVEN, SYSTEM_FREE, driven_rhs, free_rhs, system_from_params
-from rrbody.physics.effects import pivot_foot as PF
 
 __all__ = ["FeetRun", "BREAK_TAU", "REARM", "MAX_HALVINGS"]
 

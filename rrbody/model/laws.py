@@ -29,13 +29,15 @@ from dataclasses import dataclass
 
 from rrbody.model.checks import LIMITS, Limit, MissingParameters, check_range
 
-__all__ = ["AREA_METHODS", "PLUGIN_AREA", "LawParam", "Law", "LAW_TABLE", "LAWS", "LAW_CODES", "LAW_PARAMS",
-           "N_LAW_PARAMS", "law_named", "law_coded", "check_area", "check_law_params", "bound_params",
+__all__ = ["AREA_METHODS", "AREA_CODES", "PLUGIN_AREA", "LawParam", "Law", "LAW_TABLE", "LAWS", "LAW_CODES",
+           "LAW_PARAMS", "N_LAW_PARAMS", "law_named", "law_coded", "check_area", "check_law_params", "bound_params",
            "zero_speed_mu"]
 
-#: the area-integration methods, in the order of their codes (rrbody.physics.effects.AREAS): friction at the
+#: the area-integration methods, in the order of their codes (AREA_CODES): friction at the
 #: CM, summed over area elements, the instantaneous-centre quadrature, its table, the footprint kernel
 AREA_METHODS: tuple[str, ...] = ("point", "sampled", "icr", "table", "contact")
+#: area method -> code: its place in AREA_METHODS (the code a bound scene carries, rrbody.physics.params.BODY)
+AREA_CODES: dict[str, int] = {name: code for code, name in enumerate(AREA_METHODS)}
 #: the area method of the plugin path (the pymunk plugin, the MuJoCo adapter): the wrench of a footprint
 PLUGIN_AREA = "contact"
 

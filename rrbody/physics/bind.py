@@ -173,7 +173,7 @@ def pinned_params(p: np.ndarray, foot: tuple[float, float]) -> np.ndarray:
     (omega = d = 0), l = |foot| (m), I_P / m = I_cm / m + l^2 (m^2) and beta the foot's direction in
     the body frame (rad; 0 for a foot at the centre of gravity). Friction, its dead band and a tilt's
     pull are the free body's, so phi'' is the spin's rate about the foot under the other feet's
-    friction and the pull's torque about it (:mod:`rrbody.physics.effects.pivot_foot`)."""
+    friction and the pull's torque about it (:mod:`rrbody.physics.pivot_foot`)."""
     x, y = float(foot[0]), float(foot[1])
     if not (math.isfinite(x) and math.isfinite(y)):
         raise ValueError(f"foot must be a finite point (x, y) in m, got {foot!r}")

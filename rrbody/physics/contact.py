@@ -1,6 +1,6 @@
 """A body's contact with the plane, and the dry-friction wrench of the whole: the one kernel that the
 pymunk plugin (:mod:`rrbody.contact.kernel`), the ODE path (the area method ``contact``,
-:mod:`rrbody.physics.effects.area_contact`) and the batched API call.
+:mod:`rrbody.physics.areas.area_contact`) and the batched API call.
 
 A *footprint* is a list of parts, each a row of ``shapes`` carrying its share of the normal load
 (WEIGHT: the shares sum to 1; an annulus is a disk minus a disk, so a share may be negative):

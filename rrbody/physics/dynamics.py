@@ -36,7 +36,7 @@ from numba import literally, njit
 from rrbody._private import no_refcount
 from rrbody.physics import params as P
 from rrbody.physics.effects import DRIVEN, active, compiled_code, drive_circular, tangent, tilt
-from rrbody.physics.effects.areas import POINT, body_frame_wrench, body_wrench
+from rrbody.physics.areas import POINT, body_frame_wrench, body_wrench
 from rrbody.physics.effects.laws import NONE, element_perp, law_params
 
 __all__ = ["rhs", "rhs_near", "rhs_for", "tangent_rhs_for", "driven_rhs", "driven_tangent", "driven_kinematics", "jacobian", "system_from_params", "SYSTEM_DRIVEN",

@@ -6,7 +6,7 @@ no ``footprint`` form (the law table, :mod:`rrbody.model.laws`: Stribeck frictio
 part of the footprint (:mod:`rrbody.physics.contact`'s rows) is replaced by quadrature nodes carrying its
 load, and each node feels the law's element force (:func:`rrbody.physics.effects.laws.element_force`) at its
 own velocity. :func:`footprint_law_wrench` is what both paths call for a law other than dry friction: the
-ODE path's contact method (:mod:`rrbody.physics.effects.area_contact`) and the plugin's kernel
+ODE path's contact method (:mod:`rrbody.physics.areas.area_contact`) and the plugin's kernel
 (:mod:`rrbody.contact.accel`).
 
 The rules (nodes are computed on the fly from the part's row; nothing is stored):

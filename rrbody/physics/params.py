@@ -7,8 +7,7 @@ the stepping loop is compiled for its kind and LAW, and reads BODY (the area met
 as the engine's per-step hook (:func:`rrbody.physics.wrench.body_wrench`) reads both.
 """
 
-from rrbody.model.laws import N_LAW_PARAMS
-from rrbody.physics.effects import AREAS
+from rrbody.model.laws import AREA_CODES, N_LAW_PARAMS
 
 OMEGA = 0      # drive rate (rad/s); 0 for a free body
 D = 1          # drive radius (m)
@@ -44,9 +43,9 @@ LAWP = 27      # the law's further parameters per unit mass, N_LAW_PARAMS slots 
                # table declares them (rrbody.model.laws.bound_params; none while no law has parameters)
 SIZE = LAWP + N_LAW_PARAMS
 
-# area models: the effects registry's codes (one table; the system code carries the same number)
-BODY_POINT = AREAS["point"]
-BODY_SAMPLED = AREAS["sampled"]
-BODY_ICR = AREAS["icr"]
-BODY_TABLE = AREAS["table"]
-BODY_CONTACT = AREAS["contact"]
+# area models: the law table's codes (one table; the effects' registry and the system code carry the same numbers)
+BODY_POINT = AREA_CODES["point"]
+BODY_SAMPLED = AREA_CODES["sampled"]
+BODY_ICR = AREA_CODES["icr"]
+BODY_TABLE = AREA_CODES["table"]
+BODY_CONTACT = AREA_CODES["contact"]

@@ -117,13 +117,18 @@ def gauss_rule(vertices: np.ndarray, n: int = GAUSS_N) -> np.ndarray:
 
 
 @njit(cache=True, inline="always")
-def _edge(p1x: float, p1y: float, p2x: float, p2y: float, cx: float, cy: float) -> tuple[float, float, float]:
-    """(Ux, Uy, R): Int u dA and Int |s - c| dA over the signed triangle (c, p1, p2) (m^2, m^3)."""
+def triangle_frame(p1x: float, p1y: float, p2x: float, p2y: float, cx: float, cy: float
+                   ) -> tuple[float, float, float, float, float, float, float, float]:
+    """The frame of the signed triangle (c, p1, p2) that the edge integrals are written in:
+    (ex, ey, h, r1, r2, dr, da, dtr): the edge's direction e (its outward normal is n = (ey, -ex)), the
+    signed distance h of c from the edge (m), r1 = |p1 - c| and r2 = |p2 - c| (m), and the
+    differences between the edge's end points, each without cancellation: dr = [r] (m), da =
+    [asinh(t/|h|)] and dtr = [t r] (m^2). h = 0 (nothing else set) where the triangle is flat."""
     dx = p2x - p1x
     dy = p2y - p1y
     L = math.sqrt(dx * dx + dy * dy)  # (no overflow at physical sizes; hypot is slower)
     if L == 0.0:
-        return 0.0, 0.0, 0.0
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     ex = dx / L
     ey = dy / L
     nx = ey
@@ -134,13 +139,13 @@ def _edge(p1x: float, p1y: float, p2x: float, p2y: float, cx: float, cy: float) 
     by = p2y - cy
     h = 0.5 * ((ax + bx) * nx + (ay + by) * ny)
     if h == 0.0:
-        return 0.0, 0.0, 0.0
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     t1 = ax * ex + ay * ey
     t2 = bx * ex + by * ey
     r1 = math.sqrt(ax * ax + ay * ay)
     r2 = math.sqrt(bx * bx + by * by)
     sr = r1 + r2
-    dr = L * (t1 + t2) / sr  # r2 - r1 without cancellation
+    dr = L * (t1 + t2) / sr  # r2 - r1 without cancellation (t2^2 - t1^2 = r2^2 - r1^2)
     # asinh(t2/|h|) - asinh(t1/|h|) = log((t2 + r2)/(t1 + r1)), written as log1p of a small ratio
     if t1 >= 0.0:
         da = math.log1p((L + dr) / (t1 + r1))
@@ -149,9 +154,20 @@ def _edge(p1x: float, p1y: float, p2x: float, p2y: float, cx: float, cy: float) 
     else:
         ah = abs(h)
         da = math.asinh(t2 / ah) - math.asinh(t1 / ah)
+    dtr = 0.5 * (L * sr + (t1 + t2) * dr)  # t2 r2 - t1 r1
+    return ex, ey, h, r1, r2, dr, da, dtr
+
+
+@njit(cache=True, inline="always")
+def _edge(p1x: float, p1y: float, p2x: float, p2y: float, cx: float, cy: float) -> tuple[float, float, float]:
+    """(Ux, Uy, R): Int u dA and Int |s - c| dA over the signed triangle (c, p1, p2) (m^2, m^3)."""
+    ex, ey, h, _, _, dr, da, dtr = triangle_frame(p1x, p1y, p2x, p2y, cx, cy)
+    if h == 0.0:
+        return 0.0, 0.0, 0.0
+    nx = ey
+    ny = -ex
     un = 0.5 * h * h * da
     ue = 0.5 * h * dr
-    dtr = 0.5 * (L * sr + (t1 + t2) * dr)  # t2 r2 - t1 r1
     return un * nx + ue * ex, un * ny + ue * ey, h / 6.0 * (dtr + h * h * da)
 
 

@@ -44,7 +44,7 @@ import math
 import numpy as np
 from numba import njit
 
-from rrbody.physics.polygon import NEAR, TRANSLATION_EPS
+from rrbody.physics.polygon import NEAR, TRANSLATION_EPS, triangle_frame
 
 __all__ = ["linear_polygon_wrench"]
 
@@ -54,36 +54,11 @@ def _edge_linear(p1x: float, p1y: float, p2x: float, p2y: float, cx: float, cy: 
                  ky: float) -> tuple[float, float, float]:
     """(Ux, Uy, R): Int f u dA and Int f |s - c| dA over the signed triangle (c, p1, p2), f = fc + k . (s - c)
     (m^2, m^3)."""
-    dx = p2x - p1x
-    dy = p2y - p1y
-    L = math.sqrt(dx * dx + dy * dy)
-    if L == 0.0:
-        return 0.0, 0.0, 0.0
-    ex = dx / L
-    ey = dy / L
-    nx = ey
-    ny = -ex
-    ax = p1x - cx
-    ay = p1y - cy
-    bx = p2x - cx
-    by = p2y - cy
-    h = 0.5 * ((ax + bx) * nx + (ay + by) * ny)
+    ex, ey, h, r1, r2, dr, da, dtr = triangle_frame(p1x, p1y, p2x, p2y, cx, cy)
     if h == 0.0:
         return 0.0, 0.0, 0.0
-    t1 = ax * ex + ay * ey
-    t2 = bx * ex + by * ey
-    r1 = math.sqrt(ax * ax + ay * ay)
-    r2 = math.sqrt(bx * bx + by * by)
-    sr = r1 + r2
-    dr = L * (t1 + t2) / sr  # r2 - r1 without cancellation (t2^2 - t1^2 = r2^2 - r1^2)
-    if t1 >= 0.0:  # asinh(t2/|h|) - asinh(t1/|h|) as log1p of a small ratio (polygon._edge)
-        da = math.log1p((L + dr) / (t1 + r1))
-    elif t2 <= 0.0:
-        da = math.log1p((L - dr) / (r2 - t2))
-    else:
-        ah = abs(h)
-        da = math.asinh(t2 / ah) - math.asinh(t1 / ah)
-    dtr = 0.5 * (L * sr + (t1 + t2) * dr)  # t2 r2 - t1 r1
+    nx = ey
+    ny = -ex
     i2 = 0.5 * (dtr - h * h * da)
     j0 = 0.5 * (dtr + h * h * da)
     j1 = dr * (r1 * r1 + r1 * r2 + r2 * r2) / 3.0  # (r2^3 - r1^3) / 3

@@ -6,7 +6,7 @@ per-step engine hook and for set-up code. The ODE loop instead has the law compi
 (:mod:`rrbody.physics.dynamics`).
 
 Units (per unit mass, world frame: these wrap the body-frame area methods with one rotation,
-:func:`rrbody.physics.effects.areas.body_wrench`): forces in m/s^2, torques about the CM in m^2/s^2. Law codes:
+:func:`rrbody.physics.areas.body_wrench`): forces in m/s^2, torques about the CM in m^2/s^2. Law codes:
 the law table's, :data:`rrbody.model.laws.LAW_CODES` (0 none, 1 dry, 2 viscous); ``lp`` the law's further
 parameters per unit mass (:mod:`rrbody.physics.effects.laws`; the default: none).
 """
@@ -17,8 +17,8 @@ import numpy as np
 from numba import njit
 
 from rrbody.physics import params as P
-from rrbody.physics.effects.areas import SAMPLED
-from rrbody.physics.effects.areas import body_wrench as _area_wrench
+from rrbody.physics.areas import SAMPLED
+from rrbody.physics.areas import body_wrench as _area_wrench
 from rrbody.physics.effects.laws import NO_PARAMS, element_force, law_params
 
 __all__ = ["point_force", "sampled_wrench", "body_wrench"]

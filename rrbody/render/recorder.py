@@ -335,9 +335,9 @@ class Recorder:
         time), the static shapes, P of driven bodies, optional trails, and for ``plots`` (bodies;
         default every body when there are at most 8) the speed of the centre of gravity (m/s), the
         spin (rad/s) and the friction power F.v + tau spin (W) under ``plots/<quantity>/<label>``."""
-        from rrbody.render import rerun as R
+        from rrbody.render import rerun as rerun_io
 
-        R.check_output(path, spawn=spawn, force=force)
+        rerun_io.check_output(path, spawn=spawn, force=force)
         self._need_frames()
         color, _, mask = self._check_look(color, (), trails)
         if plots is None:
@@ -349,8 +349,8 @@ class Recorder:
         from rrbody.render.recorder_rerun import blueprint, send
 
         view = self._view(None, 1.0)
-        return R.write_recording(path, spawn=spawn, force=force, blueprint=blueprint(view, bool(chosen)),
-                                 send=lambda rec: send(rec, self, color=color, trails=mask, plots=chosen))
+        return rerun_io.write_recording(path, spawn=spawn, force=force, blueprint=blueprint(view, bool(chosen)),
+                                        send=lambda rec: send(rec, self, color=color, trails=mask, plots=chosen))
 
     def colours(self, color: Any) -> Any:
         """Per-body RGBA (bodies x 4) for a fixed colouring, or None for "spin" or marks (per frame: :meth:`marks`)."""

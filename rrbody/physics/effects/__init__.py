@@ -8,8 +8,10 @@ A scene lists its effects; each contributes one term through one signature:
   each declared in the law table (:mod:`rrbody.model.laws`), dispatched by :mod:`rrbody.physics.effects.laws`;
 - area integration (the wrench of the law over the body, in the BODY frame:
   ``wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps, lp) -> (Fbx, Fby, tau_cm)`` with the
-  CM velocity and the force in body-frame components; :func:`.areas.body_wrench` is the world-frame
-  wrapper): ``area_point``, ``area_sampled``, ``area_icr``, ``area_table``.
+  CM velocity and the force in body-frame components; :func:`rrbody.physics.areas.body_wrench` is the
+  world-frame wrapper): ``area_point`` and ``area_sampled`` here; the methods that call a kernel
+  (``area_icr``, ``area_table``, ``area_contact``) and their registry stand above the kernels, in
+  :mod:`rrbody.physics.areas`, so that this package imports only :mod:`rrbody.physics.params` and the model.
 
 Composition: the combination a scene lists is one small integer, its *system code*
 (:func:`system_code`: kind + 10 law + 100 area). The compiled kernels are specialised on part of it
@@ -30,14 +32,14 @@ so a plain run pays one branch per step and no loop is compiled for it.
 Adding an effect: one module with the signature of its kind plus its registration. A law is declared
 in the one law table, :data:`rrbody.model.laws.LAW_TABLE` (name, code, parameters, area methods, this
 package's module of its entry points), from which :mod:`rrbody.physics.effects.laws` builds the compiled dispatch; an area
-method takes a name in :data:`rrbody.model.laws.AREA_METHODS` and one branch in :mod:`.areas`. A new
+method takes a name in :data:`rrbody.model.laws.AREA_METHODS` and one branch in :mod:`rrbody.physics.areas`. A new
 law adds one compiled loop per kind, which the prebuild's workload (:mod:`rrbody.cli.workload`) compiles
 at install: it runs each law of the table.
 """
 
 from __future__ import annotations
 
-from rrbody.model.laws import AREA_METHODS, LAW_CODES
+from rrbody.model.laws import AREA_CODES, LAW_CODES
 
 __all__ = ["KINDS", "LAWS", "AREAS", "system_code", "compiled_code", "describe_system", "DRIVEN", "FREE"]
 
@@ -47,7 +49,7 @@ KINDS: dict[str, int] = {"driven": DRIVEN, "free": FREE}
 #: friction laws -> code (modules law_<name>; "none" lists no friction effect): the law table's
 LAWS: dict[str, int] = LAW_CODES
 #: area-integration methods -> code (modules area_<name>), in the law table's order of the methods
-AREAS: dict[str, int] = {name: code for code, name in enumerate(AREA_METHODS)}
+AREAS: dict[str, int] = AREA_CODES
 
 
 def system_code(kind: str, law: str, area: str) -> int:

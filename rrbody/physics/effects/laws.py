@@ -11,7 +11,7 @@ it at run time). ``lp``: the law's parameters per unit mass (:func:`rrbody.model
 of :data:`rrbody.model.laws.N_LAW_PARAMS` floats (empty while no law has parameters): :func:`law_params` reads
 them from ``p``, and :data:`NO_PARAMS` stands for them where a caller evaluates a law without any.
 
-The contact method of both paths (the ODE path's :mod:`.area_contact`, the plugin's
+The contact method of both paths (the ODE path's :mod:`rrbody.physics.areas.area_contact`, the plugin's
 :mod:`rrbody.contact.accel`) integrates a law over a footprint: dry friction through the footprint kernel
 itself (:func:`rrbody.physics.contact.footprint_wrench`, with the plugin's wrench tables), every other law
 through its module's ``footprint(shapes, geo, s0, s1, gx, gy, jj, vbx, vby, w, coeff, v_eps[, lp])`` (the
@@ -42,7 +42,7 @@ __all__ = ["element_force", "element_perp", "law_footprint", "law_has_footprint"
            "MODULES", "NO_PARAMS",
            "NONE", "DRY", "VISCOUS"]
 
-#: the codes the area methods' closed forms branch on (rrbody.physics.effects.area_contact, area_table)
+#: the codes the area methods' closed forms branch on (rrbody.physics.areas.area_contact, area_table)
 NONE, DRY, VISCOUS = LAW_CODES["none"], LAW_CODES["dry"], LAW_CODES["viscous"]
 #: each law's module of compiled entry points, by name (the table's ``module``; "none" has none)
 MODULES: dict[str, ModuleType] = {law.name: import_module(f"rrbody.physics.effects.{law.module}")

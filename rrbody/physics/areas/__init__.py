@@ -1,5 +1,9 @@
 """Registration of the area-integration methods: the one place that maps a code to its module.
 
+The methods that call a kernel (``area_icr``, ``area_table``, ``area_contact``) live in this package, above the
+kernels; those that apply the laws alone (``area_point``, ``area_sampled``) are effects below them
+(:mod:`rrbody.physics.effects`).
+
 The code is a run-time choice (``p[BODY]``): the composed right-hand side calls the extended-body
 code once per evaluation and this function picks the method (:mod:`rrbody.physics.effects`).
 
@@ -11,10 +15,11 @@ wrapper (one cos/sin of the body angle and two rotations) for callers holding wo
 velocities: the free body, :mod:`rrbody.physics.wrench`, the render path.
 
 Adding a method: a module with ``wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps, lp)
--> (Fbx, Fby, tau_cm)`` in the body frame (see :mod:`.area_point`; ``lp``: the law's further parameters,
-:mod:`rrbody.physics.effects.laws`), a name in :data:`rrbody.model.laws.AREA_METHODS` (its code) with the laws that have a form
-for it in the law table, and one branch in :func:`body_frame_wrench`. The methods' codes are the law
-table's order of their names: an unknown code cannot come from a bound scene (the final branch).
+-> (Fbx, Fby, tau_cm)`` in the body frame (see :mod:`rrbody.physics.effects.area_point`; ``lp``: the law's
+further parameters, :mod:`rrbody.physics.effects.laws`), a name in :data:`rrbody.model.laws.AREA_METHODS`
+(its code) with the laws that have a form for it in the law table, and one branch in
+:func:`body_frame_wrench`. The methods' codes are the law table's order of their names: an unknown code
+cannot come from a bound scene (the final branch).
 """
 
 from __future__ import annotations
@@ -23,7 +28,8 @@ import math
 
 from numba import njit
 
-from rrbody.physics.effects import AREAS, area_contact, area_icr, area_point, area_sampled, area_table
+from rrbody.physics.areas import area_contact, area_icr, area_table
+from rrbody.physics.effects import AREAS, area_point, area_sampled
 
 __all__ = ["body_frame_wrench", "body_wrench", "POINT", "SAMPLED", "ICR", "TABLE", "CONTACT"]
 
