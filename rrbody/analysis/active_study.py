@@ -298,7 +298,7 @@ def ensemble(points: list[Box], *, workers: int | None = None, checkpoint: str |
     from rrbody._version import __version__
     from rrbody.analysis.pool import check_scheduler, connect_scheduler, iter_dask, iter_local, plan_batches, \
         plan_workers
-    from rrbody.analysis.sweep import _bar
+    from rrbody.analysis.sweep import progress_bar
     from rrbody.analysis.sweep_store import read_checkpoint, stream_checkpoint
 
     spec = {"kind": "active_study", "rrbody_version": __version__, "points": [asdict(p) for p in points]}
@@ -308,7 +308,7 @@ def ensemble(points: list[Box], *, workers: int | None = None, checkpoint: str |
     if scheduler is not None:
         check_scheduler(scheduler)
     client = connect_scheduler(scheduler) if isinstance(scheduler, str) and todo else scheduler
-    bar = _bar(len(points), len(done), progress and bool(todo), "active ensemble")
+    bar = progress_bar(len(points), len(done), progress and bool(todo), "active ensemble")
     try:
         w = 0 if client is not None or not todo else plan_workers(workers, len(todo))
         batches = plan_batches(todo, 1, w)

@@ -34,11 +34,11 @@ def write_table(path: Path, columns: Sequence[str], rows: Sequence[Sequence[Any]
     Floats are written with ``repr`` (round-trip exact); None becomes an empty field.
     """
     from rrbody.model.io import atomic_path
-    from rrbody.model.trajectory import _jsonable
+    from rrbody.model.trajectory import jsonable
 
     with atomic_path(path, force=force, name=Path(path).name) as tmp, open(tmp, "w", newline="") as fh:
         if meta is not None:
-            fh.write("# rrbody-meta: " + json.dumps(_jsonable({**meta, "rrbody_version": __version__})) + "\n")
+            fh.write("# rrbody-meta: " + json.dumps(jsonable({**meta, "rrbody_version": __version__})) + "\n")
         w = csv.writer(fh)
         w.writerow(list(columns))
         for r in rows:
@@ -49,9 +49,9 @@ def write_table(path: Path, columns: Sequence[str], rows: Sequence[Sequence[Any]
 def write_summary(out_dir: Path, summary: dict[str, Any], *, force: bool = True) -> Path:
     """``summary.json``: the scene's key numbers (read by :func:`write_report`)."""
     from rrbody.model.io import atomic_write_text
-    from rrbody.model.trajectory import _jsonable
+    from rrbody.model.trajectory import jsonable
 
-    data = _jsonable({**summary, "rrbody_version": __version__})
+    data = jsonable({**summary, "rrbody_version": __version__})
     return atomic_write_text(Path(out_dir) / "summary.json", json.dumps(data, indent=1) + "\n", force=force,
                              name="summary.json")
 

@@ -47,7 +47,7 @@ from rrbody.analysis.sweep_store import check_outputs, checkpoint_path, count_ro
 from rrbody.model.checks import check
 
 __all__ = ["run_sweep", "load_sweep", "evaluate_point", "checkpoint_path", "SweepInterrupted", "SweepStopped",
-           "SweepFault", "read_meta", "run_fresh_or_resume"]
+           "SweepFault", "read_meta", "run_fresh_or_resume", "progress_bar"]
 
 
 class SweepInterrupted(RuntimeError):
@@ -174,7 +174,7 @@ def _compute(sweep: Sweep, out: Path, done: dict[int, dict[str, Any]], batches: 
     spec = sweep.spec()
     it = (iter_dask(_run_batch, spec, batches, client) if client is not None
           else iter_local(_run_batch, spec, batches, n_workers))
-    bar = _bar(sweep.size, len(done), progress, sweep.quantity)
+    bar = progress_bar(sweep.size, len(done), progress, sweep.quantity)
     n_new = 0
     try:
         for n in stream_checkpoint(ck, spec, it, done):
@@ -199,7 +199,9 @@ def _compute(sweep: Sweep, out: Path, done: dict[int, dict[str, Any]], batches: 
     return out
 
 
-def _bar(total: int, initial: int, progress: bool, desc: str) -> Any:
+def progress_bar(total: int, initial: int, progress: bool, desc: str) -> Any:
+    """A tqdm bar over ``total`` points (``initial`` of them done, ``desc`` after "sweep "), or None
+    without ``progress`` (tqdm is then not imported)."""
     if not progress:
         return None
     from tqdm import tqdm

@@ -216,6 +216,16 @@ class EngineHandle:
 
     # ---- state readers -----------------------------------------------------------------------
     @property
+    def beta(self) -> float:
+        """Angle of CM -> P in the body frame (rad), fixed: ``phi`` is the body's angle plus it."""
+        return self._beta
+
+    @property
+    def t0(self) -> float:
+        """The plane's time (``plane.t``, s) when the body was attached: ``t`` counts from it."""
+        return self._t0
+
+    @property
     def t(self) -> float:
         """Time since attach (s)."""
         return self.plane.t - self._t0

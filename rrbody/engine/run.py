@@ -86,7 +86,7 @@ def _run(scene: Scene, settings: EngineSettings, *, t_end: float, stop: str, dt_
     wall0 = time.perf_counter()
     try:
         if driven:
-            fs = new_track(beta=h._beta, anchor=h.anchor, d=scene.drive.d, omega=scene.omega,
+            fs = new_track(beta=h.beta, anchor=h.anchor, d=scene.drive.d, omega=scene.omega,
                            dt=settings.dt, dt_out=dt_out, n_grid=n_grid, n_out=n_out, t_end=t_end, rule=_STOPS[stop],
                            settle_turns=settle_turns, settle_periods=settle_periods, phi0=h.phi, phid0=h.phi_dot)
             if n_out:
@@ -116,7 +116,7 @@ def _driven_loop(h: EngineHandle, fs: np.ndarray, ev: np.ndarray, minima: np.nda
     dt = h.settings.dt
     plane = h.plane
     step = plane.step  # friction for the body, then space.step
-    t0 = h._t0
+    t0 = h.t0
     offs = layout()
     addr = address(h.body._body) if offs is not None else 0
     offs = np.zeros(10, dtype=np.int64) if offs is None else offs

@@ -224,12 +224,12 @@ class StructIO:
     def _relink(self) -> None:
         """After the plugin's membership changed: the bodies' addresses and the arrays (O(n), once per change)."""
         pf = self._pf
-        self._addr = addresses(pf._list)
+        self._addr = addresses(pf.bodies_by_row)
         n = self._addr.shape[0]
         self._got = np.zeros((n, 7))
         self._out = np.zeros((n, 3))
         self._snap = np.zeros((n + 1, 7))
-        self._ids = pf._idrows.view.copy()
+        self._ids = pf.row_ids.copy()
         self._members = pf.members
 
     def step(self, plane: tuple[np.ndarray, ...], t: float, dt: float, act: tuple[np.ndarray, np.ndarray]) -> int:
