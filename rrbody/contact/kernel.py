@@ -105,7 +105,7 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.n
     if not plane_check(got, ids, lookup, cache, bodies.shape[0]):
         return -1
     rowmap = cache[ROWMAP]
-    work = np.empty((got.shape[0], _N_WORK))  # (one allocation per step, ~0.2 us: not worth a cache)
+    work = np.empty((got.shape[0], _N_WORK))  # (one allocation per step, small next to the pass: not worth a cache)
     n_stop, n_defer = _sweep(got, rowmap, bodies, shapes, geo, tables, t, dt, out, active, noise, work)
     if n_defer:
         for i in range(got.shape[0]):

@@ -268,8 +268,8 @@ class PlaneFriction(PlaneRows):
         still = self._still
         if still is not None and still[0](still[1], dt):
             # the last step was idle and nothing it read has changed, dt included: taken again, its forces
-            # written (a call of two numbers, not the step's eighteen arguments: inside gym-pusht's loop
-            # about 0.3 against 2.3 us per physics step, measured; docs/plugin.md). dt was checked then.
+            # written (a call of two numbers, not the step's eighteen arguments: at rest inside gym-pusht's
+            # loop the arguments were most of the step's cost; docs/plugin.md). dt was checked then.
             dt, n_flag = still[5], 0
         else:
             try:
@@ -289,7 +289,7 @@ class PlaneFriction(PlaneRows):
                 n_flag = None  # no bodies: no friction, no pre_step callbacks
             elif plan is not None:
                 # the steady step: the compiled call with the arguments the last step built (inside
-                # gym-pusht's loop the Python around it was half the table's cost at rest)
+                # gym-pusht's loop, building them in Python cost as much as the table's work at rest)
                 n_flag = plan[0](*plan[1], self.t, dt)
                 if n_flag == IDLE:  # nothing to do: every body at rest and held as it was
                     n_flag = 0

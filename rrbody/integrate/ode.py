@@ -140,8 +140,8 @@ def integrate_driven(p: np.ndarray, S: np.ndarray, y0: tuple[float, float], *, t
     if method not in STEP_METHODS:
         raise ValueError(f"method must be one of {', '.join(repr(m) for m in STEP_METHODS)}, got {method!r}")
     mode = STEP_METHODS[method]
-    # Python floats throughout the set-up (numpy scalars cost ~10x per operation): it is part of
-    # every short run's cost
+    # Python floats throughout the set-up (an operation on a numpy scalar costs many times one on a
+    # float): it is part of every short run's cost
     omega = float(p[P.OMEGA])
     phi0 = float(y0[0])
     phid0 = float(y0[1])

@@ -191,7 +191,7 @@ def _twin(fn: Any, name: str) -> Any:
 
 #: :func:`rhs_near` compiled a second time, for every caller but the DOP853 stages (:func:`rhs`: the
 #: stiff methods, the first step, the Jacobian). With one compiled function for all, LLVM stopped
-#: inlining it into the DOP853 step, which became 8 % slower (measured: 359 -> 391 ns a step);
+#: inlining it into the DOP853 step, which became measurably slower per step;
 #: with literal constant rows, as before, numba compiled it three times per law, not twice.
 _rhs_other = njit(cache=True, **no_refcount())(_twin(rhs_near.py_func, "rhs_other"))
 

@@ -168,7 +168,7 @@ class Picture:
         _scale_bar(ax, box)
         # the bodies' outlines, all in one array, each polygon closed by a repeat of its first vertex:
         # vertex -> body, vertex -> polygon; drawn as one compound path per colour (a PathCollection of
-        # a few paths renders 1,000 bodies several times faster than 1,000 separate polygons)
+        # a few paths: matplotlib's cost grows with the paths it draws, not with their vertices)
         from matplotlib.collections import PathCollection
         from matplotlib.path import Path as MPath
 
