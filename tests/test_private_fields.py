@@ -37,7 +37,7 @@ FOREIGN = frozenset({
     # argparse: a parser's options and its kinds of action (argparse has no public way to list them)
     "_actions", "_SubParsersAction", "_StoreConstAction", "_AppendAction", "_HelpAction",
     # numba's cache: rrbody's cache folder, its locators and the index a save reads (rrbody._cache)
-    "_SourceFileBackedLocatorMixin", "_CacheLocator", "_locator_classes", "_cache_file", "_index_path",
+    "_CacheImpl", "_SourceFileBackedLocatorMixin", "_CacheLocator", "_locator_classes", "_cache_file", "_index_path",
     "_exit",  # os._exit: a pool worker leaves without running the parent's clean-up
     "_replace",  # a namedtuple's public copy-with-changes (underscored so as not to clash with its fields)
 })
@@ -132,7 +132,8 @@ def test_the_walk_catches_a_crossing() -> None:
         "rrbody/b.py": "from rrbody.a import _helper, peek\nfrom rrbody._private import private_allowed\n"
                        "def f(a):\n    return a._x, super()._x\n",
         "rrbody/render/recorder_rerun.py": "def send(rec):\n    return rec._times, rec._cog\n",
-        "rrbody/render/recorder.py": "class Recorder:\n    _cog = None\n    def __init__(self):\n        self._times = []\n",
+        "rrbody/render/recorder.py": "class Recorder:\n    _cog = None\n    def __init__(self):\n        self._times "
+                                     "= []\n",
     }
     assert crossings(sources) == {"rrbody/a.py": ["7: o._y"],
                                   "rrbody/b.py": ["1: from rrbody.a import _helper", "4: a._x"]}

@@ -42,8 +42,17 @@ from pathlib import Path
 from typing import Any
 
 from rrbody.analysis.sweep_spec import Sweep, critical_h_args, make_scene, sweep_from_spec
-from rrbody.analysis.sweep_store import check_outputs, checkpoint_path, count_rows, load_sweep, output_files, \
-    read_checkpoint, read_meta, stream_checkpoint, write_output
+from rrbody.analysis.sweep_store import (
+    check_outputs,
+    checkpoint_path,
+    count_rows,
+    load_sweep,
+    output_files,
+    read_checkpoint,
+    read_meta,
+    stream_checkpoint,
+    write_output,
+)
 from rrbody.model.checks import check
 
 __all__ = ["run_sweep", "load_sweep", "evaluate_point", "checkpoint_path", "SweepInterrupted", "SweepStopped",

@@ -20,8 +20,8 @@ from dataclasses import fields
 from pathlib import Path
 from typing import Any
 
-from rrbody.cli.args import CliError, check_options, emit, given, integer, number, option_help, option_message, ranged
 from rrbody.cli.active_options import rename
+from rrbody.cli.args import CliError, check_options, emit, given, integer, number, option_help, option_message, ranged
 from rrbody.model.active import MAX_SEED
 
 __all__ = ["add_parser", "cmd_active", "cmd_active_ensemble", "BOX_OPTIONS"]
@@ -44,7 +44,7 @@ def _box_defaults() -> dict[str, Any]:
 
 def _box_valid(name: str) -> str:
     """A Box parameter's range as the help and the messages show it (Box's own table)."""
-    from rrbody.analysis.active_study import BOX_RANGES, BOX_INTEGERS
+    from rrbody.analysis.active_study import BOX_INTEGERS, BOX_RANGES
     from rrbody.model.checks import range_text
 
     lo, hi, lo_open, unit = BOX_RANGES[name]
@@ -222,7 +222,7 @@ def _run_active(args: argparse.Namespace, box: Any, rerun_every: int) -> int:
                      f"({s['episodes_per_body_per_min']:.3g} per body per min)"
                      + (f", {s['fraction_at_collision']:.0%} begun at a collision (by chance "
                         f"{s['chance_at_collision']:.0%})" if s["episodes"] else ""))
-    for k, v in written.items():
+    for v in written.values():
         text += f"\nwrote {v}"
     emit(args, {**out, "written": written}, text)
     return 0

@@ -23,8 +23,13 @@ import sys
 from typing import Any
 
 from rrbody.cli.args import CliError, check_options, given, integer, number, option_help, option_message, suggest
-from rrbody.cli.options import SCENE_OPTIONS, add_accuracy_options, add_scene_options, check_contradictions, \
-    scene_params
+from rrbody.cli.options import (
+    SCENE_OPTIONS,
+    add_accuracy_options,
+    add_scene_options,
+    check_contradictions,
+    scene_params,
+)
 
 __all__ = ["add_parser", "cmd_sweep", "QUANTITY_NAMES", "quiet_dask"]
 

@@ -14,8 +14,8 @@ segments with a radius, several per body), each shape pressing with its own weig
 under a pressure distribution you choose (``pf.add(body, mu=0.4, pressure=rrbody.pressure.ring(0.05))``:
 a rim, an annulus, a Hertz patch, feet, any p(x, y); :mod:`rrbody.physics.contact`).
 One compiled call per step reads every body (from their structs, :mod:`rrbody.engine.structio`; else
-through ``pymunk.batch``), computes all wrenches and writes the forces back; then ``space.step`` runs. The contract (what is read, when it acts, what is
-guaranteed at rest) is in docs/plugin.md.
+through ``pymunk.batch``), computes all wrenches and writes the forces back; then ``space.step`` runs. The contract
+(what is read, when it acts, what is guaranteed at rest) is in docs/plugin.md.
 
 The plugin's table of bodies, and the read-only accessors through which the rest of rrbody reads
 their rows, are its base class :class:`rrbody.engine.plane_rows.PlaneRows`; what ``add`` checks and

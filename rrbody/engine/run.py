@@ -16,10 +16,34 @@ import numpy as np
 from rrbody.engine.bodymem import address, layout
 from rrbody.engine.builder import EngineHandle, attach
 from rrbody.engine.settings import EngineSettings, check_dt, coarse_meta, make_settings
-from rrbody.engine.track import (ANG_IN, K_OUT, MAX_PIV, PHI_PREV, PHID_PREV, REACHED_END, REST_IN, T_END, new_track,
-                                track_step)
-from rrbody.integrate.events import (E_HAVEMIN, E_NMIN, E_PHIMIN, E_T1, E_TMIN, E_TSTOP, FLIP_SETTLED, GO_ON,
-                                     RR_DECIDED, STOP_FLIP, STOP_REST, STOP_RR, STOP_T_END, new_event_state)
+from rrbody.engine.track import (
+    ANG_IN,
+    K_OUT,
+    MAX_PIV,
+    PHI_PREV,
+    PHID_PREV,
+    REACHED_END,
+    REST_IN,
+    T_END,
+    new_track,
+    track_step,
+)
+from rrbody.integrate.events import (
+    E_HAVEMIN,
+    E_NMIN,
+    E_PHIMIN,
+    E_T1,
+    E_TMIN,
+    E_TSTOP,
+    FLIP_SETTLED,
+    GO_ON,
+    RR_DECIDED,
+    STOP_FLIP,
+    STOP_REST,
+    STOP_RR,
+    STOP_T_END,
+    new_event_state,
+)
 from rrbody.model.checks import check, check_positive
 from rrbody.model.scene import Scene
 

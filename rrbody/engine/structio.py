@@ -48,8 +48,23 @@ from rrbody.contact import kernel as K
 from rrbody.contact.active import NO_ACTIVE
 from rrbody.contact.body import same_bits
 from rrbody.contact.lean import NO_REFCOUNT, fast_entry
-from rrbody.engine.bodymem import (ANGLE, FX, FY, SPACE, SPIN, TORQUE, VX, VY, address, addresses, f64_at, i64_at,
-                                   layout, set_f64, sleep_offset)
+from rrbody.engine.bodymem import (
+    ANGLE,
+    FX,
+    FY,
+    SPACE,
+    SPIN,
+    TORQUE,
+    VX,
+    VY,
+    address,
+    addresses,
+    f64_at,
+    i64_at,
+    layout,
+    set_f64,
+    sleep_offset,
+)
 
 __all__ = ["StructIO", "gather", "scatter", "struct_step", "struct_still", "still_entry", "GONE", "ASLEEP", "IDLE"]
 

@@ -20,13 +20,12 @@ them are located here:
   the other feet's friction and a tilt's pull. After every step the holding reaction is tested; the
   step in which it leaves the static disc is cut at the release by the Illinois method on its
   length (each iterate a fresh integration from the step's start, as the loop locates its own
-  events; :mod:`rrbody.integrate.refine`), and the foot breaks away (:func:`rrbody.physics.effects.pivot_foot.release`: the
-  maximum-dissipation slip direction): the run goes on sliding, the foot's first stretch of
-  ``BREAK_TAU`` of the time scale taken with the break-away's accelerations (exact to O(tau^2)),
-  the foot no slower than 100 v_eps there so that the friction kernel sees its direction. Spin
-  running down to zero is the body's stop: steps capped at ``STEP_FRACTION`` of Omega / |Omega'|,
-  the last stretch below ``u_stop`` completed analytically (exact for the constant deceleration of
-  a level plane);
+  events; :mod:`rrbody.integrate.refine`), and the foot breaks away
+  (:func:`rrbody.physics.effects.pivot_foot.release`: the maximum-dissipation slip direction): the run goes on
+  sliding, the foot's first stretch of ``BREAK_TAU`` of the time scale taken with the break-away's accelerations
+  (exact to O(tau^2)), the foot no slower than 100 v_eps there so that the friction kernel sees its direction. Spin
+  running down to zero is the body's stop: steps capped at ``STEP_FRACTION`` of Omega / |Omega'|, the last stretch
+  below ``u_stop`` completed analytically (exact for the constant deceleration of a level plane);
 - **rest**: every foot at rest is the body's stop, as for any free body (held by static friction on a
   tilt, or a break-away from rest, :mod:`rrbody.integrate.free`). The loop's rest rule is applied
   here between steps (steps capped at a fraction of 2K/P, the last stretch analytic), with its step

@@ -34,7 +34,8 @@ TINY = sys.float_info.min  # smallest positive normal float (2.2e-308)
 DIMENSIONLESS = "(dimensionless)"
 
 __all__ = ["MAX_RATE", "MIN_RATE", "MAX_LENGTH", "MIN_LENGTH", "MAX_FRICTION", "MIN_FRICTION", "MAX_TIME",
-           "Limit", "LIMITS", "MissingParameters", "check", "check_real", "check_positive", "check_nonnegative", "check_range",
+           "Limit", "LIMITS", "MissingParameters", "check", "check_real", "check_positive", "check_nonnegative",
+           "check_range",
            "check_int", "check_choice", "range_text", "number_rows"]
 
 

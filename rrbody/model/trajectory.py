@@ -142,7 +142,7 @@ class Trajectory:
         return Path(path)
 
     @classmethod
-    def load(cls, path: str | Path) -> "Trajectory":
+    def load(cls, path: str | Path) -> Trajectory:
         """Read a CSV written by :meth:`save`."""
         p = Path(path)
         with open(p) as fh:
@@ -156,7 +156,7 @@ class Trajectory:
         return cls(**cols, events=head.get("events", {}), meta=head.get("meta", {}))
 
 
-def driven_trajectory(scene: "Scene", t: np.ndarray, phi: np.ndarray, phi_dot: np.ndarray) -> Trajectory:
+def driven_trajectory(scene: Scene, t: np.ndarray, phi: np.ndarray, phi_dot: np.ndarray) -> Trajectory:
     """Assemble a Trajectory of a driven body from samples of phi(t), phi'(t) (rad, rad/s)."""
     drive = scene.drive
     if drive is None:

@@ -58,7 +58,8 @@ def _area_model(scene: Scene) -> int:
         return P.BODY_POINT
     if isinstance(scene.body, Polygon):
         if method not in ("auto", "contact"):
-            raise ValueError(f"friction_method must be 'auto' or 'contact' for a polygon (its exact wrench), got {method!r}")
+            raise ValueError("friction_method must be 'auto' or 'contact' for a polygon (its exact wrench), got "
+                             f"{method!r}")
         return P.BODY_CONTACT
     if method == "contact" or not scene.pressure.is_uniform:
         return P.BODY_CONTACT

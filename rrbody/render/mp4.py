@@ -31,7 +31,8 @@ from rrbody.model.trajectory import Trajectory
 from rrbody.render.flip import BLUE, RED, FlipMark, flip_mark
 from rrbody.render.movie_figure import GREEN, MovieFigure, check_movie, check_span
 
-__all__ = ["render_movie", "render_poster", "write_frames", "frame_times", "frame_schedule", "MovieFigure", "RED", "BLUE", "GREEN"]
+__all__ = ["render_movie", "render_poster", "write_frames", "frame_times", "frame_schedule", "MovieFigure", "RED",
+           "BLUE", "GREEN"]
 
 CODEC = "libx264"
 PIX_FMT = "yuv420p"

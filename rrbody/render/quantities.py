@@ -40,9 +40,9 @@ class Mechanics:
 
 def mechanics(traj: Trajectory) -> Mechanics | None:
     """The run's friction wrench and energies, or None without a scene description in ``traj.meta``."""
+    from rrbody.model.scene import Scene
     from rrbody.physics.bind import kernel_params
     from rrbody.physics.wrench import body_wrench
-    from rrbody.model.scene import Scene
 
     sc = traj.meta.get("scene") or {}
     if "body" not in sc:

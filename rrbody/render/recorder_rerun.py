@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.render.rerun import MAX_TRAIL_POINTS, TIMELINE, stride, trail_blocks, points_3d
+from rrbody.render.rerun import MAX_TRAIL_POINTS, TIMELINE, points_3d, stride, trail_blocks
 
 __all__ = ["blueprint", "send", "entities"]
 
@@ -37,7 +37,8 @@ def _u8(rgba: np.ndarray) -> np.ndarray:
 def entities(rec: Any, *, trails: np.ndarray | None = None, plots: list[int] | None = None) -> set[str]:
     """The entity paths :func:`send` writes (trail blocks as their body's ``world/trails/<label>``)."""
     out = {f"world/bodies/{x}" for x in rec.labels}
-    out |= {f"world/bodies/{rec.labels[k]}/{x}" for k in np.flatnonzero(~np.isnan(rec._anchor[:, 0])) for x in ("P", "link")}
+    out |= {f"world/bodies/{rec.labels[k]}/{x}" for k in np.flatnonzero(~np.isnan(rec._anchor[:, 0])) for x in ("P",
+                                                                                                                "link")}
     if rec._static:
         out.add("world/static")
     for k in plots or []:
@@ -110,13 +111,15 @@ def send(stream: Any, rec: Any, *, color: Any, trails: np.ndarray, plots: list[i
                 if len(tb) < 2:
                     continue
                 stream.send_columns(path, indexes=[rr.TimeColumn(TIMELINE, duration=tb[1:])],
-                                    columns=rr.LineStrips3D.columns(strips=[points_3d(pb[: j + 1]) for j in range(1, len(tb))]))
+                                    columns=rr.LineStrips3D.columns(strips=[points_3d(pb[: j + 1]) for j in range(1,
+                                                                                                                  len(tb))]))
     for k in plots:
         label = rec.labels[k]
         speed = np.hypot(d[:, k, 3], d[:, k, 4])
         series = [("speed", speed), ("spin", d[:, k, 5])]
         if rec.plane is not None:
-            series.append(("friction_power", d[:, k, 6] * d[:, k, 3] + d[:, k, 7] * d[:, k, 4] + d[:, k, 8] * d[:, k, 5]))
+            series.append(("friction_power", d[:, k, 6] * d[:, k, 3] + d[:, k, 7] * d[:, k, 4] + d[:, k, 8] * d[:, k,
+                                                                                                                5]))
         for what, vals in series:
             path = f"plots/{what}/{label}"
             stream.log(path, rr.SeriesLines(names=label), static=True)

@@ -43,8 +43,8 @@ import os
 import shutil
 import sys
 import uuid
-from pathlib import Path
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -294,7 +294,8 @@ def _log_run(rec: Any, traj: Trajectory, mark: FlipMark) -> None:
         scales[f"{name} drawn at {scale:.3g} {unit}"] = scale
         path = f"world/arrows/{name}"
         rec.log(path, rr.Arrows3D.from_fields(colors=[colour], radii=[-1.5]), static=True)
-        rec.send_columns(path, indexes=[tw], columns=rr.Arrows3D.columns(origins=points_3d(cm), vectors=points_3d(vec * scale)))
+        rec.send_columns(path, indexes=[tw], columns=rr.Arrows3D.columns(origins=points_3d(cm),
+                                                                         vectors=points_3d(vec * scale)))
     rec.log("meta/scene", rr.TextDocument(_scene_text(traj, mark, list(scales)), media_type=rr.MediaType.MARKDOWN),
             static=True)
 

@@ -12,8 +12,8 @@ velocities: the free body, :mod:`rrbody.physics.wrench`, the render path.
 
 Adding a method: a module with ``wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps, lp)
 -> (Fbx, Fby, tau_cm)`` in the body frame (see :mod:`.area_point`; ``lp``: the law's further parameters,
-:mod:`rrbody.physics.effects.laws`), a name in :data:`rrbody.model.laws.AREA_METHODS` (its code) with the laws that have a form
-for it in the law table, and one branch in :func:`body_frame_wrench`. The methods' codes are the law
+:mod:`rrbody.physics.effects.laws`), a name in :data:`rrbody.model.laws.AREA_METHODS` (its code) with the laws that
+have a form for it in the law table, and one branch in :func:`body_frame_wrench`. The methods' codes are the law
 table's order of their names: an unknown code cannot come from a bound scene (the final branch).
 """
 
