@@ -155,6 +155,8 @@ venv-lowest: $(LOWEST)/.installed
 # worker, which builds each table once; pytest-xdist hands those groups out first, then every other
 # test one at a time in the suite's order (tests/conftest.py: the slow ones first)
 test: $(VENV)/.installed-test $(VENV)/.kernels $(LOWEST)/.installed
+	@echo "==> lint: ruff check"
+	$(BIN)/ruff check rrbody scenes tests benchmarks
 	@echo "==> suite: running the test suite on 2 workers (about $(call unq,$(T_SUITE)) in the recorded run)"
 	$(MAKE_CACHE) $(BIN)/python -m pytest -n 2 --dist loadgroup --durations=15 tests
 	@echo "==> suite-lowest: running part of it on the oldest versions (about $(call unq,$(T_SUITE_LOWEST)) in the recorded run; compiles its kernels)"

@@ -52,8 +52,17 @@ import math
 import time
 from pathlib import Path
 
-from .common import (StudyResult, Target, fmt, loglog_slope, machine_text, md_table, module_available, save_figure,
-                     write_csv)
+from .common import (
+    StudyResult,
+    Target,
+    fmt,
+    loglog_slope,
+    machine_text,
+    md_table,
+    module_available,
+    save_figure,
+    write_csv,
+)
 
 NAME = "active"
 TITLE = "Active bodies: propulsion, noise and plane friction vs pymunk's own step, N = 100 ... 10,000"
@@ -184,8 +193,8 @@ def _breakdown(pf: object, reps: int = 15, block: int = 20) -> dict[str, float]:
     import numpy as np
 
     from rrbody.contact import kernel as K
-    from rrbody.physics.footprint_table import table_covers
     from rrbody.physics.effects.drive_circular import sincos_reduced
+    from rrbody.physics.footprint_table import table_covers
 
     base, rows, noise, kernel = _frozen_call(pf)
     got, cache, tables = base[0], base[3], base[7]
@@ -416,7 +425,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
             parts = _breakdown(pf)
             print("[active] N=1000 breakdown (us per step, frozen state): " + ", ".join(
                 f"{k} {v:.1%}" if k == "handed over" else f"{k} {v:.1f}" for k, v in parts.items()), flush=True)
-        rows.append({"effect_us": effect * 1e6, "draw_us": draw * 1e6, "N": n, "pymunk_ms": best["pymunk"] * 1e3, "active_ms": best["active"] * 1e3,
+        rows.append({"effect_us": effect * 1e6, "draw_us": draw * 1e6, "N": n, "pymunk_ms": best["pymunk"] * 1e3,
+                     "active_ms": best["active"] * 1e3,
                      "added": best["active"] / best["pymunk"] - 1.0, "alone_ms": best["alone"] * 1e3,
                      "added_alone": best["alone"] / best["pymunk"] - 1.0, "contacts": best["contacts"],
                      "contacts_mid": c_mid, "contacts_end": c_end, "block": block,

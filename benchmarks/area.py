@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from rrbody.physics.bind import kernel_params
+
 from .common import StudyResult, Target, fmt, machine_text, md_table, module_available, save_figure, write_csv
 
 NAME = "area"
@@ -61,8 +62,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
         print(f"[area] skipped: rrbody.area / rrbody._icr not ready ({why})", flush=True)
         return StudyResult(NAME, TITLE, skipped=f"rrbody.area/_icr not importable or incomplete ({why})")
     from rrbody.model.bodies import Disk, Ellipse
-    from rrbody.model.friction import Friction
     from rrbody.model.drive import CircularDrive
+    from rrbody.model.friction import Friction
     from rrbody.model.scene import Scene, rod_mass_scene
 
     from ._kernels import loop_icr as _loop_icr

@@ -22,7 +22,8 @@ from typing import Any, TypeVar
 
 from rrbody.model.io import atomic_path, atomic_write_text
 
-__all__ = ["Target", "StudyResult", "machine_info", "machine_text", "best_time", "best_wall_cpu", "write_csv", "write_text",
+__all__ = ["Target", "StudyResult", "machine_info", "machine_text", "best_time", "best_wall_cpu", "write_csv",
+           "write_text",
            "md_table", "fmt", "module_available", "save_figure", "loglog_slope"]
 
 T = TypeVar("T")
@@ -101,7 +102,7 @@ def machine_info() -> dict[str, Any]:
     except AttributeError:
         usable = os.cpu_count() or 1
     return {
-        "date_utc": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "date_utc": _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         "nproc": usable,
         "cpu": _cpu_model(),
         "load_avg_1_5_15": tuple(round(x, 2) for x in load),

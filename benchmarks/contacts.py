@@ -47,8 +47,9 @@ import csv
 import math
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
@@ -99,7 +100,8 @@ def _pressure(kind: str) -> Any:
 
 
 def _scene(n: int, kind: str = "uniform", *, mu: float = MU, mu_static: float | None = None, tilt: float = 0.0,
-           box: bool = False, moving: bool = True, static_off: bool = False, seed: int = 11) -> tuple[Any, Any, list[Any]]:
+           box: bool = False, moving: bool = True, static_off: bool = False, seed: int = 11) -> tuple[Any, Any,
+                                                                                                      list[Any]]:
     """A space with ``n`` bodies on a grid, in the plugin: disks (or boxes), sliding and spinning
     (``moving``) or at rest; ``static_off`` adds them through the plugin's package-internal ``add_footprint`` with no
     static friction (MUS 0)."""
@@ -445,7 +447,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     for k in ("mu_s = mu", "mu_s = 2 mu", "static off"):
         v = st[k]
         if v["error"]:
-            row("static_moving", f"{n} sliding disks, uniform", k, n, steps, math.nan, note=f"not measured: {v['error']}")
+            row("static_moving", f"{n} sliding disks, uniform", k, n, steps, math.nan,
+                note=f"not measured: {v['error']}")
             continue
         ratio = base / v["s"] if k != "mu_s = mu" else 1.0
         row("static_moving", f"{n} sliding disks, uniform", k, n, steps, v["s"], ratio,
@@ -458,9 +461,11 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
         plugin_study.STEPS, eng)
     rec, rec_where = recorded_plugin(out, n)
     if rec is not None:
-        rows.append({"part": "static_moving", "scene": "engine study scene (half circles, half boxes, dt 1/120 s, mu 0.05)",
+        rows.append({"part": "static_moving",
+                     "scene": "engine study scene (half circles, half boxes, dt 1/120 s, mu 0.05)",
                      "variant": "recorded earlier", "bodies": int(rec["bodies"]), "steps": plugin_study.STEPS,
-                     "repeats": None, "us_per_step": rec["plugin_us"], "us_per_body_step": rec["plugin_us"] / rec["bodies"],
+                     "repeats": None, "us_per_step": rec["plugin_us"],
+                     "us_per_body_step": rec["plugin_us"] / rec["bodies"],
                      "ratio": None, "ratio_to": "", "check": "", "note": f"from an earlier run: {rec_where}"})
     off = st["static off"]
     r_off = base / off["s"] if not off["error"] else math.nan
@@ -513,7 +518,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
                 f"<= {PROFILE_RATIO_MAX:g}x (ring, hertz, points)",
                 ", ".join(f"{k} {prof[k]['ratio']:.2f}x" for k in JUDGED)
                 + f" (annulus {prof['annulus']['ratio']:.2f}x, reported only: two uniform disks); uniform "
-                  f"{fmt(prof['uniform']['s'] * us / n)} us per body (since the active-matter work the uniform disk, the ring "
+                  f"{fmt(prof['uniform']['s'] * us / n)} us per body (since the active-matter work the uniform disk, "
+                  "the ring "
                   f"and the Hertz patch read their disk tables: ring {fmt(prof['ring']['s'] * us / n)} us per "
                   f"body; the feet stay exact, in the same loop; before, stepped after the others: 3.29x)",
                 all(prof[k]["ratio"] <= PROFILE_RATIO_MAX for k in JUDGED) and all_sliding,
@@ -522,7 +528,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     same_2mu = 1 / STATIC_RATIO_MAX <= r_2mu <= STATIC_RATIO_MAX
     met2 = same_2mu and (math.isnan(r_off) or r_off <= STATIC_RATIO_MAX)
     rec_txt = (f"; engine-study scene now {fmt(eng * us / n)} us per body, recorded earlier "
-               f"{fmt(rec['plugin_us'] / rec['bodies'])} us per body ({int(rec['bodies'])} bodies; an earlier run, not a ratio)"
+               f"{fmt(rec['plugin_us'] / rec['bodies'])} us per body ({int(rec['bodies'])} bodies; an earlier run, "
+               "not a ratio)"
                if rec is not None else "; no earlier plugin figure recorded")
     t2 = Target(f"static friction in a step where nothing sticks ({n:,} sliding disks)",
                 f"<= {STATIC_RATIO_MAX:.2f}x",
@@ -536,7 +543,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
                 f"times, {oc['py_calls_n']} Python-level calls per step ({oc['py_calls_small']} with {oc['small']} "
                 f"bodies); {fmt(h['later'] * us)} us per step ({fmt(h['later'] * us / n)} us per body) held, "
                 f"{fmt(h['new_load'] * us / n)} us per body with a new load",
-                (calls_ok and oc["py_calls_n"] == oc["py_calls_small"]) if oc["kernel_calls_per_step"] is not None else None,
+                (calls_ok and oc["py_calls_n"] == oc["py_calls_small"]) if oc["kernel_calls_per_step"] is not None
+                else None,
                 oc["note"] or "tilt atan(0.3), mu 0.4, mu_s 0.5, released at rest")
     t4 = Target(f"{n:,} bodies held on a tilt stay exactly at rest", "bit-identical positions, zero velocities",
                 f"{'yes' if h['at_rest'] and oc['at_rest'] else 'no'} after {1 + steps + 2 * loads} steps x {reps} "
@@ -546,7 +554,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     # ---- Markdown ----
     prow = [(PROFILE_TEXT[k], _us(prof[k]["s"] * us), prof[k]["s"] * us / n, prof[k]["ratio"],
              f"{prof[k]['sliding']}/{n}",
-             "reported only (two uniform disks)" if k == "annulus" else ("judged: <= 2x" if k in JUDGED else "baseline"))
+             "reported only (two uniform disks)" if k == "annulus"
+             else ("judged: <= 2x" if k in JUDGED else "baseline"))
             for k in PROFILES]
     srow = [(k, _us(st[k]["s"] * us) if not st[k]["error"] else math.nan,
              st[k]["s"] * us / n if not st[k]["error"] else math.nan,
@@ -561,14 +570,16 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
              "check: positions bit-identical, velocities zero: " + ("yes" if h["at_rest"] else "NO")),
             ("held: compiled calls per pf.step", n, math.nan, math.nan,
              f"check: {fmt(oc['kernel_calls_per_step'])} per step; per-body Python entered {oc['rest_entries']} "
-             f"times; {oc['py_calls_n']} Python-level calls per step ({oc['py_calls_small']} with {oc['small']} bodies)"),
+             f"times; {oc['py_calls_n']} Python-level calls per step ({oc['py_calls_small']} with {oc['small']} "
+             "bodies)"),
             ("boxes: first pf.step after the adds, all break away (tilt atan(0.8))", n, _us(ba["first"] * us),
              ba["first"] * us / n, "check: all broke away: " + ("yes" if ba["all_broke"] else "NO")),
             ("boxes: break-away step after one held step", n, _us(ba["after_held"] * us), ba["after_held"] * us / n,
              f"{ba['after_held'] / ba['held_new_load']:.2f}x the held new-load step"),
             ("boxes: held on atan(0.3), new load", n, _us(ba["held_new_load"] * us), ba["held_new_load"] * us / n,
              "check: stayed at rest: " + ("yes" if ba["held_kept"] else "NO")),
-            ("boxes: sliding after the break-away", n, _us(ba["sliding"] * us), ba["sliding"] * us / n, f"{slide} steps")]
+            ("boxes: sliding after the break-away", n, _us(ba["sliding"] * us), ba["sliding"] * us / n,
+             f"{slide} steps")]
     orow = [(PROFILE_TEXT[k], ob[k] * us, ob[k] / ob["uniform"]) for k in PROFILES]
     rec_line = (f"Recorded earlier (not this run; {rec_where}): the plugin on the engine study's scene (half circles, "
                 f"half boxes, dt = 1/120 s, mu = 0.05), {int(rec['bodies'])} bodies: {fmt(rec['plugin_us'])} us per "
@@ -590,7 +601,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
           "bodies by construction; it is reported, not judged.", "",
           f"Static friction in steps where nothing sticks (the same {n} sliding disks, uniform; target: <= "
           f"{STATIC_RATIO_MAX:.2f}x). Static friction is always on for dry bodies (mu_s defaults to mu); `static off` "
-          f"adds the bodies through the plugin's package-internal `add_footprint(..., static=0.0)`, the only way to switch it off:", "",
+          "adds the bodies through the plugin's package-internal `add_footprint(..., static=0.0)`, the only way to "
+          "switch it off:", "",
           md_table(["variant", "us per step", "us per body", "mu_s = mu over this", "still sliding at the end"], srow),
           "", rec_line, "",
           f"Static friction on a tilted plane: {n} disks released at rest on atan(0.3), mu = {MU_T:g}, mu_s = "

@@ -32,8 +32,8 @@ import time
 from pathlib import Path
 from typing import Any
 
-
 from .common import StudyResult, Target, fmt, machine_text, md_table, save_figure, write_csv
+
 
 def _load_note() -> str:
     """A warning for the targets table when the machine was busy: a 1-minute load average of at
@@ -181,7 +181,8 @@ def _plot_stiff(path: Path, rows: list[dict[str, Any]], ref_tf: float) -> Path:
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     for label, (c, mk, ls) in styles.items():
         # in tolerance order; rrbody's rtol 1e-13 run is the reference itself (error 0) and is left out
-        pts = [(r["wall_s"], r["err"]) for r in rows if r["method"] == label and math.isfinite(r["err"]) and r["err"] > 0]
+        pts = [(r["wall_s"],
+                r["err"]) for r in rows if r["method"] == label and math.isfinite(r["err"]) and r["err"] > 0]
         if pts:
             ax.loglog(*zip(*pts), color=c, marker=mk, ls=ls, label=label)
     ax.set_xlabel("wall time (s)")
@@ -201,9 +202,9 @@ def _rhs_study(repeats: int, quick: bool = False) -> tuple[list[dict[str, Any]],
     from rrbody.model.drive import CircularDrive
     from rrbody.model.friction import Friction
     from rrbody.model.scene import Scene, rod_mass_scene
+    from rrbody.physics import params as P
     from rrbody.physics.bind import kernel_params
     from rrbody.physics.dynamics import SYSTEM_DRIVEN, system_from_params
-    from rrbody.physics import params as P
 
     from ._kernels import loop_rhs_for
 
@@ -252,9 +253,11 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     files = [write_csv(out / "core_step.csv", step_rows).name, write_csv(out / "core_rhs.csv", rhs_rows).name,
              write_csv(out / "core_stiff.csv", stiff_rows).name,
              _plot_stiff(out / "core_stiff.png", stiff_rows, extra["ref_tf"]).name]
-    md = [f"## {TITLE}", "", machine_text(), "", "### DOP853 step vs a lean compiled DOP853 (phixtpm to 60 s, rtol 1e-13)",
+    md = [f"## {TITLE}", "", machine_text(), "",
+          "### DOP853 step vs a lean compiled DOP853 (phixtpm to 60 s, rtol 1e-13)",
           "", md_table(["what", "steps", "wall (s)", "ns per step", "phi(60 s)"],
-                       [(r["what"], r["steps"], r["wall_s"], r["ns_per_step"], f"{r['phi_end']:.15g}") for r in step_rows]),
+                       [(r["what"], r["steps"], r["wall_s"], r["ns_per_step"],
+                         f"{r['phi_end']:.15g}") for r in step_rows]),
           "", "### Right-hand side cost by body (compiled loop, system code compiled in)", "",
           md_table(["body (friction method)", "ICR nodes per panel", "ns per evaluation"],
                    [(r["body"], r["nodes_per_panel"], r["ns_per_eval"]) for r in rhs_rows]),

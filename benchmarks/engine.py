@@ -24,10 +24,20 @@ import time
 from pathlib import Path
 from typing import Any
 
-from . import plugin as plugin_study
-from .common import (StudyResult, Target, fmt, loglog_slope, machine_text, md_table, module_available, save_figure,
-                     write_csv)
 from rrbody.physics.bind import kernel_params
+
+from . import plugin as plugin_study
+from .common import (
+    StudyResult,
+    Target,
+    fmt,
+    loglog_slope,
+    machine_text,
+    md_table,
+    module_available,
+    save_figure,
+    write_csv,
+)
 
 NAME = "engine"
 TITLE = "Engine path (pymunk): error vs dt, cost per step vs area elements"
@@ -95,11 +105,11 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
         print(f"[engine] skipped: rrbody.engine not importable ({why})", flush=True)
         return StudyResult(NAME, TITLE, skipped=f"rrbody.engine not importable ({why})")
     from rrbody.analysis.flip import flip_time
+    from rrbody.engine import default_dt, engine_flip_time, simulate_engine
+    from rrbody.integrate.ode import integrate_driven
     from rrbody.model.bodies import Disk
     from rrbody.model.drive import CircularDrive
-    from rrbody.engine import default_dt, engine_flip_time, simulate_engine
     from rrbody.model.friction import Friction
-    from rrbody.integrate.ode import integrate_driven
     from rrbody.model.scene import Scene, rod_mass_scene
 
     t0 = time.perf_counter()
@@ -172,7 +182,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     # file names relative to the results folder (a machine's paths have no place in the recorded results)
     files = [write_csv(out / "engine_dt.csv", rows).name, write_csv(out / "engine_elements.csv", erows).name,
              write_csv(out / "engine_plugin.csv", prows).name, write_csv(out / "engine_plugin_adds.csv", arows).name,
-             write_csv(out / "engine_plugin_push.csv", [{"variant": k, "us_per_step": v} for k, v in push_us.items()]).name,
+             write_csv(out / "engine_plugin_push.csv",
+                       [{"variant": k, "us_per_step": v} for k, v in push_us.items()]).name,
              _plot(out / "engine.png", rows, erows).name]
     near256 = min((r for r in erows if r["elements"] > 1), key=lambda r: abs(math.log(r["elements"] / 256)))
     p100 = prows[0]

@@ -15,9 +15,9 @@ Nanoseconds per call: compiled loops over the same twists (random order), the ta
 formula interleaved, best of ``REPEATS``; also for the two halves of the distribution apart ("near":
 the ICR in the disc; "far": mostly translating), and "stepped": 500 bodies' twists, each drifting by
 1 % per step, body after body for 80 steps, as the plugin meets them (a smaller working set of the
-table than 40,000 independent twists: the blocks of 500 bodies, not of the whole table). Error: the largest difference from the exact
-formula over the twists (force; torque / R). Fallback: the share of calls the table hands to the
-exact formula. Build: best of 3 after a first (compiling) build.
+table than 40,000 independent twists: the blocks of 500 bodies, not of the whole table). Error: the largest difference
+from the exact formula over the twists (force; torque / R). Fallback: the share of calls the table hands to the exact
+formula. Build: best of 3 after a first (compiling) build.
 """
 
 from __future__ import annotations
@@ -40,7 +40,8 @@ A = 0.08  # m: the L's leg width (benchmarks/active.py)
 V_EPS = 1e-6  # m/s
 REPEATS = 9
 BODIES = 500  # the L-shapes of the active benchmark's 1,000 bodies
-COST_TARGET_NS = 40.0  # the active bound: plane friction + active force <= 30 % of pymunk's step, ~40 ns a body for friction
+# the active bound: plane friction + active force <= 30 % of pymunk's step, ~40 ns a body for friction
+COST_TARGET_NS = 40.0
 
 
 def _footprints() -> dict[str, tuple[np.ndarray, np.ndarray]]:
@@ -153,7 +154,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
                "exact_ns_far": ns_ef, "table_ns_stepped": ns_ts, "exact_ns_stepped": ns_es, "twists": n}
         rows.append(row)
         print(f"[footprint_table] {name}: table {ns_t:.1f} ns vs exact {ns_e:.1f} ns per call ({ns_e / ns_t:.1f}x; "
-              f"near {ns_tn:.1f} vs {ns_en:.1f}, far {ns_tf:.1f} vs {ns_ef:.1f}, stepped {ns_ts:.1f} vs {ns_es:.1f}), fallback {row['fallback']:.2%}, "
+              f"near {ns_tn:.1f} vs {ns_en:.1f}, far {ns_tf:.1f} vs {ns_ef:.1f}, stepped {ns_ts:.1f} vs {ns_es:.1f}), "
+              f"fallback {row['fallback']:.2%}, "
               f"max error {err_f:.2g} / {err_t:.2g} R, build {build:.2f} s, {T.nbytes / 1e6:.2f} MB", flush=True)
     write_csv(out / "footprint_table.csv", rows)
     L = rows[0]
@@ -172,7 +174,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     if quick:
         targets = [Target(t.name, t.target, t.measured + " [quick]", None) for t in targets]
     cols = ["footprint", "table_ns", "exact_ns", "speedup", "table_ns_near", "exact_ns_near", "table_ns_far",
-            "exact_ns_far", "table_ns_stepped", "exact_ns_stepped", "fallback", "fallback_near", "max_err_force", "max_err_torque_over_R", "build_s",
+            "exact_ns_far", "table_ns_stepped", "exact_ns_stepped", "fallback", "fallback_near", "max_err_force",
+            "max_err_torque_over_R", "build_s",
             "table_mb"]
     md = [f"## {TITLE}", "", __doc__.split("\n\n", 1)[1].strip(), "", machine_text(), "",
           md_table(cols, [[fmt(r[c]) for c in cols] for r in rows]), "",

@@ -197,7 +197,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
                f"{disk['stop ratio v/(R Omega)']:.4f} (launched at 1; read 3 steps before the stop)",
                abs(disk["stop ratio v/(R Omega)"] / EPS_STAR - 1) < 0.02),
         Target(f"adapter cost, {N_COST} bodies", "<= 1.5x MuJoCo's own step",
-               "; ".join(f"{k}: {v[1] * 1e6:.0f} vs {v[0] * 1e6:.0f} us ({v[1] / v[0]:.2f}x)" for k, v in costs.items()),
+               "; ".join(f"{k}: {v[1] * 1e6:.0f} vs {v[0] * 1e6:.0f} us ({v[1] / v[0]:.2f}x)" for k,
+                         v in costs.items()),
                ratio <= 1.5),
     ]
     if quick:

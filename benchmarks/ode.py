@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from rrbody.physics.bind import kernel_params
+
 from .common import StudyResult, Target, best_time, best_wall_cpu, fmt, machine_text, md_table, save_figure, write_csv
 
 NAME = "ode"
@@ -42,7 +43,8 @@ RTOLS = [10.0 ** -e for e in range(3, 14)]            # rrbody: 1e-3 ... 1e-13
 SCIPY_RTOLS = [1e-4, 1e-6, 1e-8, 1e-10, 1e-12]
 SCIPY_METHODS = ["RK45", "DOP853", "LSODA", "Radau"]
 LEVELS = {"draft": 1e-4, "default": 1e-6, "paper": 1e-9}   # t_f relative-error level of each preset
-TARGET_RATIO = {"phixtpm": 100.0, "slow": 100.0, "fast": 100.0, "weak": 100.0}  # each hard case >= 100x at matched t_f error
+TARGET_RATIO = {"phixtpm": 100.0, "slow": 100.0, "fast": 100.0,
+                "weak": 100.0}  # each hard case >= 100x at matched t_f error
 
 
 @dataclass(frozen=True)
@@ -266,7 +268,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
             w_tf, res = rr_flip(case, r, t_max=2.0 * ref.t_stop)
             w_phi, phi = rr_phi(case, r)
             rr_rows.append({"case": case.name, "method": "rrbody", "rtol": r, "t_f": res.t_f,
-                            "err_tf": _rel(res.t_f, tf_ref), "wall_tf_s": w_tf, "n_steps": res.n_steps, "settled": res.settled,
+                            "err_tf": _rel(res.t_f, tf_ref), "wall_tf_s": w_tf, "n_steps": res.n_steps,
+                            "settled": res.settled,
                             "phi_fix": phi, "err_phi": abs(phi - phi_ref), "wall_phi_s": w_phi})
         # ---- the default settings of `rrbody flip-time` (wall and CPU time: the machine is shared) ----
         from rrbody.analysis.flip import flip_time
@@ -318,7 +321,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
         cross.append((case.name, res_sp["t_f"], _rel(res_sp["t_f"], refs[case.name]["t_f"]), res_sp["wall_s"]))
 
     files = []
-    rr_cols = ["case", "method", "rtol", "t_f", "err_tf", "wall_tf_s", "n_steps", "settled", "phi_fix", "err_phi", "wall_phi_s"]
+    rr_cols = ["case", "method", "rtol", "t_f", "err_tf", "wall_tf_s", "n_steps", "settled", "phi_fix", "err_phi",
+               "wall_phi_s"]
     files.append(str(write_csv(out / "ode_rrbody.csv", rr_rows, rr_cols)))
     sp_cols = ["case", "method", "rtol", "measure", "t_f", "phi", "err", "wall_s", "capped", "t_reached",
                "wall_extrapolated_s", "nfev", "status"]
@@ -372,7 +376,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
                                       lo >= want, "worst matched point counts"))
             elif lower is not None:
                 targets.append(Target(f"ODE vs scipy DOP853, {case.name}", f">= {want:.0f}x at matched t_f error",
-                                      f">= {lower:.0f}x (every scipy run capped; time spent before the cap)", lower >= want))
+                                      f">= {lower:.0f}x (every scipy run capped; time spent before the cap)",
+                                      lower >= want))
             else:
                 targets.append(Target(f"ODE vs scipy DOP853, {case.name}", f">= {want:.0f}x", "no matched point",
                                       None))
@@ -447,8 +452,10 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
           "the fast case). scipy integrates the paper's Eq. 2 in pure Python (rtol = atol); its t_f is the time of "
           "the lowest phi' = 0 (+) event, and its run stops, as rrbody's does, once that minimum is settled by "
           f"rrbody's rule (phi risen {_settle_rule()[0]:g} turns above it and {_settle_rule()[1]:g} driving periods "
-          "passed; a terminal event), or has no t_f by twice the reference run's stop time. Times are best of up to 3 runs "
-          f"(after compilation for rrbody; runs over 1 s are timed once). phi is compared at t_fix = {', '.join(f'{c.t_fix:g} s ({c.name})' for c in cases)}.",
+          "passed; a terminal event), or has no t_f by twice the reference run's stop time. Times are best of up to 3 "
+          "runs "
+          "(after compilation for rrbody; runs over 1 s are timed once). phi is compared at t_fix = "
+          f"{', '.join(f'{c.t_fix:g} s ({c.name})' for c in cases)}.",
           "", md_table(["case", "t_f ref (s)", "rel. unc.", "phi(t_fix) ref (rad)", "abs. unc.", "stop time (s)"],
                        [(c, fmt(v["t_f"], 14), v["unc_tf"], fmt(v["phi_fix"], 12), v["unc_phi"], v["t_stop"])
                         for c, v in refs.items()])]
@@ -477,7 +484,7 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
            "(or within the reference's own uncertainty where that is larger).", "",
            md_table(["preset", "t_f rel err level", "recommended rtol", "current rtol",
                      *[f"cost {c.name}" for c in cases]], preset_rows),
-           "", f"Plot: `ode_work_precision.png`. Data: `ode_rrbody.csv`, `ode_scipy.csv`, `ode_reference.csv`."]
+           "", "Plot: `ode_work_precision.png`. Data: `ode_rrbody.csv`, `ode_scipy.csv`, `ode_reference.csv`."]
     res = StudyResult(NAME, TITLE, targets, "\n".join(md), files)
     res.wall_s = time.perf_counter() - t_study
     hl = [f"recommended presets (cheapest rtol whose t_f rel. error, and that of every tighter rtol, is within "
@@ -537,7 +544,8 @@ def _plot(path: Path, cases: list[Case], rr_rows: list[dict[str, Any]], sp_rows:
             ax.grid(True, which="both", alpha=0.3)
             if i == 0 and j == 0:
                 ax.legend(fontsize=7)
-    fig.suptitle("Work-precision: error vs wall time (dotted: time a capped scipy run spent, a lower bound on its cost)", fontsize=10)
+    fig.suptitle("Work-precision: error vs wall time (dotted: time a capped scipy run spent, a lower bound on its "
+                 "cost)", fontsize=10)
     fig.tight_layout()
     save_figure(fig, path)
     plt.close(fig)

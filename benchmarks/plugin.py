@@ -111,7 +111,8 @@ def many_bodies(ns: list[int], repeats: int) -> list[dict[str, Any]]:
     rows = []
     for n in ns:
         b = per_step(["bare", "tank", "plugin"], n, repeats)
-        rows.append({"bodies": n, "bare_us": b["bare"] * 1e6, "tank_us": b["tank"] * 1e6, "plugin_us": b["plugin"] * 1e6,
+        rows.append({"bodies": n, "bare_us": b["bare"] * 1e6, "tank_us": b["tank"] * 1e6,
+                     "plugin_us": b["plugin"] * 1e6,
                      "tank_over_bare": b["tank"] / b["bare"], "plugin_over_tank": b["plugin"] / b["tank"],
                      "plugin_us_per_body": b["plugin"] * 1e6 / n})
         print(f"[engine/plugin] N={n}: bare {b['bare'] * 1e6:.1f} us, tank {b['tank'] * 1e6:.1f} us, "

@@ -215,7 +215,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     write_csv(out / "pusht.csv", rows)
     phys = _physics_steps(50 if quick else 200)
     gym_s, plane_s = phys["gym-pusht: space.step"], phys["wrapper: plane.step"]
-    write_csv(out / "pusht_physics.csv", [{"physics_step": i + 1, "gym_pusht_space_step_us": g, "wrapper_plane_step_us": w,
+    write_csv(out / "pusht_physics.csv", [{"physics_step": i + 1, "gym_pusht_space_step_us": g,
+                                           "wrapper_plane_step_us": w,
                                            "added_us": w - g} for i, (g, w) in enumerate(zip(gym_s, plane_s))])
     added = [w - g for g, w in zip(gym_s, plane_s)]
     rest_gym = next(r["us_per_step"] for r in rows if r["phase"] == "at rest" and r["env"] == "gym-pusht")
@@ -230,7 +231,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
             each = next(x["runs_x"] for x in rows if x["phase"] == phase and x["env"] == k)
             targets.append(Target(f"{k}, {phase}: env.step / gym-pusht's", f"<= {bound}x",
                                   f"{r:.3f}x (median of {len(runs)} runs: {each})", r <= bound))
-    targets.append(Target("AsyncVectorEnv, 2 workers, runs rrbody/PushT-v0", "(no bound)", f"{vec * 1e6:.0f} us/step", None))
+    targets.append(Target("AsyncVectorEnv, 2 workers, runs rrbody/PushT-v0", "(no bound)", f"{vec * 1e6:.0f} us/step",
+                          None))
     table_md = md_table(["phase", "env", "us per step", "x gym-pusht", "each run's x", "each run's us per step"],
                         [(r["phase"], r["env"], fmt(r["us_per_step"]), f"{r['x_gym_pusht']:.3f}", r["runs_x"],
                           r["runs_us"]) for r in rows])

@@ -135,7 +135,8 @@ def _coldstart_table(results: Path) -> str:
     the cold-start bound, and the same call compiling its kernels (no install-time kernels)."""
     return md_table(["first call (a fresh process)", "cold (s)", "warm (s)", "bound, cold (s)",
                      "compiling, without the install's kernels (s)"],
-                    [(r["scenario"], float(r["cold_s"]), float(r["warm_s"]), float(r["target_s"]), float(r["compile_s"]))
+                    [(r["scenario"], float(r["cold_s"]), float(r["warm_s"]), float(r["target_s"]),
+                      float(r["compile_s"]))
                      for r in _rows(results, "coldstart.csv")])
 
 
@@ -145,7 +146,8 @@ def _mujoco_table(results: Path) -> str:
         return "-" if x in ("", "nan") else format(float(x), digits)
 
     return md_table(["friction", "body", "spin-down / exact", "stop ratio v/(R Omega) (exact 0.653)"],
-                    [(r["friction"], r["body"], num(r["spin-down / exact"], ".4f"), num(r["stop ratio v/(R Omega)"], ".4g"))
+                    [(r["friction"], r["body"], num(r["spin-down / exact"], ".4f"), num(r["stop ratio v/(R Omega)"],
+                                                                                        ".4g"))
                      for r in _rows(results, "mujoco.csv")])
 
 

@@ -25,10 +25,10 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
     if not ok:
         print(f"[render] skipped: rrbody.render.mp4 not importable ({why})", flush=True)
         return StudyResult(NAME, TITLE, skipped=f"rrbody.render.mp4 not importable ({why})")
+    from rrbody.analysis.simulate import simulate
+    from rrbody.model.scene import rod_mass_scene
     from rrbody.render.flip import flip_mark
     from rrbody.render.mp4 import MovieFigure, frame_times, render_movie
-    from rrbody.model.scene import rod_mass_scene
-    from rrbody.analysis.simulate import simulate
 
     t0 = time.perf_counter()
     traj = simulate(rod_mass_scene(0.2, 0.05, 0.6), t_max=45.0)

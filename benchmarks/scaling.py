@@ -33,8 +33,8 @@ SERIES: dict[str, dict[str, Any]] = {
 
 def run(out: Path, *, quick: bool = False) -> StudyResult:
     from rrbody.analysis.flip import flip_time
-    from rrbody.model.scene import rod_mass_scene
     from rrbody.analysis.simulate import ACCURACY
+    from rrbody.model.scene import rod_mass_scene
 
     t0 = time.perf_counter()
     flip_time(rod_mass_scene(0.2, 0.05, 0.6), rtol=1e-6)   # compile

@@ -100,7 +100,7 @@ def record(target: str) -> dict[str, Any]:
         subprocess.run(["git", "clone", "--quiet", str(ROOT), str(clone)], check=True)
         env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV", "RRBODY_CACHE_DIR")}
         env["RRBODY_CACHE_DIR"] = str(tmp / "cache")  # empty: as on a machine that never ran rrbody
-        date = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+        date = _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC")
         before = _load()
         t0 = time.perf_counter()
         lines: list[tuple[float, str]] = []
@@ -118,7 +118,8 @@ def record(target: str) -> dict[str, Any]:
         steps, passed, slowest = parse_steps(lines, end)
         return {"command": f"make {target}", "date_utc": date, "commit": commit, "uncommitted_changes": dirty,
                 "load_avg_before": before, "load_avg_after": _load(), "total_s": round(end, 1),
-                "steps_s": {k: round(v, 1) for k, v in steps.items()}, "tests_passed": passed, "slowest_tests_s": slowest,
+                "steps_s": {k: round(v, 1) for k, v in steps.items()}, "tests_passed": passed,
+                "slowest_tests_s": slowest,
                 "packages": UV_CACHE, "cache": "an empty RRBODY_CACHE_DIR"}
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
@@ -139,7 +140,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         data.setdefault("targets", {})[target] = record(target)
         write_text(path, json.dumps(data, indent=1) + "\n")  # each target as soon as it is done
         rec = data["targets"][target]
-        print(f"== make {target}: {rec['total_s']:.0f} s; " + ", ".join(f"{k} {v:.0f} s" for k, v in rec["steps_s"].items()),
+        print(f"== make {target}: {rec['total_s']:.0f} s; " + ", ".join(f"{k} {v:.0f} s" for k,
+                                                                        v in rec["steps_s"].items()),
               flush=True)
     print(f"wrote {path}")
     return 0

@@ -82,7 +82,7 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
                 w0 = time.perf_counter()
                 mod.main(Path(tmp), force=True)
                 scene_wall = time.perf_counter() - w0
-            n_scene = len(getattr(mod, "np").arange(0.0, mod.K_MAX + mod.DK / 2, mod.DK))
+            n_scene = len(mod.np.arange(0.0, mod.K_MAX + mod.DK / 2, mod.DK))
             rows.append({"sweep": f"Hc scene as shipped ({n_scene} k values x 2 laws, tol {mod.TOL:g})",
                          "points": 2 * n_scene, "workers": 1, "wall_s": scene_wall,
                          "points_per_s": 2 * n_scene / scene_wall})
@@ -107,8 +107,8 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
             per_hc.append({"k": k, "rr_tests": n_tests, "wall_s": w})
     finally:
         analysis.reverse_rotation_exists = orig  # type: ignore[assignment]
-    from rrbody.model.scene import rod_mass_scene
     from rrbody.analysis.simulate import ACCURACY
+    from rrbody.model.scene import rod_mass_scene
 
     # how loose may the RR test's rtol be for H_c to 1e-6? (reference: rtol 1e-13, tol 1e-9)
     tol_rows = []

@@ -345,7 +345,7 @@ def use_for_kernels() -> None:
         return
     from numba.core import caching
 
-    impl = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl")
+    impl = getattr(caching, "CacheImpl", None) or caching._CacheImpl
     base = caching._SourceFileBackedLocatorMixin
 
     class _Locator(base, caching._CacheLocator):  # type: ignore[misc, name-defined]

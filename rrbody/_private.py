@@ -34,8 +34,8 @@ ENV = "RRBODY_NO_PRIVATE"
 
 def private_allowed() -> bool:
     """Whether rrbody may use other libraries' private internals (False where ``RRBODY_NO_PRIVATE`` is
-    ``"1"``; True where it is unset, ``""`` or ``"0"``; any other value is a ValueError naming it). Read at each call; the kernels read it once, when
-    they compile."""
+    ``"1"``; True where it is unset, ``""`` or ``"0"``; any other value is a ValueError naming it). Read at each call;
+    the kernels read it once, when they compile."""
     value = os.environ.get(ENV, "")
     if value not in ("", "0", "1"):  # ("false" would otherwise turn them off: say so instead)
         raise ValueError(f"{ENV} must be 1 (private fast paths off), 0 or unset (on), got {value!r}")

@@ -1,4 +1,4 @@
-"""Active chiral bodies (the paper's second outlook): reverse rotations begun by collisions, a binary mixture, 1,000 bodies.
+"""Active chiral bodies (the paper's second outlook): reverse rotations begun by collisions, 1,000 bodies of two kinds.
 
 Bodies and rules: :mod:`rrbody.analysis.active_study` (L-shapes that collisions can turn against their
 orbit, frictionless disks that they cannot; propulsion off the centre of gravity, drag, rotational

@@ -1,4 +1,4 @@
-"""Chaos on a tilted plane: a chaotic and a regular orbit of the circularly forced double pendulum (the paper's first outlook).
+"""Chaos on a tilted plane: a chaotic and a regular orbit of the circularly forced double pendulum (the first outlook).
 
 The rod-mass body on a plane tilted by 0.5 rad (downhill along +x), without friction: a pendulum
 hanging downhill from P while P is driven round its circle, the paper's "circularly forced double

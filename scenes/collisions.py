@@ -1,4 +1,4 @@
-"""Collisions (the paper's outlook): a dozen driven and free bodies collide on one rough plane; which collisions restart reverse rotation?
+"""Collisions (the paper's outlook): a dozen driven and free bodies on one rough plane; which collisions restart RR?
 
 Six driven bodies (disks and ellipses, rrbody's builder with collisions on) ride concentric drive
 circles d = 1.0 ... 3.85 m at alternating rates (0.6 and 0.45 rad/s, so neighbours keep meeting); they
@@ -134,7 +134,8 @@ def main(out_dir: Path, *, force: bool = True) -> None:
         a, info = rows[j], summary["bodies"][name]
         line, = a.plot(t, phi[:, j, 0] / (2 * math.pi), lw=0.9, color=f"C{j}")  # its path's colour on the right
         for e in info["episodes"]:
-            a.axvspan(e["t_start"], e["t_end"], color=line.get_color(), alpha=0.35 if e["starts_at_collision"] else 0.12,
+            a.axvspan(e["t_start"], e["t_end"], color=line.get_color(),
+                      alpha=0.35 if e["starts_at_collision"] else 0.12,
                       lw=0)
         a.plot(hits[j], np.interp(hits[j], t, phi[:, j, 0] / (2 * math.pi)), "k|", ms=7)
         alone = "reverse-rotates alone" if info["reverse_rotation_alone"] else "cannot reverse-rotate alone"
@@ -148,7 +149,7 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     rows[0].text(1.0, 1.35, "shaded: reverse-rotation episodes (dark: started at a collision); |: collisions",
                  transform=rows[0].transAxes, ha="right", fontsize=8)
     b = fig.add_subplot(grid[:, 1])
-    for j, name in enumerate(names):
+    for j in range(len(names)):
         b.plot(pose[:, j, 0], pose[:, j, 1], lw=0.6, color=f"C{j}" if j < len(driven) else "0.55")  # free: grey
         for o in shape_outlines(bodies[j]):
             o = np.vstack([o, o[:1]])

@@ -1,4 +1,6 @@
-"""Pushing gym-pusht's T on a table: rotation per unit push against push speed, the coupled step and the split step against the limits (no paper figure; the plugin).
+"""Pushing gym-pusht's T on a table: turn per unit push against speed, coupled and split steps (no paper figure).
+
+The coupled step and the split step are set against the limits.
 
 The question: does the T turn, per unit of push, as the exact motion says at gym-pusht's own 0.01 s step?
 A kinematic disk of radius 15 units starts 0.5 units below the T's top bar at x = 60 (the bar's end) and

@@ -1,4 +1,4 @@
-"""extended-phi: phi(t) of a disk and two delta = +-0.9 ellipses; inset: small disk vs point mass (paper Fig. ExtendedPhi).
+"""extended-phi: phi(t) of a disk and two delta = +-0.9 ellipses; inset: small disk vs point (paper Fig. ExtendedPhi).
 
 Main panel: disk R0 = 0.4036 m and ellipses R0 = 0.3 m with delta = +0.9 and -0.9 (R_A along x at
 t = 0), all with l = 0.2 m, d = 1 m (so H = 0.607), k = mu g/d = 0.0033 s^-2, omega = 0.6 rad/s,
@@ -20,13 +20,13 @@ from pathlib import Path
 import numpy as np
 
 from rrbody.analysis.flip import flip_time
+from rrbody.analysis.report import write_summary, write_table
+from rrbody.analysis.simulate import simulate
 from rrbody.model.bodies import Disk, Ellipse, RodMass
 from rrbody.model.drive import CircularDrive
 from rrbody.model.friction import Friction
-from rrbody.render.figures import save_figure
-from rrbody.analysis.report import write_summary, write_table
 from rrbody.model.scene import Scene
-from rrbody.analysis.simulate import simulate
+from rrbody.render.figures import save_figure
 
 OMEGA, D, PHI0 = 0.6, 1.0, math.pi  # rad/s, m, rad (paper caption)
 K_MAIN, L_MAIN = 0.0033, 0.2  # s^-2, m

@@ -12,10 +12,10 @@ from pathlib import Path
 
 import numpy as np
 
-from rrbody.analysis.flip import critical_h, frictionless_critical_h
 from rrbody.analysis.fits import fit_q_exponential, q_exponential
-from rrbody.render.figures import save_figure
+from rrbody.analysis.flip import critical_h, frictionless_critical_h
 from rrbody.analysis.report import write_summary, write_table
+from rrbody.render.figures import save_figure
 
 OMEGA = 0.3  # rad/s (paper caption)
 K_MAX_FIT = 1.0  # s^-2: the fitted range [0, K_MAX_FIT]
@@ -62,7 +62,8 @@ def main(out_dir: Path, *, force: bool = True) -> None:
             model = float(fits[law](np.array([k]))[0])
             r += [float(hc[law][i]), model, float(hc[law][i]) - model if k <= K_MAX_FIT + 1e-12 else None]
         rows.append(r)
-    write_table(out_dir / "hc.csv", ["k", "Hc_dry", "fit_dry", "resid_dry", "Hc_viscous", "fit_viscous", "resid_viscous"],
+    write_table(out_dir / "hc.csv", ["k", "Hc_dry", "fit_dry", "resid_dry", "Hc_viscous", "fit_viscous",
+                                     "resid_viscous"],
                 rows, force=force, meta={"omega": OMEGA, "phi0": "pi", "tol": TOL, "fit_range": [0.0, K_MAX_FIT]})
     # 5. Figure: both curves with their fits (linear axes as in the paper; log inset for the tail).
     fig, ax = plt.subplots(figsize=(6.4, 4.6), constrained_layout=True)

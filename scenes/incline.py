@@ -1,4 +1,4 @@
-"""A tilted plane and static friction: the mu = tan(alpha) invariant, stick and break-away (no paper figure; real contacts).
+"""A tilted plane and static friction: mu = tan(alpha) invariant, stick, break-away (no paper figure; real contacts).
 
 Plane tilted at alpha = atan(0.4), downhill along +x (plane coordinates, m). (a) A point mass
 (ODE path) launched at 1 m/s at theta0 from downhill with mu = tan(alpha): exact, v (1 + cos theta)
@@ -54,7 +54,8 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     for th in THETA0:  # (a) the invariant on the ODE path
         c = math.cos(math.radians(th))
         tr = simulate(scene_from_params(body="rod", H=0.2, no_drive=True, v0=(c, math.sin(math.radians(th))),
-                                        mu=math.tan(ALPHA), g=G, tilt=ALPHA, downhill=0.0, t_max=inv["t_max"]), dt_out=0.005)
+                                        mu=math.tan(ALPHA), g=G, tilt=ALPHA, downhill=0.0, t_max=inv["t_max"]),
+                      dt_out=0.005)
         v = np.hypot(tr.vx_cm, tr.vy_cm)
         drift = float(np.max(np.abs((v + tr.vx_cm) / (1 + c) - 1)))  # v (1 + cos theta), relative
         inv["max_drift"].append(drift)
@@ -64,9 +65,12 @@ def main(out_dir: Path, *, force: bool = True) -> None:
         av.plot(tr.t, v, color=line.get_color(), label=f"$\\theta_0$ = {th}°: drift {drift:.0e}")
         av.axhline((1 + c) / 2, color=line.get_color(), ls="--", lw=0.8)
     ax.set(xlabel="x, downhill (m)", ylabel="y, across the slope (m)",
-           title=f"(a) point mass on the slope, $\\mu = \\tan\\alpha$ = 0.4 (ODE path),\n$v_0$ = 1 m/s at $\\theta_0$ from downhill, {inv['t_max']:g} s")
+           title="(a) point mass on the slope, $\\mu = \\tan\\alpha$ = 0.4 (ODE path),\n$v_0$ = 1 m/s at $\\theta_0$ "
+                 f"from downhill, {inv['t_max']:g} s")
     ax.legend(fontsize=8)
-    av.set(xlabel="t (s)", ylabel="v / v$_0$", title="speed; dashed: the limit (1 + cos $\\theta_0$)/2;\nlegend: max relative drift of v (1 + cos $\\theta$)")
+    av.set(xlabel="t (s)", ylabel="v / v$_0$",
+           title="speed; dashed: the limit (1 + cos $\\theta_0$)/2;\nlegend: max relative drift of v (1 + cos "
+                 "$\\theta$)")
     av.legend(fontsize=8)
     pf, b = _box(0.0)  # (b) a growing push on a level plane
     limit, k, push, x, vx = MU_S * b.mass * G, 0, [], [], []
@@ -103,16 +107,20 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     a_plugin, a_ode = np.polyfit(t, vp, 1)[0], np.polyfit(tr.t, tr.vx_cm, 1)[0]
     bv.plot(t, vp, lw=3, alpha=0.5, label=f"plugin: a = {a_plugin:.12g} ({a_plugin / a_exact - 1:+.0e})")
     bv.plot(tr.t, tr.vx_cm, "k-", lw=1, label=f"ODE path: a = {a_ode:.12g} ({a_ode / a_exact - 1:+.0e})")
-    bv.plot(tr.t, 1 + a_exact * tr.t, "r--", lw=1, label=f"exact g(sin$\\alpha$ - $\\mu$ cos$\\alpha$) = {a_exact:.12g}")
-    bv.set(xlabel="t (s)", ylabel="downhill speed (m/s)", title=f"box slid downhill, $\\mu$ = {MU}; released at rest on the\n"
+    bv.plot(tr.t, 1 + a_exact * tr.t, "r--", lw=1,
+            label=f"exact g(sin$\\alpha$ - $\\mu$ cos$\\alpha$) = {a_exact:.12g}")
+    bv.set(xlabel="t (s)", ylabel="downhill speed (m/s)",
+           title=f"box slid downhill, $\\mu$ = {MU}; released at rest on the\n"
            f"slope ($\\mu_s$ = {MU_S}, plugin): {'bit-identical' if held else 'MOVED'} after {HELD:,} steps")
     bv.legend(fontsize=8)
     save_figure(fig, out_dir, "incline", force=force)
     write_summary(out_dir, {"alpha": ALPHA, "g": G, "invariant": inv,
-                            "breakaway": {"push_at_break_over_limit": push[moved], "step_over_limit": STEP, "still_before": still,
+                            "breakaway": {"push_at_break_over_limit": push[moved], "step_over_limit": STEP,
+                                          "still_before": still,
                                           "mu": MU, "mu_static": MU_S},
                             "held": {"steps": HELD, "bit_identical": held},
-                            "downhill_accel": {"exact": a_exact, "plugin": a_plugin, "ode": a_ode, "mu": MU}}, force=force)
+                            "downhill_accel": {"exact": a_exact, "plugin": a_plugin, "ode": a_ode, "mu": MU}},
+                  force=force)
 
 
 if __name__ == "__main__":

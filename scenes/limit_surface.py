@@ -1,4 +1,4 @@
-"""Limit surfaces: the loads static friction holds, for a disk under four pressures and on four feet (no paper figure; real contacts).
+"""Limit surfaces: the loads static friction holds under four pressures and four feet (no paper figure; real contacts).
 
 The limit set of a contact is every (force, torque) its friction can give at rest; its boundary is
 the kinetic friction of each motion (rrbody.physics.limit). For a disk of radius R = 0.1 m the slice

@@ -17,7 +17,6 @@ import math
 import sys
 from pathlib import Path
 
-
 #: the scene (paper Fig. SSs)
 K, H, OMEGA, PHI0 = 0.003, 0.6, 0.6, math.pi
 #: simulated seconds shown after the flip; playback speed (simulated s per s); frames per second
@@ -30,9 +29,9 @@ DT_OUT = 0.02
 
 def main(out_dir: Path, *, force: bool = True) -> None:
     from rrbody.analysis.flip import flip_time
-    from rrbody.render.mp4 import render_movie, render_poster
-    from rrbody.model.scene import rod_mass_scene
     from rrbody.analysis.simulate import simulate
+    from rrbody.model.scene import rod_mass_scene
+    from rrbody.render.mp4 import render_movie, render_poster
 
     out_dir.mkdir(parents=True, exist_ok=True)
     movies = out_dir.parent.parent / "movies"  # movies/ is the sibling of results/ (the runner's layout)

@@ -15,7 +15,6 @@ import math
 import sys
 from pathlib import Path
 
-
 #: the scene (paper Fig. NormalAndPhasePortrait a, inset: CM history from t = 0 to 80 s)
 K, H, OMEGA, PHI0 = 0.003, 0.6, 0.6, 0.5 * math.pi
 T_END, SPEED, FPS = 80.0, 2.0, 30
@@ -25,9 +24,9 @@ DT_OUT = 0.02
 
 def main(out_dir: Path, *, force: bool = True) -> None:
     from rrbody.analysis.flip import flip_time
-    from rrbody.render.mp4 import render_movie, render_poster
-    from rrbody.model.scene import rod_mass_scene
     from rrbody.analysis.simulate import simulate
+    from rrbody.model.scene import rod_mass_scene
+    from rrbody.render.mp4 import render_movie, render_poster
 
     out_dir.mkdir(parents=True, exist_ok=True)
     movies = out_dir.parent.parent / "movies"  # movies/ is the sibling of results/ (the runner's layout)

@@ -1,4 +1,4 @@
-"""A T pushed in MuJoCo: its turn per unit travel against the step, on rrbody's split adapter (no paper figure; rrbody.mujoco).
+"""A T pushed in MuJoCo: its turn per unit travel against the step, on rrbody's split adapter (no paper figure; mujoco).
 
 Does the MuJoCo adapter turn a pushed body right at the step Push-T runs? Its friction is an applied
 wrench (``xfrc_applied``), computed before MuJoCo's contact solve and held fixed in it (docs/mujoco.md,

@@ -1,4 +1,5 @@
-"""NormalAndPhasePortrait: (a) normal rotation from t = 0 and a transient normal rotation; (b) phase portrait in theta (paper Fig. NormalAndPhasePortrait).
+"""NormalAndPhasePortrait: (a) normal rotations, from t = 0 and transient; (b) theta's phase portrait (paper Fig.
+NormalAndPhasePortrait).
 
 (a) phi(t) for k = 0.003 s^-2, H = 0.6, omega = 0.6 rad/s, phi0 = pi/2 (normal rotation from the
 start; inset: its CM history for 0 < t < 80 s) and for k = 0.003 s^-2, H = 0.8, omega = 2 rad/s,
@@ -16,10 +17,10 @@ import numpy as np
 
 from rrbody.analysis.flip import flip_time
 from rrbody.analysis.portraits import initial_point, theta_series, valid_initial_line
-from rrbody.render.figures import save_figure
 from rrbody.analysis.report import write_summary, write_table
-from rrbody.model.scene import rod_mass_scene
 from rrbody.analysis.simulate import simulate
+from rrbody.model.scene import rod_mass_scene
+from rrbody.render.figures import save_figure
 
 A_NORMAL = {"k": 0.003, "H": 0.6, "omega": 0.6, "phi0": math.pi / 2}
 A_TRANSIENT = {"k": 0.003, "H": 0.8, "omega": 2.0, "phi0": math.pi}

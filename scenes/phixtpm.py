@@ -12,10 +12,10 @@ from pathlib import Path
 import numpy as np
 
 from rrbody.analysis.flip import flip_time
-from rrbody.render.figures import save_figure
 from rrbody.analysis.report import write_summary, write_table
-from rrbody.model.scene import rod_mass_scene
 from rrbody.analysis.simulate import simulate
+from rrbody.model.scene import rod_mass_scene
+from rrbody.render.figures import save_figure
 
 H, OMEGA, PHI0 = 0.2, 0.6, math.pi  # paper caption
 KS = (0.033, 0.05, 0.1)  # s^-2, "from bottom to top"
@@ -45,7 +45,8 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     fig, ax = plt.subplots(figsize=(6.4, 4.4), constrained_layout=True)
     for k, c in zip(KS, ("tab:blue", "tab:orange", "tab:green")):
         r = flips[k]
-        ax.plot(trajs[k].t, trajs[k].phi, color=c, lw=1.2, label=rf"$\mu g/d$ = {k:g} s$^{{-2}}$, $t_f$ = {r.t_f:.2f} s")
+        ax.plot(trajs[k].t, trajs[k].phi, color=c, lw=1.2,
+                label=rf"$\mu g/d$ = {k:g} s$^{{-2}}$, $t_f$ = {r.t_f:.2f} s")
         ax.plot([r.t_f], [r.phi_min], "o", color=c, ms=5)
     ax.set_xlabel("t (s)")
     ax.set_ylabel(r"$\phi$ (rad)")

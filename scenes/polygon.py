@@ -1,4 +1,4 @@
-"""Polygons: t_f(omega) and H_c(k) for a square and an equilateral triangle beside the disk and an ellipse (no paper figure; real contacts)
+"""Polygons: t_f(omega) and H_c(k), a square and a triangle by a disk and an ellipse (no paper figure; real contacts)
 
 The paper's questions asked of shapes it could not ask. Four bodies of equal area A = pi (0.1 m)^2:
 a square (side a = sqrt A), an equilateral triangle (circumradius from A, a vertex on the body's +x

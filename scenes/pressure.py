@@ -84,9 +84,11 @@ def main(out_dir: Path, *, force: bool = True) -> None:
         keep = t < W0 / alpha - 2e-3  # before the stop step (the limiter and the rest rule act there)
         fit = -np.polyfit(t[keep], s[keep, 2], 1)[0]
         spin[name] = {"alpha_exact": alpha, "alpha_measured": fit, "rel_err": fit / alpha - 1}
-        ax.plot(t, s[:, 2], lw=2.5, alpha=0.7, label=f"{name}: $\\alpha$ = {alpha:.2f} rad/s$^2$, fit {fit / alpha - 1:+.0e}")
+        ax.plot(t, s[:, 2], lw=2.5, alpha=0.7,
+                label=f"{name}: $\\alpha$ = {alpha:.2f} rad/s$^2$, fit {fit / alpha - 1:+.0e}")
         ax.plot(t, np.maximum(W0 - alpha * t, 0.0), "k--", lw=0.8)
-    ax.set(xlabel="t (s)", ylabel=r"$\omega$ (rad/s)", title="(a) disk spinning in place (plugin); dashed: exact $\\omega_0 - \\alpha t$")
+    ax.set(xlabel="t (s)", ylabel=r"$\omega$ (rad/s)",
+           title="(a) disk spinning in place (plugin); dashed: exact $\\omega_0 - \\alpha t$")
     ax.legend(fontsize=8)
     eps = [_eps_star(f) for f in F_GRID]
     bx.plot(F_GRID, eps, "k-", label=r"exact $\varepsilon^*(f)$ (kernel fixed point)")
@@ -99,11 +101,13 @@ def main(out_dir: Path, *, force: bool = True) -> None:
             last = float((np.hypot(s[ok, 0], s[ok, 1]) / (R * s[ok, 2]))[-4])  # the last 3: limiter and rest rule
             sim.append({"f": f, "eps0": e0, "eps_last": last})
             bx.plot([f, f], [e0, last], color="0.75", lw=0.8)
-            bx.plot(f, last, mk, color="tab:red", ms=6, label=f"plugin, from $\\varepsilon_0$ = {e0:g}" if f == 0 else None)
+            bx.plot(f, last, mk, color="tab:red", ms=6,
+                    label=f"plugin, from $\\varepsilon_0$ = {e0:g}" if f == 0 else None)
     bx.set(xlabel=r"$f = R_i/R$", ylabel=r"$\varepsilon = v/(R\Omega)$", ylim=(0.6, 1.06),
            title="(b) washers: the ratio where slide and spin stop together")
     bx.text(0.98, 0.03, "grey: from the launch ratio (0.4 or 2, off scale) to the plugin's ratio just before\n"
-            "the stop; the approach is slow, so markers sit between $\\varepsilon_0$ and $\\varepsilon^*$ (inset: the gap)",
+            "the stop; the approach is slow, so markers sit between $\\varepsilon_0$ and $\\varepsilon^*$ (inset: the "
+            "gap)",
             transform=bx.transAxes, ha="right", va="bottom", fontsize=7)
     bx.legend(fontsize=8, loc="upper left")
     ins = bx.inset_axes((0.14, 0.45, 0.4, 0.3))

@@ -1,4 +1,4 @@
-"""Planar pushing in MuJoCo: a finger pushes a box off centre, rrbody's friction and MuJoCo's (no paper figure; the MuJoCo adapter).
+"""Planar pushing in MuJoCo: a finger pushes a box off centre, rrbody's friction and MuJoCo's (no paper figure; mujoco).
 
 A 0.2 m square box (2 cm thick, density 1000 kg/m^3, mu = 0.4) rests on a plane; a kinematic finger (a
 MuJoCo mocap sphere of radius 1 cm) moves along +x at 0.1 m/s for 3 s, aimed 5 cm off the box's

@@ -437,7 +437,8 @@ def by_series(pushes: list[dict[str, Any]], series: Sequence[tuple[str, float, s
               m: str) -> dict[str, dict[str, list]]:
     """The pushes' measure ``m``: {series name: {speed: [one per offset, in PUSH_OFFSETS' order]}}."""
     return {push_key(w, dt, sch): {f"{v:g}": [p[m] for p in pushes
-                                              if (p["world"], p["dt"], p["scheme"], p["speed"]) == (w, dt, sch or "", v)]
+                                              if (p["world"], p["dt"], p["scheme"], p["speed"]) == (w, dt, sch or "",
+                                                                                                    v)]
                                    for v in PUSH_SPEEDS} for w, dt, sch in series}
 
 

@@ -5,9 +5,9 @@ kinematic driver on the circle, a PivotJoint and the body's area friction (the s
 ``PlaneFriction``); the user's loop calls ``plane.step(dt)`` in place of ``space.step(dt)``. The
 ball is the user's own body and keeps its own motion. Outputs: phi(t) of each body (CSV), a figure (PNG/SVG) of phi(t)
 from the engine beside the ODE path, the CM paths on their drive circles (d = 1, 2, 3 m), the
-engine-minus-ODE difference of phi, and the ball's coasting against its exact straight line; and summary.json with each body's flip time next to the ODE path's (both with the
-exact area integral: the difference is the engine's dt error; the ODE with 256 sampled elements is
-listed too, for the sampling error an element-based engine would add).
+engine-minus-ODE difference of phi, and the ball's coasting against its exact straight line; and summary.json with
+each body's flip time next to the ODE path's (both with the exact area integral: the difference is the engine's dt
+error; the ODE with 256 sampled elements is listed too, for the sampling error an element-based engine would add).
 """
 
 from __future__ import annotations
@@ -19,15 +19,15 @@ import numpy as np
 import pymunk
 
 from rrbody.analysis.flip import flip_time
-from rrbody.model.bodies import Disk, Ellipse
-from rrbody.model.drive import CircularDrive
+from rrbody.analysis.report import write_summary, write_table
+from rrbody.analysis.simulate import simulate
 from rrbody.engine import EngineSettings, attach
 from rrbody.integrate.events import E_TMIN, STOP_T_END, new_event_state, on_step
+from rrbody.model.bodies import Disk, Ellipse
+from rrbody.model.drive import CircularDrive
 from rrbody.model.friction import Friction
-from rrbody.render.figures import save_figure
-from rrbody.analysis.report import write_summary, write_table
 from rrbody.model.scene import Scene, rod_mass_scene
-from rrbody.analysis.simulate import simulate
+from rrbody.render.figures import save_figure
 
 DT = 2e-3  # s: engine step (second order: t_f good to ~1e-5 relative here, docs/engine.md)
 T_MAX = 30.0  # s: past every body's flip

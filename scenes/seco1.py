@@ -1,8 +1,8 @@
-"""seco1: flip time vs phi0 for k = 7.5, 12.5, 17.5 s^-2 (H = 0.25, omega = 100 rad/s); inset: 250 s CM history (paper Fig. seco1).
+"""seco1: flip time vs phi0, k = 7.5, 12.5, 17.5 s^-2 (H = 0.25, omega = 100 rad/s); inset: CM path (paper Fig. seco1).
 
 The phi0 interval with reverse rotation is centred on pi and does not depend on friction: its
-edges are located by bisection on the RR test (docs/physics.md, "Definitions rrbody fixes") for each k and without friction.
-Inset: k = 0.0015 s^-2, H = 0.2, omega = 0.6 rad/s, phi0 = pi, CM position over 250 s.
+edges are located by bisection on the RR test (docs/physics.md, "Definitions rrbody fixes") for each k and without
+friction. Inset: k = 0.0015 s^-2, H = 0.2, omega = 0.6 rad/s, phi0 = pi, CM position over 250 s.
 """
 
 from __future__ import annotations
@@ -13,12 +13,12 @@ from pathlib import Path
 import numpy as np
 
 from rrbody.analysis.flip import reverse_rotation_exists
-from rrbody.render.figures import save_figure
 from rrbody.analysis.report import write_summary, write_table
-from rrbody.model.scene import rod_mass_scene
 from rrbody.analysis.simulate import simulate
 from rrbody.analysis.sweep import run_fresh_or_resume
 from rrbody.analysis.sweep_spec import Sweep
+from rrbody.model.scene import rod_mass_scene
+from rrbody.render.figures import save_figure
 
 H, OMEGA = 0.25, 100.0  # paper caption (main panel)
 KS = (7.5, 12.5, 17.5)  # s^-2

@@ -12,10 +12,10 @@ from pathlib import Path
 import numpy as np
 
 from rrbody.analysis.flip import flip_time
-from rrbody.render.figures import save_figure
 from rrbody.analysis.report import write_summary, write_table
-from rrbody.model.scene import rod_mass_scene
 from rrbody.analysis.simulate import simulate
+from rrbody.model.scene import rod_mass_scene
+from rrbody.render.figures import save_figure
 
 K, H, OMEGA, PHI0 = 0.003, 0.6, 0.6, math.pi  # paper caption
 DT_OUT = 0.02  # s: smooth CM paths (~500 samples per driving period)

@@ -4,9 +4,10 @@ mu(v) = mu_k + (mu_s - mu_k) exp(-(v / v_s)^2). (a) The paper's rod-mass scene o
 omega = 0.6 rad/s, k = mu_k g / d = 0.003 s^-2) under Stribeck friction with mu_s = 1.5 and 2 mu_k: t_f
 runs from Coulomb friction with mu_s (v_s -> infinity) to Coulomb friction with mu_k (v_s -> 0), both
 limits drawn from dry-friction runs; t_f jumps where the global minimum of phi moves to another swing (an
-independent integration agrees across the jumps, ``tests/test_stribeck.py``'s brute force). (b) A disk (R = 0.1 m, mu_k 0.3, mu_s 0.5) spun at 20 rad/s about
-its centre: its spin on the ODE path (the contact method's footprint quadrature) and as a pymunk body in
-the plugin, against the exact stop time (nested quadratures of I w' = -int mu(|w| r) g r dm).
+independent integration agrees across the jumps, ``tests/test_stribeck.py``'s brute force). (b) A disk (R = 0.1 m,
+mu_k 0.3, mu_s 0.5) spun at 20 rad/s about its centre: its spin on the ODE path (the contact method's footprint
+quadrature) and as a pymunk body in the plugin, against the exact stop time (nested quadratures of I w' = -int mu(|w|
+r) g r dm).
 """
 
 from __future__ import annotations

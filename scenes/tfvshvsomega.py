@@ -2,7 +2,8 @@
 
 (a) low omega: t_f grows with H (omega t_f -> C(H), increasing; paper Eq. SmallOmegaFlipTime);
 (b) a wider omega range: at high omega the trend in H reverses. Blank cells: no flip (phi never
-falls below phi0). Each cell is one run (no interpolation across jumps). The grids are 2-D sweeps (rrbody.sweep) saved as NetCDF.
+falls below phi0). Each cell is one run (no interpolation across jumps). The grids are 2-D sweeps (rrbody.sweep) saved
+as NetCDF.
 """
 
 from __future__ import annotations
@@ -11,10 +12,10 @@ from pathlib import Path
 
 import numpy as np
 
-from rrbody.render.figures import save_figure
 from rrbody.analysis.report import write_summary, write_table
 from rrbody.analysis.sweep import run_fresh_or_resume
 from rrbody.analysis.sweep_spec import Sweep
+from rrbody.render.figures import save_figure
 
 K = 1.5  # s^-2, paper caption
 H_GRID = np.linspace(0.05, 0.75, 29)

@@ -1,4 +1,4 @@
-"""tfxwpm2: flip time vs omega (k = 7.5 s^-2, H = 0.25) and vs mu (g/d = 25 s^-2), with power-law fits (paper Fig. tfxwpm2).
+"""tfxwpm2: flip time vs omega (k = 7.5 s^-2, H = 0.25) and vs mu (g/d = 25 s^-2), power-law fits (paper Fig. tfxwpm2).
 
 Low omega: t_f ~ 1/omega, independent of mu (gamma = 0 in t_f ~ omega^(gamma-1) k^(-gamma/2)); the
 exact limit omega t_f -> C(H) (rrbody.report.small_omega_C) is drawn beside the paper's
@@ -14,10 +14,10 @@ from pathlib import Path
 import numpy as np
 
 from rrbody.analysis.fits import fit_power_law
-from rrbody.render.figures import save_figure
 from rrbody.analysis.report import paper_small_omega_C, small_omega_C, write_summary, write_table
 from rrbody.analysis.sweep import run_fresh_or_resume
 from rrbody.analysis.sweep_spec import Sweep
+from rrbody.render.figures import save_figure
 
 K, H = 7.5, 0.25  # s^-2, paper caption
 G_OVER_D = 25.0  # s^-2: k = 25 mu in the mu panels
@@ -71,8 +71,10 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     # 1. Sweeps (local processes, checkpointed): t_f vs omega, the dense optimum grid, the mu scans.
     d_w = run_fresh_or_resume(Sweep(base={"H": H, "k": K}, axes={"omega": W_GRID}), out_dir / "tf_vs_omega.nc")
     d_opt = run_fresh_or_resume(Sweep(base={"H": H, "k": K}, axes={"omega": W_OPT}), out_dir / "tf_optimum.nc")
-    d_m06 = run_fresh_or_resume(Sweep(base={"H": H, "omega": 0.6}, axes={"k": G_OVER_D * MU_W06}), out_dir / "tf_vs_mu_w0.6.nc")
-    d_m1 = run_fresh_or_resume(Sweep(base={"H": H, "omega": 1.0}, axes={"k": G_OVER_D * MU_W1}), out_dir / "tf_vs_mu_w1.nc")
+    d_m06 = run_fresh_or_resume(Sweep(base={"H": H, "omega": 0.6}, axes={"k": G_OVER_D * MU_W06}),
+                                out_dir / "tf_vs_mu_w0.6.nc")
+    d_m1 = run_fresh_or_resume(Sweep(base={"H": H, "omega": 1.0}, axes={"k": G_OVER_D * MU_W1}),
+                               out_dir / "tf_vs_mu_w1.nc")
     d_m200 = run_fresh_or_resume(Sweep(base={"H": 0.73, "omega": 200.0}, axes={"k": G_OVER_D * MU_W200}),
                                  out_dir / "tf_vs_mu_w200.nc")
     d_low = run_fresh_or_resume(Sweep(base={"H": H, "omega": LOW_W_MU[0]}, axes={"k": LOW_W_MU[1]}),
@@ -184,7 +186,8 @@ def main(out_dir: Path, *, force: bool = True) -> None:
     write_summary(out_dir, {"k": K, "H": H, "fit_low": fs(f_lo), "fit_high": fs(f_hi), "fit_mu_w06": fs(f_m06),
                             "fit_mu_w1": fs(f_m1), "fit_mu_w200": fs(f_m200),
                             "optimum": {"omega": w_star, "t_f": t_star,
-                                        "grid_omega": float(w_all[j]), "grid_t_f": float(t_all[j])}, "small_omega": small,
+                                        "grid_omega": float(w_all[j]), "grid_t_f": float(t_all[j])},
+                            "small_omega": small,
                             "low_omega_mu_omega": LOW_W_MU[0], "low_omega_mu_k": [float(LOW_W_MU[1][0]),
                                                                                   float(LOW_W_MU[1][-1])],
                             "low_omega_mu_spread": spread}, force=force)

@@ -17,7 +17,6 @@ import pymunk
 from rrbody.plugin import PlaneFriction
 from rrbody.render.recorder import Recorder  # rrbody.plugin.Recorder: its pictures need the movie extra
 
-
 #: the poster's instants (s)
 POSTER_TIMES = (0.0, 0.2, 0.5, 1.0)
 

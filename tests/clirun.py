@@ -58,7 +58,8 @@ def assert_bad_input(r: Run, option: str, folder: Path | None = None, before: se
     assert lines[0].startswith("rrbody"), lines[0]
     assert "Traceback" not in r.err and r.out == "", (r.argv, r.out, r.err)
     if folder is not None:
-        assert {p.name for p in folder.iterdir()} == (before or set()), (r.argv, sorted(p.name for p in folder.iterdir()))
+        assert {p.name for p in folder.iterdir()} == (before or set()), (r.argv,
+                                                                         sorted(p.name for p in folder.iterdir()))
 
 
 def children(pid: int) -> set[int]:

@@ -43,7 +43,8 @@ def _disk(space: pymunk.Space, pf: PlaneFriction, *, mu: float = 0.0, pos: tuple
     return b
 
 
-def _l_shape(space: pymunk.Space, pf: PlaneFriction, *, mu: float, pos: tuple[float, float], a: float = 0.1) -> pymunk.Body:
+def _l_shape(space: pymunk.Space, pf: PlaneFriction, *, mu: float, pos: tuple[float, float],
+             a: float = 0.1) -> pymunk.Body:
     """An L of two boxes (legs 2a x a and a x 2a) on one body, density 20 kg/m^2."""
     b = pymunk.Body()
     shapes = [pymunk.Poly(b, [(0, 0), (2 * a, 0), (2 * a, a), (0, a)]),
@@ -112,7 +113,8 @@ def _spiral(dt: float, T: float = 1.0) -> float:
         th = a0 + ang + w0 * s + 0.5 * beta * s * s
         return (T - s) * (math.cos(th) if k == 0 else math.sin(th))
 
-    ref = [v * T + F / M * quad(e, 0.0, T, args=(k,), epsabs=1e-14, epsrel=1e-13)[0] for k, v in enumerate((0.1, -0.05))]
+    ref = [v * T + F / M * quad(e, 0.0, T, args=(k,), epsabs=1e-14, epsrel=1e-13)[0] for k, v in enumerate((0.1,
+                                                                                                            -0.05))]
     return math.hypot(b.position.x - ref[0], b.position.y - ref[1])
 
 
@@ -133,7 +135,8 @@ def _terminal_circle(dt: float, plane: bool) -> tuple[float, float]:
     s.mass = M
     space.add(b, s)
     if plane:  # viscous plane friction (the builder's law): for a uniform disk gamma_t = gamma_r = g
-        pf.add_footprint(b, law=K.LAW_VISCOUS, coeff=g, footprint=body_footprint(b, uniform()), snap=False, history=None)
+        pf.add_footprint(b, law=K.LAW_VISCOUS, coeff=g, footprint=body_footprint(b, uniform()), snap=False,
+                         history=None)
         act = Active(force=F, angle=math.pi / 2, point=(0.02, 0.0))
     else:
         pf.add(b, mu=0.0)
@@ -153,7 +156,8 @@ def _terminal_circle(dt: float, plane: bool) -> tuple[float, float]:
     cx, cy, _ = np.linalg.lstsq(A, (pts**2).sum(1), rcond=None)[0]
     th = np.unwrap(np.arctan2(pts[:, 1] - cy, pts[:, 0] - cx))
     slope = np.polyfit(dt * np.arange(n), th, 1)[0]
-    return abs(float(np.hypot(pts[:, 0] - cx, pts[:, 1] - cy).mean()) - rad) / rad, abs(2 * math.pi / slope - period) / period
+    return abs(float(np.hypot(pts[:, 0] - cx,
+                              pts[:, 1] - cy).mean()) - rad) / rad, abs(2 * math.pi / slope - period) / period
 
 
 @pytest.mark.parametrize("plane", [False, True], ids=["medium-drag", "viscous-plane"])

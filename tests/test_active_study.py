@@ -53,7 +53,8 @@ def test_bad_sense_and_box_parameters_name_themselves() -> None:
     with pytest.raises(ValueError, match="sense must be"):
         reverse_episodes(t, a, w, sense=0.5)
     for kw, name in (({"n": 1}, "n"), ({"packing": 0.9}, "packing"), ({"activity": 0.0}, "activity"),
-                     ({"mix": 1.5}, "mix"), ({"seed": -1}, "seed"), ({"t_end": -1.0}, "t_end"), ({"every": 0}, "every")):
+                     ({"mix": 1.5}, "mix"), ({"seed": -1}, "seed"), ({"t_end": -1.0}, "t_end"), ({"every": 0},
+                                                                                                 "every")):
         with pytest.raises(ValueError, match=f"^{name} must be"):
             Box(**kw)
 

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from rrbody.physics import area
 from rrbody.model.bodies import Disk, Ellipse, RodMass
+from rrbody.physics import area
 from rrbody.physics.wrench import sampled_wrench as sampled_kernel
 
 LAW_DRY = 1

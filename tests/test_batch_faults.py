@@ -121,7 +121,8 @@ def test_a_line_obeys_the_command_line_rules(tmp_path: Path) -> None:
     expect = {1: "given twice", 2: "--t-max is given twice", 3: "--H takes one value", 4: "beyond the float range",
               5: "NaN is not a finite number", 6: "underflows to 0", 7: "--H takes a value", 8: "--H takes a value",
               9: "--json is a flag", 10: "--friction takes a string", 11: "--v0 must be 2", 12: "--phi0 takes one",
-              13: "did you mean --omega?", 14: "--phi0: '1e-300pi/1e300' underflows", 15: "--friction none and --k", 16: "nested too deeply"}
+              13: "did you mean --omega?", 14: "--phi0: '1e-300pi/1e300' underflows", 15: "--friction none and --k",
+              16: "nested too deeply"}
     for n, words in expect.items():
         assert words in errors[n], (n, errors[n])
 

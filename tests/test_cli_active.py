@@ -18,7 +18,7 @@ from rrbody.analysis.active_study import Box, ensemble, run_box, seed_table, sum
 from rrbody.analysis.simulate import simulate
 from rrbody.model.active import Active
 from rrbody.model.scene import scene_from_params
-from rrbody.model.trajectory import _jsonable
+from rrbody.model.trajectory import jsonable
 from tests.clirun import assert_bad_input, run_here
 
 FREE = ["simulate", "--body", "disk", "--R0", "0.05", "--no-drive", "--friction", "viscous", "--k", "2",
@@ -100,7 +100,7 @@ def test_simulate_refuses_bad_active_options_in_one_line(tmp_path: Path) -> None
 
 
 def _api_run(**kw: object) -> dict:
-    return json.loads(json.dumps(_jsonable(summary(run_box(Box(**kw))))))
+    return json.loads(json.dumps(jsonable(summary(run_box(Box(**kw))))))
 
 
 def test_active_run_gives_the_apis_summary_and_writes_its_files(tmp_path: Path) -> None:
@@ -160,8 +160,8 @@ def test_ensemble_gives_the_apis_rows_as_json_and_csv(tmp_path: Path) -> None:
     js, cs = run_here([[*ENS, "--out", "e.json", "--plot", "e.png", "--workers", "0", "--json"],
                        [*ENS, "--out", "e.csv", "--workers", "2"]], cwd=tmp_path, real=0)
     assert js.code == 0 and cs.code == 0, (js.err, cs.err)
-    api = json.loads(json.dumps(_jsonable(ensemble(POINTS, workers=0))))
-    table = json.loads(json.dumps(_jsonable(seed_table(api))))
+    api = json.loads(json.dumps(jsonable(ensemble(POINTS, workers=0))))
+    table = json.loads(json.dumps(jsonable(seed_table(api))))
     saved = json.loads((tmp_path / "e.json").read_text())
     assert saved["runs"] == api and saved["mean_over_seeds"] == table  # bit for bit, packing slowest, seed fastest
     d = json.loads(js.out)
@@ -188,7 +188,7 @@ def test_ensemble_resumes_its_checkpoint(tmp_path: Path) -> None:
     assert_bad_input(refused, "--resume", tmp_path, {ck.name})  # neither --resume nor --force: named, kept
     resumed, = run_here([[*ENS, "--out", "e.json", "--resume", "--workers", "0"]], cwd=tmp_path, real=0)
     assert resumed.code == 0, resumed.err
-    assert json.loads((tmp_path / "e.json").read_text())["runs"] == json.loads(json.dumps(_jsonable(
+    assert json.loads((tmp_path / "e.json").read_text())["runs"] == json.loads(json.dumps(jsonable(
         ensemble(POINTS, workers=0))))
     assert not ck.exists()
     other = run_here([[*ENS, "--seed", "5", "--out", "f.json", "--workers", "0"]], cwd=tmp_path, real=0)
@@ -217,7 +217,7 @@ def test_ensemble_on_a_dask_scheduler_gives_the_local_rows(tmp_path: Path) -> No
     with LocalCluster(processes=False, n_workers=1, threads_per_worker=1, dashboard_address=None) as cluster:
         (r,) = run_here([[*ENS, "--out", "d.json", "--scheduler", cluster.scheduler_address]], cwd=tmp_path, real=0)
     assert r.code == 0, r.err
-    assert json.loads((tmp_path / "d.json").read_text())["runs"] == json.loads(json.dumps(_jsonable(
+    assert json.loads((tmp_path / "d.json").read_text())["runs"] == json.loads(json.dumps(jsonable(
         ensemble(POINTS, workers=0))))
 
 
@@ -229,5 +229,5 @@ def test_a_run_with_its_progress_bar_is_the_same_run(capsys) -> None:  # noqa: A
     box = Box(n=6, t_end=0.5, packing=0.3)
     res, rec, rrd = run_filmed(box, movie=False, progress=True)
     assert rec is None and rrd is None
-    assert json.dumps(_jsonable(summary(res))) == json.dumps(_jsonable(summary(run_box(box))))
+    assert json.dumps(jsonable(summary(res))) == json.dumps(jsonable(summary(run_box(box))))
     assert "60/60" in capsys.readouterr().err  # 0.5 s at dt = 1/120 s

@@ -33,7 +33,8 @@ def test_lyapunov_command_gives_the_apis_exponents_and_writes_its_outputs(tmp_pa
 
 def test_lyapunov_refuses_bad_input_in_one_line(tmp_path: Path) -> None:
     cases = [(["--t-max", "100", "--renorm", "-1"], "--renorm"), (["--t-max", "100", "--no-drive"], "--no-drive"),
-             (["--t-max", "100", "--out", "x.txt"], "--out"), (["--t-max", "100", "--estimate", "tangent"], "--estimate"),
+             (["--t-max", "100", "--out", "x.txt"], "--out"), (["--t-max", "100", "--estimate", "tangent"],
+                                                               "--estimate"),
              (["--t-max", "100", "--d0", "1"], "--d0"), ([], "--t-max")]
     runs = run_here([["lyapunov", *SCENE, *extra, "--out", "o.csv"] if "--out" not in extra else
                      ["lyapunov", *SCENE, *extra] for extra, _ in cases], cwd=tmp_path)

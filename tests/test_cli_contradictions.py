@@ -31,7 +31,8 @@ LONG_SIM = ["simulate", "--H", "0.2", "--omega", "1", "--k", "1e-9", "--t-max", 
 def test_contradictory_options_are_named_both(tmp_path: Path) -> None:
     cases = [
         ([*FLIP, "--friction", "none"], ("--friction none", "--k")),
-        (["flip-time", "--H", "0.2", "--mu", "0.1", "--omega", "0.6", "--friction", "none"], ("--friction none", "--mu")),
+        (["flip-time", "--H", "0.2", "--mu", "0.1", "--omega", "0.6", "--friction", "none"], ("--friction none",
+                                                                                              "--mu")),
         ([*FLIP, "--mu", "0.1"], ("--k", "--mu")),
         ([*FLIP, "--g", "3"], ("--g", "--mu")),
         ([*FLIP, "--dt", "1e-3"], ("--dt", "--method ode")),

@@ -9,8 +9,6 @@ conservation (kinetic energy never rises).
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pymunk
 import pytest

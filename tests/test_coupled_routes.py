@@ -55,7 +55,7 @@ def test_both_routes_step_a_scene_bit_for_bit() -> None:
     solved = 0
     for _ in range(300):
         states = []
-        for route, (pf, bodies) in runs.items():
+        for pf, bodies in runs.values():
             pf.step(1 / 120)
             states.append(np.array([[*b.position, b.angle, *b.velocity, b.angular_velocity] for b in bodies]))
         assert np.array_equal(states[0].view(np.int64), states[1].view(np.int64))

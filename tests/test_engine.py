@@ -17,13 +17,12 @@ import pymunk
 import pytest
 
 from rrbody.analysis.flip import flip_time
+from rrbody.analysis.simulate import simulate
+from rrbody.engine import COARSE_FRACTION, EngineSettings, attach, engine_flip_time, simulate_engine, valid_dt_range
 from rrbody.model.bodies import Disk, Ellipse, RodMass
 from rrbody.model.drive import CircularDrive
-from rrbody.engine import (COARSE_FRACTION, EngineSettings, attach, engine_flip_time, simulate_engine,
-                           valid_dt_range)
 from rrbody.model.friction import Friction
 from rrbody.model.scene import Scene, rod_mass_scene
-from rrbody.analysis.simulate import simulate
 
 DTS = (4e-3, 2e-3, 1e-3)
 

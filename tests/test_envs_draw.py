@@ -139,10 +139,12 @@ def test_the_rasterisation_is_pygames_off_the_surface_too() -> None:
         a = rng.uniform(-150, 662, 2) if i % 2 else rng.uniform(20, 490, 2)
         b = a + rng.normal(0, 150 if i % 3 else 8, 2)
         got = mine(pusht_draw._fat(a[None], b[None], none, t))
-        assert np.array_equal(got, theirs(lambda s: DrawOptions(s).draw_fat_segment(tuple(a), tuple(b), 2, white, white)))
+        assert np.array_equal(got, theirs(lambda s: DrawOptions(s).draw_fat_segment(tuple(a), tuple(b), 2, white,
+                                                                                    white)))
         p = np.rint(_tee(*rng.uniform(-40, 550, 2), rng.uniform(-np.pi, np.pi))[i % 2]).astype(np.int64)
         got = mine(pusht_draw._fat(*np.zeros((2, 0, 2)), p[None], t))
-        assert np.array_equal(got, theirs(lambda s: pygame.draw.polygon(s, (255, 255, 255), [*map(tuple, p), tuple(p[0])])))
+        assert np.array_equal(got, theirs(lambda s: pygame.draw.polygon(s, (255, 255, 255), [*map(tuple, p),
+                                                                                             tuple(p[0])])))
         c, r = rng.integers(-10, 522, 2), int(rng.integers(1, 20))
         grid = np.zeros((512, 512), dtype=np.uint8)
         pusht_draw._disk(grid, t, c, r, 1)

@@ -15,7 +15,7 @@ import pytest
 
 import rrbody.envs  # noqa: F401 (registers rrbody/PushT-v0)
 from rrbody.envs.pusht import OBS_TYPES, PushTEnv
-from rrbody.envs.tabletop import G, MU, SCALE
+from rrbody.envs.tabletop import MU, SCALE, G
 from tests.pusht_support import need
 
 #: mu g in workspace units/s^2 for the default table

@@ -1,4 +1,4 @@
-"""rrbody.envs.table (rrbody/envs/wrapper.py): gym-pusht's own Push-T env (and any env meeting the contract) on the table.
+"""rrbody.envs.table (rrbody/envs/wrapper.py): gym-pusht's own Push-T env (and any env meeting the contract) on a table.
 
 Against the real gym-pusht (0.1.8 in the oldest-versions venv); its tests skip where it is not installed,
 unless RRBODY_REQUIRE_PUSHT=1, which makes a missing gym-pusht an error. The contract env at the end (a puck
@@ -24,8 +24,8 @@ import pytest
 gymnasium = pytest.importorskip("gymnasium")
 pymunk = pytest.importorskip("pymunk")
 
+from rrbody.envs.tabletop import SCALE, G  # noqa: E402
 from rrbody.envs.wrapper import TableSpace, TableWrapper, table  # noqa: E402
-from rrbody.envs.tabletop import G, SCALE  # noqa: E402
 from tests.pusht_support import have  # noqa: E402
 
 needs_pusht = pytest.mark.skipif(not have("gym_pusht"), reason="gym-pusht is not installed "
@@ -279,7 +279,7 @@ def test_misuse_is_refused() -> None:
     with pytest.raises(ValueError, match="already on a table"):
         table(env)
     with pytest.raises(gymnasium.error.ResetNeeded):
-        env.plane
+        env.plane  # noqa: B018 (the property's read is what raises)
     with pytest.raises(gymnasium.error.ResetNeeded):
         env.step(np.zeros(2))
     # a body the table cannot carry (the kinematic agent): the ValueError names it; the space is unchanged
@@ -479,8 +479,8 @@ def test_without_walls_there_are_no_sub_steps() -> None:
 def test_a_wall_without_thickness_holds_a_fast_puck() -> None:
     """Segments of radius 0 (common in pymunk programs): the sub-steps are bounded by half the body's
     thinnest width instead (a shape is pushed back while less than half of it has crossed a wall)."""
-    from rrbody.envs.substep import guarded
     from rrbody.engine.plugin import PlaneFriction
+    from rrbody.envs.substep import guarded
 
     space = pymunk.Space()
     space.damping = 1.0

@@ -9,10 +9,19 @@ import numpy as np
 import pytest
 
 from rrbody import rod_mass_scene, simulate
-from rrbody.integrate.events import (E_NMIN, E_T1, E_TMIN, FLIP_SETTLED, GO_ON, STOP_FLIP, hermite,
-                                     new_event_state, on_step)
-from rrbody.physics.bind import kernel_params
+from rrbody.integrate.events import (
+    E_NMIN,
+    E_T1,
+    E_TMIN,
+    FLIP_SETTLED,
+    GO_ON,
+    STOP_FLIP,
+    hermite,
+    new_event_state,
+    on_step,
+)
 from rrbody.integrate.ode import integrate_driven
+from rrbody.physics.bind import kernel_params
 
 
 def test_hermite_is_exact_for_cubics() -> None:
@@ -72,6 +81,8 @@ def test_loop_minima_are_located_to_the_steps_accuracy(rtol: float) -> None:
     for t_min, phi_min in run.minima:
         at = integrate_driven(p, S, y0, t_end=float(t_min), rtol=rtol, stop="t_end")
         phid = at.y_end[1]
-        phidd = sc.omega ** 2 * sc.body.l * sc.d * abs(math.sin(at.y_end[0] - sc.omega * t_min)) / sc.inertia_about_pivot
-        assert abs(phid) <= (phidd + sc.friction.coeff * sc.body.l / sc.inertia_about_pivot) * rtol * hmax + rtol * yscale
+        phidd = (sc.omega ** 2 * sc.body.l * sc.d * abs(math.sin(at.y_end[0] - sc.omega * t_min))
+                 / sc.inertia_about_pivot)
+        assert abs(phid) <= ((phidd + sc.friction.coeff * sc.body.l / sc.inertia_about_pivot) * rtol * hmax
+                             + rtol * yscale)
         assert abs(at.y_end[0] - phi_min) <= 2.0 * rtol * math.pi

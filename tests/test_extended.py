@@ -8,16 +8,16 @@ import math
 import numpy as np
 import pytest
 
-from rrbody.physics.bind import kernel_params
-from rrbody.physics import params as P
 from rrbody.analysis.flip import flip_time
+from rrbody.analysis.simulate import simulate
+from rrbody.integrate.ode import integrate_driven
 from rrbody.model.bodies import Disk, Ellipse, RodMass
 from rrbody.model.drive import CircularDrive
-from rrbody.physics.dynamics import driven_rhs
 from rrbody.model.friction import Friction
-from rrbody.integrate.ode import integrate_driven
 from rrbody.model.scene import Scene, rod_mass_scene
-from rrbody.analysis.simulate import simulate
+from rrbody.physics import params as P
+from rrbody.physics.bind import kernel_params
+from rrbody.physics.dynamics import driven_rhs
 
 W = 0.6
 DRIVE = CircularDrive(omega=W, d=1.0)

@@ -39,7 +39,7 @@ def _run(code: str, cwd: Path) -> subprocess.CompletedProcess[str]:
 
 
 def test_core_computes_without_optional_packages(tmp_path: Path) -> None:
-    code = BLOCK + textwrap.dedent("""
+    code = BLOCK + f"OPTIONAL = {OPTIONAL!r}\n" + textwrap.dedent("""
         import json, sys
         import rrbody
         from rrbody import flip_time, rod_mass_scene, simulate
@@ -49,8 +49,8 @@ def test_core_computes_without_optional_packages(tmp_path: Path) -> None:
         from rrbody.cli.main import main
         code = main(["flip-time", "--H", "0.2", "--k", "0.05", "--omega", "0.6", "--json"])
         print(json.dumps({"t_f": r.t_f, "code": code,
-                          "loaded": sorted(m for m in sys.modules if m.split(".")[0] in %r)}))
-    """ % (OPTIONAL,))
+                          "loaded": sorted(m for m in sys.modules if m.split(".")[0] in OPTIONAL)}))
+    """)
     p = _run(code, tmp_path)
     assert p.returncode == 0, p.stderr
     out = json.loads(p.stdout.strip().splitlines()[-1])

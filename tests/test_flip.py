@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from rrbody.physics.bind import kernel_params
 from rrbody import flip_time, rod_mass_scene
+from rrbody.physics.bind import kernel_params
 from rrbody.physics.dynamics import driven_rhs
 
 from .reference import quasi_static_tf_times_omega, scipy_flip_time

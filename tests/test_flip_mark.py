@@ -7,9 +7,9 @@ import math
 import pytest
 
 from rrbody.analysis.flip import flip_time
-from rrbody.render.flip import FlipMark, flip_mark
-from rrbody.model.scene import rod_mass_scene
 from rrbody.analysis.simulate import simulate
+from rrbody.model.scene import rod_mass_scene
+from rrbody.render.flip import FlipMark, flip_mark
 
 SCENE = rod_mass_scene(0.2, 0.033, 0.6)  # t_f = 23.40 s; settled once phi rose 4 pi and 3 periods (31.4 s) passed
 

@@ -20,8 +20,8 @@ from numba import njit
 from rrbody.physics import contact as C
 from rrbody.physics.contact import footprint_wrench
 from rrbody.physics.footprint import combine, ellipse_part, point_part, polygon_part
-from rrbody.physics.polygon import polygon_geometry
 from rrbody.physics.footprint_table import build_footprint_table, footprint_table_wrench, table_covers, table_reach
+from rrbody.physics.polygon import polygon_geometry
 
 # `make test` (pytest-xdist, --dist loadgroup) runs this file's tests in one worker: the module fixture's
 # five tables (1-2 s each) and the uncached `_both` kernel are then built once, not in both workers
@@ -41,11 +41,13 @@ def _about_g(polys: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _l_shape() -> tuple[np.ndarray, np.ndarray]:
-    return _about_g([np.array([(-A, -A), (A, -A), (A, 0.0), (-A, 0.0)]), np.array([(-A, 0.0), (0.0, 0.0), (0.0, A), (-A, A)])])
+    return _about_g([np.array([(-A, -A), (A, -A), (A, 0.0), (-A, 0.0)]), np.array([(-A, 0.0), (0.0, 0.0), (0.0, A),
+                                                                                   (-A, A)])])
 
 
 def _box_off_g() -> tuple[np.ndarray, np.ndarray]:
-    shapes, geo, *_ = combine([polygon_part(np.array([(-A, -A / 2), (A, -A / 2), (A, A / 2), (-A, A / 2)]) + (0.03, 0.01))])
+    shapes, geo, *_ = combine([polygon_part(np.array([(-A, -A / 2), (A, -A / 2), (A, A / 2), (-A, A / 2)]) + (0.03,
+                                                                                                              0.01))])
     return shapes, geo
 
 
@@ -136,7 +138,8 @@ def _twists(shapes: np.ndarray, geo: np.ndarray, R: float, seed: int) -> np.ndar
     a = rng.uniform(0, 2 * math.pi, 200)
     sp = 10.0 ** rng.uniform(-3, 1, 200)
     blocks.append(np.column_stack([sp * np.cos(a), sp * np.sin(a), np.zeros(200)]))  # pure translation
-    blocks.append(np.column_stack([sp * np.cos(a), sp * np.sin(a), sgn(200) * sp / R * 10.0 ** rng.uniform(-12, -6, 200)]))
+    blocks.append(np.column_stack([sp * np.cos(a), sp * np.sin(a), sgn(200) * sp / R * 10.0 ** rng.uniform(-12, -6,
+                                                                                                           200)]))
     # around the dead band: max(|v|, |w| R) in [0.1, 30] v_eps, ICR anywhere within 3 R
     c = rng.uniform(-3 * R, 3 * R, (n, 2))
     s = V_EPS * 10.0 ** rng.uniform(-1, 1.5, n) / np.maximum(R, np.hypot(c[:, 0], c[:, 1]))
@@ -212,7 +215,8 @@ def test_concatenated_tables(tables: dict) -> None:
 def test_table_size_and_determinism(tables: dict) -> None:
     shapes, geo, T = tables["L"]
     assert T.nbytes <= 4e6  # the brief's memory bound for the L
-    assert np.array_equal(T, build_footprint_table(shapes, geo, 0, shapes.shape[0]), equal_nan=True)  # exact cells: NaN blocks
+    assert np.array_equal(T, build_footprint_table(shapes, geo, 0, shapes.shape[0]),
+                          equal_nan=True)  # exact cells: NaN blocks
 
 
 def test_stored_coefficients_and_their_rounding(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from rrbody.physics import area
+from rrbody.analysis.simulate import simulate
 from rrbody.model.bodies import Disk, Ellipse, RodMass
 from rrbody.model.friction import Friction
 from rrbody.model.scene import Scene
-from rrbody.analysis.simulate import simulate
 from rrbody.model.trajectory import Trajectory
+from rrbody.physics import area
 
 
 def _free(body, v0=(0.0, 0.0), spin0: float = 0.0, mu_g: float = 0.5, law: str = "dry", t_max: float = 10.0,
@@ -136,8 +136,8 @@ def test_at_rest_from_the_start_and_frictionless() -> None:
 
 
 def test_free_simulation_refuses_a_driven_scene() -> None:
-    from rrbody.model.drive import CircularDrive
     from rrbody.integrate.free import simulate_free
+    from rrbody.model.drive import CircularDrive
 
     sc = Scene(body=Disk(R=0.2, l=0.1), drive=CircularDrive(omega=1.0, d=1.0), friction=Friction("dry", 0.5))
     with pytest.raises(ValueError, match="free scene"):

@@ -15,10 +15,10 @@ import pytest
 from scipy.optimize import brentq
 from scipy.special import ellipk
 
-from rrbody.physics.bind import kernel_params
 from rrbody import critical_h, rod_mass_scene, simulate
 from rrbody.analysis.flip import flip_time, reverse_rotation_exists
 from rrbody.integrate.ode import integrate_driven
+from rrbody.physics.bind import kernel_params
 
 
 def exact_Hc0() -> float:

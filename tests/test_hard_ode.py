@@ -8,9 +8,9 @@ import tracemalloc
 import numpy as np
 import pytest
 
-from rrbody.physics.bind import kernel_params
 from rrbody import critical_h, flip_time, rod_mass_scene, simulate
 from rrbody.integrate.ode import integrate_driven
+from rrbody.physics.bind import kernel_params
 
 from .reference import quasi_static_tf_times_omega
 

@@ -20,10 +20,10 @@ from rrbody.model.drive import CircularDrive
 from rrbody.model.friction import Friction
 from rrbody.model.scene import Scene, rod_mass_scene
 from rrbody.physics import params as P
-from rrbody.physics.bind import kernel_params
-from rrbody.physics.icr import icr_wrench
 from rrbody.physics.areas import TABLE, body_wrench
+from rrbody.physics.bind import kernel_params
 from rrbody.physics.effects.laws import DRY, NO_PARAMS
+from rrbody.physics.icr import icr_wrench
 from rrbody.physics.icr_fit import NM, NT, OCTAVES
 from rrbody.physics.icr_table import _HEADER, build_table
 from rrbody.physics.icr_table import _horner2 as _full_inline

@@ -195,7 +195,8 @@ def test_bad_tilts_name_the_parameter(kwargs: dict, match: str) -> None:
 
 def test_mu_static_below_mu_is_refused_everywhere() -> None:
     space, pf, b = _plane(tilt=0.0)
-    with pytest.raises(ValueError, match=r"mu_static must be >= mu \(0.4: static friction is never below kinetic\), got 0.3"):
+    with pytest.raises(ValueError,
+                       match=r"mu_static must be >= mu \(0.4: static friction is never below kinetic\), got 0.3"):
         pf.add(b, mu=0.4, mu_static=0.3)
     with pytest.raises(ValueError, match=r"mu_static must be >= mu \(0.4"):
         scene_from_params(body="disk", R0=0.1, no_drive=True, mu=0.4, g=G, mu_static=0.3)
@@ -219,9 +220,11 @@ def test_driven_rod_mass_on_a_tilt_is_the_forced_double_pendulum() -> None:
     gx, gy = G * math.sin(tilt) * math.cos(dh), G * math.sin(tilt) * math.sin(dh)
 
     def f(t: float, y: np.ndarray) -> list[float]:
-        return [y[1], (w * w * l * d * math.sin(y[0] - w * t) + l * (math.sin(y[0]) * gx - math.cos(y[0]) * gy)) / l ** 2]
+        return [y[1],
+                (w * w * l * d * math.sin(y[0] - w * t) + l * (math.sin(y[0]) * gx - math.cos(y[0]) * gy)) / l ** 2]
 
-    ref = solve_ivp(f, (0.0, 20.0), [2.0, 0.5], method="DOP853", rtol=1e-12, atol=1e-12, t_eval=tr.t, dense_output=False)
+    ref = solve_ivp(f, (0.0, 20.0), [2.0, 0.5], method="DOP853", rtol=1e-12, atol=1e-12, t_eval=tr.t,
+                    dense_output=False)
     assert np.max(np.abs(ref.y[0] - tr.phi)) < 1e-8
 
 

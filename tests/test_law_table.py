@@ -52,7 +52,8 @@ def _free_disk(law: str = "viscous", **kw: object) -> object:
 def test_the_derived_tables_agree_with_the_law_table() -> None:
     from rrbody.contact import columns
     from rrbody.model import friction
-    from rrbody.physics import effects, params as P
+    from rrbody.physics import effects
+    from rrbody.physics import params as P
     from rrbody.physics.effects import laws as EL
 
     codes = {law.name: law.code for law in L.LAW_TABLE}
@@ -213,7 +214,8 @@ def test_the_plugin_refuses_a_law_without_its_form(monkeypatch: pytest.MonkeyPat
     space.add(body, shape)
     fp = body_footprint(body, uniform())
     kw = {"coeff": 1.0, "footprint": fp, "snap": True, "history": None}
-    with pytest.raises(ValueError, match=r"law must be one of the law codes 1 \(dry\), 2 \(viscous\), 3 \(stribeck\), 0 \(none\), "
+    with pytest.raises(ValueError,
+                       match=r"law must be one of the law codes 1 \(dry\), 2 \(viscous\), 3 \(stribeck\), 0 \(none\), "
                                          r"got 7\.0"):
         pf.add_footprint(body, law=7.0, **kw)
     with pytest.raises(ValueError, match=r"coeff must be 0 for friction 'none'"):
@@ -223,7 +225,8 @@ def test_the_plugin_refuses_a_law_without_its_form(monkeypatch: pytest.MonkeyPat
     # pf.add: the law by name, checked before the body is added
     with pytest.raises(ValueError, match="law must be one of 'dry', 'viscous', 'stribeck', 'none', got 'bogus'"):
         pf.add(body, mu=0.4, law="bogus")
-    with pytest.raises(ValueError, match=r"law must be one with a friction coefficient mu \('dry', 'stribeck'\) for add, got "
+    with pytest.raises(ValueError,
+                       match=r"law must be one with a friction coefficient mu \('dry', 'stribeck'\) for add, got "
                                          r"'viscous'"):
         pf.add(body, mu=0.4, law="viscous")
     with pytest.raises(ValueError, match="friction 'dry' has no parameter 'v_s'"):

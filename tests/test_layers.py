@@ -4,8 +4,10 @@ Layers, bottom to top: model -> physics -> integrate -> contact -> {engine, mujo
 -> render -> envs -> cli. ``contact`` is the plane step both engine adapters call and imports no engine; the two
 adapters (pymunk's ``engine`` and ``mujoco_adapter``) share a level and never import each other, and no
 package imports two engines. A module may import from its own layer or a lower one, never from a higher
-one (a back edge), and the module graph has no cycle. Imports inside functions count too: a lazy import is still a dependency. The
-package root ``rrbody/__init__.py`` (with ``rrbody/plugin.py``, the plugin's entry point, ``rrbody/mujoco.py``, the MuJoCo adapter's, and
+one (a back edge), and the module graph has no cycle. Imports inside functions count too: a lazy import is still a
+dependency. The
+package root ``rrbody/__init__.py`` (with ``rrbody/plugin.py``, the plugin's entry point, ``rrbody/mujoco.py``, the
+MuJoCo adapter's, and
 ``rrbody/pressure.py`` and ``rrbody/planar.py``, the contacts' and the batched wrench's) is the curated public
 API above every layer; below it only
 ``rrbody._version``, ``rrbody._cache`` (where caches live) and ``rrbody._private`` (the switch for private
@@ -21,14 +23,16 @@ import pytest
 
 PKG = Path(__file__).resolve().parents[1] / "rrbody"
 #: the levels, bottom to top; the packages of one level may not import each other (the two engine adapters)
-LEVELS: tuple[tuple[str, ...], ...] = (("model",), ("physics",), ("integrate",), ("contact",), ("engine", "mujoco_adapter"),
+LEVELS: tuple[tuple[str, ...], ...] = (("model",), ("physics",), ("integrate",), ("contact",), ("engine",
+                                                                                                "mujoco_adapter"),
                                        ("analysis",), ("render",), ("envs",), ("cli",))
 LAYERS = tuple(name for level in LEVELS for name in level)
 #: the third-party engines, and the packages that may import each (no other may, and none both); the
 #: gymnasium environments (envs) are pymunk programs of their own: they build the spaces they step
 ENGINES = {"pymunk": {"engine", "envs"}, "mujoco": {"mujoco_adapter"}}
 #: modules at the package root and the layer they count as
-ROOT_MODULES = {"rrbody._version": -1, "rrbody._cache": -1, "rrbody._private": -1, "rrbody": len(LEVELS), "rrbody.plugin": len(LEVELS),
+ROOT_MODULES = {"rrbody._version": -1, "rrbody._cache": -1, "rrbody._private": -1, "rrbody": len(LEVELS),
+                "rrbody.plugin": len(LEVELS),
                 "rrbody.mujoco": len(LEVELS), "rrbody.pressure": len(LEVELS), "rrbody.planar": len(LEVELS)}
 
 

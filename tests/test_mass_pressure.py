@@ -61,7 +61,8 @@ def centre_of_pressure(shapes: np.ndarray, geo: np.ndarray) -> tuple[float, np.n
         if row[C.KIND] == C.POLYGON:
             v = geo[int(row[C.V0]):int(row[C.V1]), :2]
             q = gauss_rule(v, 12)
-            p = row[C.WEIGHT] / row[C.AREA] * (1.0 + row[C.KX] * (q[:, 0] - row[C.CX]) + row[C.KY] * (q[:, 1] - row[C.CY]))
+            p = row[C.WEIGHT] / row[C.AREA] * (1.0 + row[C.KX] * (q[:, 0] - row[C.CX]) + row[C.KY] * (q[:,
+                                                                                                        1] - row[C.CY]))
             load += float(q[:, 2] @ p)
             mom += (q[:, 2] * p) @ q[:, :2]
         else:

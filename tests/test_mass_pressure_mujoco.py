@@ -16,9 +16,9 @@ import pytest
 mujoco = pytest.importorskip("mujoco")
 
 from rrbody import planar  # noqa: E402
+from rrbody.model.pressure import uniform  # noqa: E402
 from rrbody.mujoco import PlaneFriction  # noqa: E402
 from rrbody.physics import contact as C  # noqa: E402
-from rrbody.model.pressure import uniform  # noqa: E402
 from rrbody.physics.footprint import apply_pressure  # noqa: E402
 
 MU = 0.5
@@ -79,7 +79,8 @@ def test_a_centre_of_mass_no_pressure_holds_is_refused(extra: str | None, words:
         body = ('<body name="b" pos="0 0 0.01"><freejoint/><geom type="cylinder" size="0.05 0.01" mass="1"/>'
                 '<geom type="sphere" size="0.01" pos="0.04 0 0.05" mass="1" contype="0" conaffinity="0"/></body>')
     else:
-        body = f'<body name="b" pos="0 0 0.01"><freejoint/><geom type="box" size="0.05 0.05 0.01" mass="1"/>{extra}</body>'
+        body = (f'<body name="b" pos="0 0 0.01"><freejoint/><geom type="box" size="0.05 0.05 0.01" mass="1"/>'
+                f'{extra}</body>')
     m, d = _model(body)
     condim = m.geom_condim.copy()
     with pytest.raises(ValueError) as err:

@@ -278,7 +278,8 @@ def test_bad_input() -> None:
     space.add(b, s)
     with pytest.raises(ValueError, match=r"mu must be 0 or in"):
         pf.add(b, mu=-1.0)
-    with pytest.raises(ValueError, match="pressure must be one of uniform, ring:R, annulus:RIN,ROUT, hertz:A or points"):
+    with pytest.raises(ValueError,
+                       match="pressure must be one of uniform, ring:R, annulus:RIN,ROUT, hertz:A or points"):
         pf.add(b, mu=0.5, pressure="parabolic")
     with pytest.raises(ValueError, match="body must be a pymunk.Body"):
         pf.add("body", mu=0.5)
@@ -365,7 +366,8 @@ def test_a_step_that_changes_size_keeps_the_stop_exact(scheme: str, steps: tuple
         k += 1
     bound = 0.5 * 9.81 * max(steps) ** 2 / 8
     assert box.position.x == pytest.approx(1.0 / (2 * 0.5 * 9.81), abs=bound)
-    alpha = 0.5 * 9.81 * (math.sqrt(2) + math.log1p(math.sqrt(2))) / 0.2  # mu g (sqrt 2 + ln(1 + sqrt 2)) / a, a the side
+    # mu g (sqrt 2 + ln(1 + sqrt 2)) / a, a the side
+    alpha = 0.5 * 9.81 * (math.sqrt(2) + math.log1p(math.sqrt(2))) / 0.2
     turn = 10.0 ** 2 / (2 * alpha)
     assert spin.angle == pytest.approx(turn, abs=alpha * max(steps) ** 2 / 8)
 

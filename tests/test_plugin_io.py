@@ -16,8 +16,8 @@ import numpy as np
 import pymunk
 import pytest
 
-from rrbody.engine import PlaneFriction
 from rrbody.contact import kernel as K
+from rrbody.engine import PlaneFriction
 from rrbody.engine.batchio import ROUTES, BatchIO, batch_reads, body_uid
 from rrbody.engine.bodymem import FX, FY, TORQUE, layout
 from rrbody.engine.structio import StructIO

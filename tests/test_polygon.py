@@ -15,8 +15,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from rrbody.physics.polygon import (NEAR, box_spin_torque, gauss_rule, polygon_geometry, polygon_wrench,
-                                    TRANSLATION_EPS)
+from rrbody.physics.polygon import NEAR, TRANSLATION_EPS, box_spin_torque, gauss_rule, polygon_geometry, polygon_wrench
 
 BOX = np.array([[-0.5, -0.5], [0.5, -0.5], [0.5, 0.5], [-0.5, 0.5]])
 TRIANGLE = np.array([[0.0, 0.0], [1.2, 0.1], [0.3, 0.9]]) + [0.2, -0.1]

@@ -79,7 +79,8 @@ def test_flip_times_of_a_square_and_a_triangle() -> None:
     ({"body": "polygon", "vertices": ((0, 0), (1, 0), (0, 1), (1, 1))}, r"vertices must enclose a positive area"),
     ({"body": "polygon", "vertices": ((0, 0), (2, 0), (1, 0.1), (1, 1))}, r"vertices must make a convex polygon"),
     ({"body": "disk", "R0": 0.1, "sides": 4}, r"sides and vertices apply to body='polygon'"),
-    ({"body": "box", "R0": 0.1, "friction_method": "icr"}, r"friction_method must be 'auto' or 'contact' for a polygon"),
+    ({"body": "box", "R0": 0.1, "friction_method": "icr"},
+     r"friction_method must be 'auto' or 'contact' for a polygon"),
 ])
 def test_bad_polygons_name_the_parameter(kw: dict, match: str) -> None:
     from rrbody.physics.bind import kernel_params

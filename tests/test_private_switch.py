@@ -83,4 +83,5 @@ def test_another_value_is_refused_with_its_name_and_the_valid_ones() -> None:
     out = subprocess.run([sys.executable, "-c", "from rrbody._private import private_allowed; private_allowed()"],
                          env=env, capture_output=True, text=True)
     assert out.returncode != 0
-    assert "ValueError: RRBODY_NO_PRIVATE must be 1 (private fast paths off), 0 or unset (on), got 'false'" in out.stderr
+    assert ("ValueError: RRBODY_NO_PRIVATE must be 1 (private fast paths off), 0 or unset (on), got 'false'"
+            in out.stderr)

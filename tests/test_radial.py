@@ -109,7 +109,8 @@ def hertz_brute(a: float, ux: float, uy: float, w: float, n: int) -> np.ndarray:
     root = np.sqrt(m * m + a * a - cx * cx - cy * cy)
     tmax, tmin = -m + root, -m - root
     t = tmax * sb
-    p = 3.0 / (2.0 * math.pi * a**3) * np.sqrt(tmax * cb * cb / (1.0 + sb) * (t - tmin))  # t_max - t = t_max cb^2/(1+sb)
+    # t_max - t = t_max cb^2/(1+sb)
+    p = 3.0 / (2.0 * math.pi * a**3) * np.sqrt(tmax * cb * cb / (1.0 + sb) * (t - tmin))
     wel = p * t * tmax * cb * wb * dang  # dA = t dt dphi, dt = t_max cos(beta) dbeta
     return _friction(wel, cx + t * nx, cy + t * ny, ux, uy, w)
 

@@ -9,11 +9,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from rrbody.analysis.simulate import simulate
 from rrbody.model.bodies import Ellipse
 from rrbody.model.drive import CircularDrive
 from rrbody.model.friction import Friction
 from rrbody.model.scene import Scene, rod_mass_scene
-from rrbody.analysis.simulate import simulate
 from rrbody.model.trajectory import Trajectory
 
 imageio_ffmpeg = pytest.importorskip("imageio_ffmpeg")
@@ -121,9 +121,8 @@ def test_bad_options(tmp_path: Path, s1_short: Trajectory) -> None:
 
 
 def test_red_blue_split_follows_t_f(s1_short: Trajectory) -> None:
-    from rrbody.render.mp4 import MovieFigure
-
     from rrbody.render.flip import FlipMark
+    from rrbody.render.mp4 import MovieFigure
 
     fig = MovieFigure(s1_short, size=(320, 180), flip=FlipMark("flip", 2.0))
     fig.update(1.3)
@@ -158,9 +157,8 @@ def _synthetic_ellipse(driven: bool = True) -> Trajectory:
 
 def test_ellipse_drawn_to_scale() -> None:
     """The outline has semi-axes R_A, R_B about the CM at the body angle; the rod joins CM and P."""
-    from rrbody.render.mp4 import MovieFigure
-
     from rrbody.render.flip import FlipMark
+    from rrbody.render.mp4 import MovieFigure
 
     fig = MovieFigure(_synthetic_ellipse(), size=(320, 180), flip=FlipMark("none"))
     fig.update(0.6)  # a sample time: no interpolation error

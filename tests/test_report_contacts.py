@@ -16,11 +16,13 @@ PRESSURE = {
     "spin_down": {name: {"alpha_exact": a, "alpha_measured": a * (1 + 3e-15), "rel_err": 3e-15}
                   for name, a in (("uniform", 39.24), ("ring", 58.86), ("annulus", 45.78), ("hertz", 34.6714019))},
     "stop_ratio": {"f": [0.0, 0.5, 1.0], "eps_exact": [0.653002, 0.774469, 1.0],
-                   "sim": [{"f": 0.5, "eps0": 0.4, "eps_last": 0.774221}, {"f": 1.0, "eps0": 2.0, "eps_last": 1.00001}]},
+                   "sim": [{"f": 0.5, "eps0": 0.4, "eps_last": 0.774221}, {"f": 1.0, "eps0": 2.0,
+                                                                           "eps_last": 1.00001}]},
     "disk_ratio": 0.6530017892, "hoop_ratio": 1.000000000000001}
 INCLINE = {
     "alpha": 0.3805063771, "invariant": {"theta0_deg": [60, 150], "max_drift": [8.9e-15, 3.6e-13],
-                                         "v_final_over_v0": [0.75, 0.0669872981078], "v_limit_over_v0": [0.75, 0.0669872981078]},
+                                         "v_final_over_v0": [0.75, 0.0669872981078],
+                                         "v_limit_over_v0": [0.75, 0.0669872981078]},
     "breakaway": {"push_at_break_over_limit": 1.001, "step_over_limit": 0.001},
     "held": {"steps": 100000, "bit_identical": True},
     "downhill_accel": {"exact": 0.9108356337584395, "plugin": 0.9108356337583781, "ode": 0.9108356337584391}}
@@ -54,7 +56,8 @@ def test_contact_sections_put_exact_beside_rrbody(tmp_path: Path) -> None:
         assert heading in text
     # pressure: each profile's exact rate beside the fitted one; the disk and hoop ratios; the washers' markers
     assert "| alpha, ring (lever R) (rad/s^2) | 58.86 | 58.86 (rel. err. 3.0e-15) |" in text
-    assert "| stop ratio v/(R Omega), disk (f = 0) | 0.653 (Farkas et al. 2003) | 0.653002 (kernel fixed point) |" in text
+    assert ("| stop ratio v/(R Omega), disk (f = 0) | 0.653 (Farkas et al. 2003) | 0.653002 (kernel fixed point) |"
+            in text)
     assert "| 0.5 | 0.774469 | 0.4 | 0.774221 |" in text
     assert "*(figure pressure/pressure.png not generated)*" in text
     # incline: the invariant's drift against 0, the acceleration on both paths, break-away, held
@@ -64,7 +67,8 @@ def test_contact_sections_put_exact_beside_rrbody(tmp_path: Path) -> None:
     assert "none: position, angle and velocity bit-identical" in text
     assert "![incline](incline/incline.png)" in text
     # polygon: t_f per body (a run without a flip is n/a, not a number), H_c per k with the rod mass, exact checks
-    assert "| omega | square | triangle |" in text and "| 0.2 | n/a | n/a |" in text and "| 20 | 628.19 | 595.03 |" in text
+    assert "| omega | square | triangle |" in text and "| 0.2 | n/a | n/a |" in text
+    assert "| 20 | 628.19 | 595.03 |" in text
     assert "| k | rod mass | square | triangle |" in text and "| 1 | 0.0149 | 0.015868 | 0.015877 |" in text
     assert "| H_c(0), every body (no friction) | 0.79272623 | 0.79272624 to 0.79272624 |" in text
     assert "| 63.5269288507 | 63.5269288507 (ODE path, rel. err. 6.7e-16) |" in text

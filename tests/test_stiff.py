@@ -9,13 +9,13 @@ import numpy as np
 import pytest
 
 from rrbody import flip_time, rod_mass_scene
+from rrbody.integrate.ode import integrate_driven
 from rrbody.model.bodies import Disk
 from rrbody.model.drive import CircularDrive
 from rrbody.model.friction import Friction
 from rrbody.model.scene import Scene
 from rrbody.physics.bind import kernel_params
 from rrbody.physics.dynamics import SYSTEM_DRIVEN, driven_rhs, jacobian, system_from_params
-from rrbody.integrate.ode import integrate_driven
 
 from .reference import quasi_static_tf_times_omega, scipy_stiff_flip_time
 

@@ -365,7 +365,8 @@ def test_contradictory_options_name_both(tmp_path: Path) -> None:
         ([*rod, "--omega", "0.6", "--axis", "omega=0.6,0.7", *out], ("--omega", "--axis omega")),
         ([*rod, "--omega", "0.6", "--phi0", "pi", "--axis", "phi0=1,2", *out], ("--phi0", "--axis phi0")),
         (["sweep", "--k", "0.05", "--omega", "0.6", "--H", "0.2", "--axis", "H=0.2,0.3", *out], ("--H", "--axis H")),
-        ([*rod, "--omega", "0.6", "--axis", "phi_dot0=1,2", "--phi-dot0", "1", *out], ("--phi-dot0", "--axis phi_dot0")),
+        ([*rod, "--omega", "0.6", "--axis", "phi_dot0=1,2", "--phi-dot0", "1", *out], ("--phi-dot0",
+                                                                                       "--axis phi_dot0")),
         ([*rod, "--axis", "omega=0.6,0.7", "--resume", "--force", *out], ("--resume", "--force")),
     ]
     for r, (_, names) in zip(run_here([a for a, _ in cases], cwd=tmp_path), cases):

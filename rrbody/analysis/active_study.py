@@ -87,8 +87,8 @@ def build(box: Box) -> tuple[Any, Any, list[Any], list[str], np.ndarray, float]:
     of side ``side`` (m), random angles, at rest; ``senses`` the orbital sense of each (+1, -1)."""
     import pymunk
 
-    from rrbody.model.active import Active
     from rrbody.engine.plugin import PlaneFriction
+    from rrbody.model.active import Active
 
     rng = np.random.default_rng(box.seed)
     n_l = int(round(box.mix * box.n))
@@ -123,7 +123,8 @@ def build(box: Box) -> tuple[Any, Any, list[Any], list[str], np.ndarray, float]:
             s.elasticity = 0.2
             s.collision_type = 1
         jitter = 0.25 * max(cell - 2 * R_DISK, 0.0)
-        b.position = (cell * (i % k + 0.5) + jitter * rng.uniform(-1, 1), cell * (i // k + 0.5) + jitter * rng.uniform(-1, 1))
+        b.position = (cell * (i % k + 0.5) + jitter * rng.uniform(-1, 1),
+                      cell * (i // k + 0.5) + jitter * rng.uniform(-1, 1))
         b.angle = rng.uniform(0.0, 2 * math.pi)
         space.add(b, *shapes)
         pf.add(b, mu=MU)
@@ -139,8 +140,9 @@ def build(box: Box) -> tuple[Any, Any, list[Any], list[str], np.ndarray, float]:
 def run_box(box: Box, *, watch: Callable[[Any, Any, list[Any]], Any] | None = None) -> dict[str, Any]:
     """Run ``box`` and find every body's episodes. Returns the parameters, per body its species,
     orbital sense, body-body and wall contacts (counts) and episodes, per species the statistics
-    (:func:`species_stats`; each episode also says ``starts_at_wall``: a wall contact began in its window), and the samples: times ``t`` (s), unwrapped angles ``angle`` (rad) and
-    spins ``spin`` (rad/s; pymunk's, half a step after the sample's time), (samples, bodies).
+    (:func:`species_stats`; each episode also says ``starts_at_wall``: a wall contact began in its window), and the
+    samples: times ``t`` (s), unwrapped angles ``angle`` (rad) and spins ``spin`` (rad/s; pymunk's, half a step after
+    the sample's time), (samples, bodies).
 
     ``watch(space, pf, bodies)``, if given, is called once before the first step and must return an
     object with a ``capture()`` method (a :class:`rrbody.plugin.Recorder`), called after every step
@@ -228,8 +230,8 @@ def species_stats(per_body: list[dict[str, Any]], species: str, span: float) -> 
     """Statistics of one species over a run of ``span`` s: bodies, episodes per body per minute, the
     fraction of its samples with the spin against the orbit (``reversed_fraction``: episodes or not), the
     fraction that began at a collision and the fraction expected by chance (each episode's body's
-    :func:`_chance`, averaged over the episodes), the fraction begun at a wall contact only, mean and median duration (s), fraction of time in an episode,
-    collisions per body per minute."""
+    :func:`_chance`, averaged over the episodes), the fraction begun at a wall contact only, mean and median duration
+    (s), fraction of time in an episode, collisions per body per minute."""
     rows = [b for b in per_body if b["species"] == species]
     if not rows or span <= 0.0:
         return {"bodies": len(rows)}
@@ -296,9 +298,15 @@ def ensemble(points: list[Box], *, workers: int | None = None, checkpoint: str |
     scheduler's address or a ``distributed.Client`` (:func:`rrbody.analysis.pool.iter_dask`; overrides
     ``workers``), as for the sweeps. ``progress``: a progress bar on stderr (the sweeps' bar)."""
     from rrbody._version import __version__
-    from rrbody.analysis.pool import check_scheduler, connect_scheduler, iter_dask, iter_local, plan_batches, \
-        plan_workers
-    from rrbody.analysis.sweep import _bar
+    from rrbody.analysis.pool import (
+        check_scheduler,
+        connect_scheduler,
+        iter_dask,
+        iter_local,
+        plan_batches,
+        plan_workers,
+    )
+    from rrbody.analysis.sweep import progress_bar
     from rrbody.analysis.sweep_store import read_checkpoint, stream_checkpoint
 
     spec = {"kind": "active_study", "rrbody_version": __version__, "points": [asdict(p) for p in points]}
@@ -308,7 +316,7 @@ def ensemble(points: list[Box], *, workers: int | None = None, checkpoint: str |
     if scheduler is not None:
         check_scheduler(scheduler)
     client = connect_scheduler(scheduler) if isinstance(scheduler, str) and todo else scheduler
-    bar = _bar(len(points), len(done), progress and bool(todo), "active ensemble")
+    bar = progress_bar(len(points), len(done), progress and bool(todo), "active ensemble")
     try:
         w = 0 if client is not None or not todo else plan_workers(workers, len(todo))
         batches = plan_batches(todo, 1, w)

@@ -1,11 +1,12 @@
-"""Flip time, the reverse-rotation (RR) test and the critical geometry H_c (docs/physics.md, "Definitions rrbody fixes").
+"""Flip time, the reverse-rotation (RR) test and the critical geometry H_c (docs/physics.md, "Definitions
+rrbody fixes").
 
 Definitions
 -----------
 - **Flip time** t_f: time of the global minimum of phi(t), reported whenever phi falls below
-  phi0 at all (including the paper's low-omega "incomplete RR"); None when phi never does. The run stops once the flip is
-  settled (see :mod:`rrbody.ode`, rule ``"flip"``): phi has risen ``settle_turns`` full turns above
-  its lowest minimum and ``settle_periods`` driving periods have passed since it.
+  phi0 at all (including the paper's low-omega "incomplete RR"); None when phi never does. The run stops once the flip
+  is settled (see :mod:`rrbody.ode`, rule ``"flip"``): phi has risen ``settle_turns`` full turns above its lowest
+  minimum and ``settle_periods`` driving periods have passed since it.
 - **RR exists** iff T_1 (first time theta = phi - omega t + pi has fallen by 2 pi) exists and
   omega T_1 < 2 pi. Exact in the frictionless limit (see :func:`frictionless_T1`).
 - **H_c(k)**: the RR/no-RR boundary met first when H grows from small values (RR exists for all
@@ -22,12 +23,12 @@ from dataclasses import replace
 
 import numpy as np
 
-from rrbody.physics.bind import ode_params
+from rrbody.analysis.simulate import resolve_rtol
 from rrbody.integrate.events import FlipResult, classify_flip, rr_from_T1
 from rrbody.integrate.ode import STEP_METHODS, integrate_driven
 from rrbody.model.checks import check, check_positive
 from rrbody.model.scene import Scene, rod_mass_scene
-from rrbody.analysis.simulate import resolve_rtol
+from rrbody.physics.bind import ode_params
 
 __all__ = ["flip_time", "reverse_rotation_exists", "critical_h", "critical_h_of", "frictionless_T1",
            "frictionless_critical_h", "without_phantom_minimum"]

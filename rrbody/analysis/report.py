@@ -34,11 +34,11 @@ def write_table(path: Path, columns: Sequence[str], rows: Sequence[Sequence[Any]
     Floats are written with ``repr`` (round-trip exact); None becomes an empty field.
     """
     from rrbody.model.io import atomic_path
-    from rrbody.model.trajectory import _jsonable
+    from rrbody.model.trajectory import jsonable
 
     with atomic_path(path, force=force, name=Path(path).name) as tmp, open(tmp, "w", newline="") as fh:
         if meta is not None:
-            fh.write("# rrbody-meta: " + json.dumps(_jsonable({**meta, "rrbody_version": __version__})) + "\n")
+            fh.write("# rrbody-meta: " + json.dumps(jsonable({**meta, "rrbody_version": __version__})) + "\n")
         w = csv.writer(fh)
         w.writerow(list(columns))
         for r in rows:
@@ -49,9 +49,9 @@ def write_table(path: Path, columns: Sequence[str], rows: Sequence[Sequence[Any]
 def write_summary(out_dir: Path, summary: dict[str, Any], *, force: bool = True) -> Path:
     """``summary.json``: the scene's key numbers (read by :func:`write_report`)."""
     from rrbody.model.io import atomic_write_text
-    from rrbody.model.trajectory import _jsonable
+    from rrbody.model.trajectory import jsonable
 
-    data = _jsonable({**summary, "rrbody_version": __version__})
+    data = jsonable({**summary, "rrbody_version": __version__})
     return atomic_write_text(Path(out_dir) / "summary.json", json.dumps(data, indent=1) + "\n", force=force,
                              name="summary.json")
 
@@ -112,7 +112,8 @@ def write_report(results: str | Path = "results", *, out: str | Path | None = No
              "Each section: the paper's claim beside our number, then the figure. Scenes are rerun by "
              "`rrbody scene NAME`; everything by `rrbody scene all`.")
     L.append("")
-    L.append("Definitions (docs/physics.md, section 'Definitions rrbody fixes'): flip time t_f = time of the global minimum of phi; reverse rotation "
+    L.append("Definitions (docs/physics.md, section 'Definitions rrbody fixes'): flip time t_f = time of the global "
+             "minimum of phi; reverse rotation "
              "(RR) exists iff theta = phi - omega t + pi falls by 2 pi within the first driving period; "
              "H_c(k) = largest H with RR at omega = 0.3 rad/s, phi0 = pi.")
     L.append("")
@@ -135,10 +136,13 @@ def write_report(results: str | Path = "results", *, out: str | Path | None = No
                      f"({_dev(f['lam'], p['lam'])}) | same fit, H_c(0) fixed at the exact value |")
     if tw:
         lo, hi = tw["fit_low"], tw["fit_high"]
-        L.append(f"| t_f ~ omega^(gamma-1), low omega | gamma = 0 (t_f ~ 1/omega) | exponent {_pm(lo['b'], lo['b_err'])}"
-                 f" -> gamma = {lo['b'] + 1:.3f} | omega in [{lo['range'][0]:.3g}, {lo['range'][1]:.3g}] rad/s (omega^2 << k) |")
+        L.append("| t_f ~ omega^(gamma-1), low omega | gamma = 0 (t_f ~ 1/omega) | exponent "
+                 f"{_pm(lo['b'], lo['b_err'])}"
+                 f" -> gamma = {lo['b'] + 1:.3f} | omega in [{lo['range'][0]:.3g}, {lo['range'][1]:.3g}] rad/s "
+                 "(omega^2 << k) |")
         L.append(f"| t_f ~ omega^(gamma-1), high omega | gamma = 2 (t_f ~ omega) | exponent {_pm(hi['b'], hi['b_err'])}"
-                 f" -> gamma = {hi['b'] + 1:.3f} | omega in [{hi['range'][0]:.3g}, {hi['range'][1]:.3g}] rad/s (omega^2 >> k) |")
+                 f" -> gamma = {hi['b'] + 1:.3f} | omega in [{hi['range'][0]:.3g}, {hi['range'][1]:.3g}] rad/s "
+                 "(omega^2 >> k) |")
         for key, label in (("fit_mu_w06", "omega = 0.6, H = 0.25"), ("fit_mu_w200", "omega = 200, H = 0.73")):
             m = tw.get(key)
             if m:
@@ -154,7 +158,8 @@ def write_report(results: str | Path = "results", *, out: str | Path | None = No
                  f"the paper's formula is leading order only ({_dev(so['paper_C'], so['exact_C'])} vs exact) |")
     if se:
         L.append(f"| RR interval in phi0 (H = 0.25, omega = 100) | centred on pi, friction independent | "
-                 f"[{se['rr_interval_frictionless'][0]:.4f}, {se['rr_interval_frictionless'][1]:.4f}] rad without friction; "
+                 f"[{se['rr_interval_frictionless'][0]:.4f}, {se['rr_interval_frictionless'][1]:.4f}] rad without "
+                 "friction; "
                  f"max shift with k = 7.5-17.5: {se['max_interval_shift']:.2g} rad | see seco1 |")
     L.append("")
     _section_phixtpm(L, res)
@@ -164,7 +169,11 @@ def write_report(results: str | Path = "results", *, out: str | Path | None = No
     _section_tfxwpm2(L, res, tw)
     _section_hc(L, res, hc)
     _section_contour(L, res)
-    from rrbody.analysis.report_contacts import section_incline, section_polygon, section_pressure  # here: it imports this module
+    from rrbody.analysis.report_contacts import (  # here: it imports this module
+        section_incline,
+        section_polygon,
+        section_pressure,
+    )
 
     section_pressure(L, res)
     section_incline(L, res)
@@ -228,10 +237,14 @@ def _section_normal(L: list[str], res: Path) -> None:
     if not _heading(L, "## NormalAndPhasePortrait: normal rotation, transient normal rotation, phase portrait", s):
         return
     L.append(f"(a) k = 0.003, H = 0.6, omega = 0.6, phi0 = pi/2: RR = {s['a_normal']['reverse_rotation']} "
-             f"(paper: normal rotation from t = 0). k = 0.003, H = 0.8, omega = 2, phi0 = pi (paper: a transient normal "
-             f"rotation): phi dips by {math.pi - s['a_transient']['phi_min']:.3f} rad (t_f = {s['a_transient']['t_f']:.3g} s), "
-             f"then turns forward slowly, mean phi' = {s['a_transient_rate'][0]:.3g} rad/s over 5-40 s, far below omega, "
-             f"before locking to the drive (mean phi' = {s['a_transient_rate'][1]:.3g} rad/s over 60-80 s). (b) k = 0.27, H = 0.4, omega = 1.7: phi0 = pi gives RR = "
+             "(paper: normal rotation from t = 0). k = 0.003, H = 0.8, omega = 2, phi0 = pi (paper: a transient "
+             "normal "
+             f"rotation): phi dips by {math.pi - s['a_transient']['phi_min']:.3f} rad (t_f = "
+             f"{s['a_transient']['t_f']:.3g} s), "
+             f"then turns forward slowly, mean phi' = {s['a_transient_rate'][0]:.3g} rad/s over 5-40 s, far below "
+             "omega, "
+             f"before locking to the drive (mean phi' = {s['a_transient_rate'][1]:.3g} rad/s over 60-80 s). (b) k = "
+             "0.27, H = 0.4, omega = 1.7: phi0 = pi gives RR = "
              f"{s['b_pi']['reverse_rotation']}, phi0 = pi/2 gives RR = {s['b_half_pi']['reverse_rotation']}; both "
              "start on the line of valid initial conditions theta' = -(omega/H) cos(theta) - omega, theta = phi0 + pi "
              "(the impulsive start). " + _img("normal-and-phase-portrait", "normal_and_phase_portrait", res))
@@ -253,8 +266,10 @@ def _section_tfxwpm2(L: list[str], res: Path, s: dict[str, Any] | None) -> None:
                        ("fit_mu_w200", "omega = 200 rad/s, H = 0.73")):
         m = s.get(key)
         if m and key == "fit_mu_w1":
-            mu_lines.append(f"{label}: t_f decreases with mu over [{m['range'][0]:.3g}, {m['range'][1]:.3g}] (the paper's "
-                            "inset (a)); this range crosses from the omega^2 >> k to the omega^2 << k regime, so no single "
+            mu_lines.append(f"{label}: t_f decreases with mu over [{m['range'][0]:.3g}, {m['range'][1]:.3g}] (the "
+                            "paper's "
+                            "inset (a)); this range crosses from the omega^2 >> k to the omega^2 << k regime, so no "
+                            "single "
                             f"power law fits (rms of ln t_f about the best one: {m['rms_log']:.2f})")
         elif m:
             mu_lines.append(f"{label}: t_f ~ mu^{m['b']:.3f} (± {m['b_err']:.1g}) for mu in [{m['range'][0]:.3g}, "
@@ -264,7 +279,8 @@ def _section_tfxwpm2(L: list[str], res: Path, s: dict[str, Any] | None) -> None:
                  "(omega^2 >> k, gamma = 2).")
         L.append("")
     if s.get("low_omega_mu_spread") is not None:
-        L.append(f"Low omega (omega = {s['low_omega_mu_omega']:g} rad/s): t_f varies by {100 * s['low_omega_mu_spread']:.2g}% "
+        L.append(f"Low omega (omega = {s['low_omega_mu_omega']:g} rad/s): t_f varies by "
+                 f"{100 * s['low_omega_mu_spread']:.2g}% "
                  f"over k = {s['low_omega_mu_k'][0]:g}-{s['low_omega_mu_k'][1]:g} s^-2 (paper: no mu dependence).")
         L.append("")
     L.append("### The exact small-omega limit")
@@ -274,14 +290,17 @@ def _section_tfxwpm2(L: list[str], res: Path, s: dict[str, Any] | None) -> None:
              "psi' = -omega (1 - cos(psi)/H), psi(0) = pi (consistent with the impulsive start phi'(0) = -omega/H). "
              "phi' = 0 when psi = pi/2, hence")
     L.append("")
-    L.append("    omega t_f -> C(H) = int_{pi/2}^{pi} H dpsi / (H - cos psi) = H/sqrt(1 - H^2) * arccosh(1/H)   (H < 1)")
+    L.append("    omega t_f -> C(H) = int_{pi/2}^{pi} H dpsi / (H - cos psi) = H/sqrt(1 - H^2) * arccosh(1/H)   (H < "
+             "1)")
     L.append("                                                           = 1                                  (H = 1)")
     L.append("                                                           = H/sqrt(H^2 - 1) * arccos(1/H)      (H > 1)")
     L.append("")
-    L.append(f"and phi(t_f) -> pi/2 + C(H). At H = 0.25: C = {so['exact_C']:.6f}, phi_min -> {so['exact_phi_min']:.6f} rad; "
+    L.append(f"and phi(t_f) -> pi/2 + C(H). At H = 0.25: C = {so['exact_C']:.6f}, phi_min -> "
+             f"{so['exact_phi_min']:.6f} rad; "
              f"the ODE at omega = {so['omega']:g}, k = 7.5 gives omega t_f = {so['numeric_C']:.6f}, phi_min = "
              f"{so['numeric_phi_min']:.6f}. The paper's 2 sqrt(2)/(2 + 1/H) = {so['paper_C']:.6f} is "
-             f"{abs(_rel(so['paper_C'], so['exact_C'])):.1f}% low: it comes from a parabolic ansatz for phi(t), exact only "
+             f"{abs(_rel(so['paper_C'], so['exact_C'])):.1f}% low: it comes from a parabolic ansatz for phi(t), exact "
+             "only "
              "to leading order. Both are independent of mu (gamma = 0).")
     L.append("")
     L.append(_img("tfxwpm2", "tfxwpm2", res))
@@ -336,7 +355,8 @@ def _section_contour(L: list[str], res: Path) -> None:
     L.append("")
 
 
-MY_SCENES = ("phixtpm", "sss", "seco1", "normal-and-phase-portrait", "tfxwpm2", "hc", "tfvshvsomega", "pressure", "incline",
+MY_SCENES = ("phixtpm", "sss", "seco1", "normal-and-phase-portrait", "tfxwpm2", "hc", "tfvshvsomega", "pressure",
+             "incline",
              "polygon", "active")
 
 
@@ -365,7 +385,8 @@ def add_parser(sub: Any) -> None:
     r = sub.add_parser("report", help="write results/REPORT.md from the scene outputs",
                        description="Collect the scenes' summary.json files into results/REPORT.md "
                                    "(paper vs rrbody, per figure).")
-    r.add_argument("--results", default=None, help="results folder (default: results/ of the checkout, or of the current folder)")
+    r.add_argument("--results", default=None,
+                   help="results folder (default: results/ of the checkout, or of the current folder)")
     r.add_argument("--out", default=None, help="report path (default: RESULTS/REPORT.md)")
     r.set_defaults(func=cmd_report, json=False)
 

@@ -18,7 +18,9 @@ def _pm(row: dict, key: str, spec: str = ".3g") -> str:
 
 def section_active(L: list[str], res: Path) -> None:
     s = read_summary(res, "active")
-    if not heading(L, "## Active chiral bodies: reverse rotations begun by collisions, a binary mixture (scene active)", s):
+    if not heading(L,
+                   "## Active chiral bodies: reverse rotations begun by collisions, a binary mixture (scene active)",
+                   s):
         return
     assert s is not None  # (heading returned True)
     h, en = s["headline"], s["ensemble"]
@@ -39,7 +41,8 @@ def section_active(L: list[str], res: Path) -> None:
                  f"{sp}: {st.get('episodes', 0)} episodes ({fmt(st.get('episodes_per_body_per_min'), '.3g')} per body "
                  f"per minute), {fmt(st.get('fraction_at_collision'), '.0%')} begun at a collision (by chance: "
                  f"{fmt(st.get('chance_at_collision'), '.0%')}), mean duration "
-                 f"{fmt(st.get('duration_mean_s'), '.3g')} s; spin against the orbit {fmt(st.get('reversed_fraction'), '.0%')} "
+                 f"{fmt(st.get('duration_mean_s'), '.3g')} s; spin against the orbit "
+                 f"{fmt(st.get('reversed_fraction'), '.0%')} "
                  f"of the time.")
     L.append("")
     L.append(f"Ensemble: {en['n']} bodies, {en['t_end_s']:g} s, seeds {', '.join(map(str, en['seeds']))} per point "

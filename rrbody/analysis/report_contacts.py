@@ -56,7 +56,8 @@ def section_pressure(L: list[str], res: Path) -> None:
             for name, d in s["spin_down"].items()]
     rows += [("stop ratio v/(R Omega), disk (f = 0)", "0.653 (Farkas et al. 2003)",
               f"{_f(s['disk_ratio'], '.6f')} (kernel fixed point)"),
-             ("stop ratio v/(R Omega), hoop on its rim (f = 1)", "1", f"{_f(s['hoop_ratio'], '.15f')} (kernel fixed point)")]
+             ("stop ratio v/(R Omega), hoop on its rim (f = 1)", "1",
+              f"{_f(s['hoop_ratio'], '.15f')} (kernel fixed point)")]
     _table(L, rows)
     sr = s["stop_ratio"]
     exact = dict(zip(sr["f"], sr["eps_exact"]))
@@ -129,6 +130,7 @@ def section_polygon(L: list[str], res: Path) -> None:
         rows.append(("H_c(0), every body (no friction)", f"{HC0:.8f}",
                      f"{_f(min(got), '.8f')} to {_f(max(got), '.8f')}" if got else "n/a"))
     rows.append(("square spinning in place: spin-down rate mu g (sqrt 2 + ln(1 + sqrt 2))/a (rad/s^2)",
-                 _f(c["alpha_exact"], ".12g"), f"{_f(c['alpha_ode'], '.12g')} (ODE path, rel. err. {_f(c['rel_err'], '.1e')})"))
+                 _f(c["alpha_exact"], ".12g"),
+                 f"{_f(c['alpha_ode'], '.12g')} (ODE path, rel. err. {_f(c['rel_err'], '.1e')})"))
     _table(L, rows)
     _figure(L, "polygon", res)

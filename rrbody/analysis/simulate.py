@@ -13,10 +13,10 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.physics.bind import ode_params
 from rrbody.model.checks import check
 from rrbody.model.scene import Scene
 from rrbody.model.trajectory import Trajectory, driven_trajectory
+from rrbody.physics.bind import ode_params
 
 __all__ = ["simulate", "METHODS", "ACCURACY", "register_method", "default_dt_out", "resolve_rtol"]
 

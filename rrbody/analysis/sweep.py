@@ -42,12 +42,21 @@ from pathlib import Path
 from typing import Any
 
 from rrbody.analysis.sweep_spec import Sweep, critical_h_args, make_scene, sweep_from_spec
-from rrbody.analysis.sweep_store import check_outputs, checkpoint_path, count_rows, load_sweep, output_files, \
-    read_checkpoint, read_meta, stream_checkpoint, write_output
+from rrbody.analysis.sweep_store import (
+    check_outputs,
+    checkpoint_path,
+    count_rows,
+    load_sweep,
+    output_files,
+    read_checkpoint,
+    read_meta,
+    stream_checkpoint,
+    write_output,
+)
 from rrbody.model.checks import check
 
 __all__ = ["run_sweep", "load_sweep", "evaluate_point", "checkpoint_path", "SweepInterrupted", "SweepStopped",
-           "SweepFault", "read_meta", "run_fresh_or_resume"]
+           "SweepFault", "read_meta", "run_fresh_or_resume", "progress_bar"]
 
 
 class SweepInterrupted(RuntimeError):
@@ -174,7 +183,7 @@ def _compute(sweep: Sweep, out: Path, done: dict[int, dict[str, Any]], batches: 
     spec = sweep.spec()
     it = (iter_dask(_run_batch, spec, batches, client) if client is not None
           else iter_local(_run_batch, spec, batches, n_workers))
-    bar = _bar(sweep.size, len(done), progress, sweep.quantity)
+    bar = progress_bar(sweep.size, len(done), progress, sweep.quantity)
     n_new = 0
     try:
         for n in stream_checkpoint(ck, spec, it, done):
@@ -199,7 +208,9 @@ def _compute(sweep: Sweep, out: Path, done: dict[int, dict[str, Any]], batches: 
     return out
 
 
-def _bar(total: int, initial: int, progress: bool, desc: str) -> Any:
+def progress_bar(total: int, initial: int, progress: bool, desc: str) -> Any:
+    """A tqdm bar over ``total`` points (``initial`` of them done, ``desc`` after "sweep "), or None
+    without ``progress`` (tqdm is then not imported)."""
     if not progress:
         return None
     from tqdm import tqdm

@@ -238,9 +238,9 @@ class Sweep:
 
     def spec(self) -> dict[str, Any]:
         """JSON-ready description; two sweeps with equal specs compute identical results."""
-        from rrbody.model.trajectory import _jsonable
+        from rrbody.model.trajectory import jsonable
 
-        return _jsonable({"base": self.base, "axes": self.axes, "quantity": self.quantity, "mode": self.mode,
+        return jsonable({"base": self.base, "axes": self.axes, "quantity": self.quantity, "mode": self.mode,
                           "options": self.options, "rrbody_version": __version__})
 
 

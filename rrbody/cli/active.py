@@ -20,8 +20,8 @@ from dataclasses import fields
 from pathlib import Path
 from typing import Any
 
-from rrbody.cli.args import CliError, check_options, emit, given, integer, number, option_help, option_message, ranged
 from rrbody.cli.active_options import rename
+from rrbody.cli.args import CliError, check_options, emit, given, integer, number, option_help, option_message, ranged
 from rrbody.model.active import MAX_SEED
 
 __all__ = ["add_parser", "cmd_active", "cmd_active_ensemble", "BOX_OPTIONS"]
@@ -44,7 +44,7 @@ def _box_defaults() -> dict[str, Any]:
 
 def _box_valid(name: str) -> str:
     """A Box parameter's range as the help and the messages show it (Box's own table)."""
-    from rrbody.analysis.active_study import BOX_RANGES, BOX_INTEGERS
+    from rrbody.analysis.active_study import BOX_INTEGERS, BOX_RANGES
     from rrbody.model.checks import range_text
 
     lo, hi, lo_open, unit = BOX_RANGES[name]
@@ -193,12 +193,12 @@ def cmd_active(args: argparse.Namespace) -> int:
 def _run_active(args: argparse.Namespace, box: Any, rerun_every: int) -> int:
     from rrbody.analysis.active_study import summary
     from rrbody.model.io import atomic_write_text
-    from rrbody.model.trajectory import _jsonable
+    from rrbody.model.trajectory import jsonable
     from rrbody.render.active_film import run_filmed, write_movie, write_rerun
 
     res, rec, rrd = run_filmed(box, movie=bool(args.movie), rerun_every=rerun_every if args.rerun else None,
                                progress=not args.json and sys.stderr.isatty())
-    out = _jsonable(summary(res))
+    out = jsonable(summary(res))
     written: dict[str, str] = {}
     if args.out:
         from rrbody._version import __version__
@@ -222,7 +222,7 @@ def _run_active(args: argparse.Namespace, box: Any, rerun_every: int) -> int:
                      f"({s['episodes_per_body_per_min']:.3g} per body per min)"
                      + (f", {s['fraction_at_collision']:.0%} begun at a collision (by chance "
                         f"{s['chance_at_collision']:.0%})" if s["episodes"] else ""))
-    for k, v in written.items():
+    for v in written.values():
         text += f"\nwrote {v}"
     emit(args, {**out, "written": written}, text)
     return 0
@@ -263,7 +263,7 @@ def cmd_active_ensemble(args: argparse.Namespace) -> int:
                  force=True, needs=_ENGINE)  # (existing outputs: below, once the lock is held)
     if args.scheduler is not None:
         from rrbody.analysis.pool import check_scheduler_address
-        from rrbody.cli.sweep import _quiet_dask
+        from rrbody.cli.sweep import quiet_dask
         from rrbody.model.extras import require
 
         try:
@@ -271,7 +271,7 @@ def cmd_active_ensemble(args: argparse.Namespace) -> int:
         except ValueError as e:
             raise CliError(option_message(str(e))) from None
         require("distributed", purpose="a Dask scheduler (--scheduler)")
-        _quiet_dask()
+        quiet_dask()
     with claimed([*paths.items(), ("--out: checkpoint", ck)]):
         for opt, path in paths.items():
             check_writable(path, force=args.force or args.resume, name=opt)
@@ -330,11 +330,11 @@ def _write_table(out: str, rows: list[dict[str, Any]], table: list[dict[str, Any
     from rrbody._version import __version__
     from rrbody.analysis.active_study import STAT_KEYS, Box
     from rrbody.model.io import atomic_path, atomic_write_text
-    from rrbody.model.trajectory import _jsonable
+    from rrbody.model.trajectory import jsonable
 
     params = [f.name for f in fields(Box)]
     if out.lower().endswith(".json"):
-        atomic_write_text(out, json.dumps(_jsonable({"rrbody_version": __version__, "runs": rows,
+        atomic_write_text(out, json.dumps(jsonable({"rrbody_version": __version__, "runs": rows,
                                                      "mean_over_seeds": table}), indent=1) + "\n",
                           force=force, name="--out")
         return

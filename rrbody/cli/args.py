@@ -373,8 +373,8 @@ def emit(args: argparse.Namespace, payload: dict[str, Any], text: str) -> None:
     import json
 
     if args.json:
-        from rrbody.model.trajectory import _jsonable
+        from rrbody.model.trajectory import jsonable
 
-        print(json.dumps(_jsonable(payload)), flush=bool(getattr(args, "batch_line", False)))
+        print(json.dumps(jsonable(payload)), flush=bool(getattr(args, "batch_line", False)))
     else:
         print(text)

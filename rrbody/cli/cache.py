@@ -174,7 +174,7 @@ def cmd_cache(args: argparse.Namespace) -> int:
           f"  the plugin's wrench tables (in the kernels' folder): {rep['wrench_tables']['count']}, "
           f"{_mb(rep['wrench_tables']['bytes'])}\n"
           f"  kernels compiled at install: {rep['installed_kernels']['path']} "
-          f"({_mb(rep['installed_kernels']['bytes']) if rep['installed_kernels']['bytes'] else 'none for these sources'}; "
+          f"({_mb(b) if (b := rep['installed_kernels']['bytes']) else 'none for these sources'}; "
           "copied into the cache folder on first use)")
     return 0
 

@@ -109,7 +109,8 @@ def cmd_lyapunov(args: argparse.Namespace) -> int:
         written["plot"] = str(_plot(res, scene, paths["--plot"], force=args.force))
     d = {**res.to_dict(), **echo_typed(args, scene), "omega": scene.omega, "tilt": scene.tilt,
          "friction": scene.friction.law, "body": scene.body.kind, "written": written}
-    text = "lambda = " + ", ".join(f"{x:.6g}" for x in res.exponents) + f" 1/s  ({method}, {len(res.times)} renormalisations"
+    text = ("lambda = " + ", ".join(f"{x:.6g}" for x in res.exponents)
+            + f" 1/s  ({method}, {len(res.times)} renormalisations")
     text += f"; divergence {res.divergence:.6g} 1/s)" if res.divergence is not None else ")"
     emit(args, d, text)
     return 0

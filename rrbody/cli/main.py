@@ -18,13 +18,36 @@ from collections.abc import Sequence
 from typing import Any
 
 from rrbody._version import __version__
-from rrbody.cli.args import CliError, Parser, check_options, commands, drop_warnings, emit, flush_warnings, \
-    number, option_help, option_message, parse
 from rrbody.cli.active_options import add_active_options, with_active
+from rrbody.cli.args import (
+    CliError,
+    Parser,
+    check_options,
+    commands,
+    drop_warnings,
+    emit,
+    flush_warnings,
+    number,
+    option_help,
+    option_message,
+    parse,
+)
 from rrbody.cli.cache import add_parser as add_cache_parser
-from rrbody.cli.options import (SIMULATE_OUTPUTS, add_accuracy_options, add_drive_option, add_friction_options,
-                                add_integrator_options, add_scene_options, check_contradictions, check_simulate_outputs,
-                                echo_typed, number_text, scene_from_args, stepper_option, typed)
+from rrbody.cli.options import (
+    SIMULATE_OUTPUTS,
+    add_accuracy_options,
+    add_drive_option,
+    add_friction_options,
+    add_integrator_options,
+    add_scene_options,
+    check_contradictions,
+    check_simulate_outputs,
+    echo_typed,
+    number_text,
+    scene_from_args,
+    stepper_option,
+    typed,
+)
 
 __all__ = ["main", "entry", "build_parser", "scene_from_args", "run_command"]
 

@@ -8,13 +8,24 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-from rrbody.cli.args import (CliError, angle, check_options, float_list, given, integer, number, option_help,
-                             option_message, ranged)
+from rrbody.cli.args import (
+    CliError,
+    angle,
+    check_options,
+    float_list,
+    given,
+    integer,
+    number,
+    option_help,
+    option_message,
+    ranged,
+)
 from rrbody.model.checks import number_rows
 from rrbody.model.laws import LAW_PARAMS, LAW_TABLE, LAWS
 from rrbody.model.scene import FRICTION_METHODS, SCENE_PARAMS
 
-__all__ = ["add_scene_options", "add_friction_options", "add_integrator_options", "add_accuracy_options", "scene_from_args", "scene_params",
+__all__ = ["add_scene_options", "add_friction_options", "add_integrator_options", "add_accuracy_options",
+           "scene_from_args", "scene_params",
            "SCENE_OPTIONS", "INTEGRATOR_OPTIONS", "STEPPERS", "stepper_option", "check_contradictions",
            "SIMULATE_OUTPUTS", "check_simulate_outputs", "typed", "echo_typed", "number_text", "DRIVE_OPTIONS",
            "add_drive_option"]
@@ -57,7 +68,8 @@ def add_scene_options(p: argparse.ArgumentParser, *, free_bodies: bool = True) -
                    help="rod: point mass on a massless rod (default); disk; ellipse; box (half-sides R0 (1 + delta) "
                         "and R0 (1 - delta)); polygon (--sides with circumradius --R0, or --vertices): exact friction")
     g.add_argument("--sides", type=integer("--sides"), default=None,
-                   help=option_help("sides", "--body polygon: a regular polygon inscribed in the circle of radius --R0"))
+                   help=option_help("sides",
+                                    "--body polygon: a regular polygon inscribed in the circle of radius --R0"))
     g.add_argument("--vertices", default=None, metavar="X,Y;X,Y;...",
                    help="--body polygon: the vertices of a convex polygon (m; the centroid becomes the CM)")
     g.add_argument("--H", type=number("--H"), help=option_help("H", "rod-mass geometry H = l/d (required for "

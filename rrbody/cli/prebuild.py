@@ -171,7 +171,8 @@ def build(into: Path | None = None, *, jobs: int = 2, quiet: bool = False, force
                           first=len(first), of=of, t0=t0)
         src = work / "kernels" / name
         if not src.is_dir():
-            raise RuntimeError(f"prebuild: no kernels were written to {src} (were the sources edited during the build?)")
+            raise RuntimeError(f"prebuild: no kernels were written to {src} (were the sources edited during the "
+                               "build?)")
         if whole:
             # which numba compiled them: a first use under another numba does not copy them (rrbody._cache);
             # the file also marks the folder complete (a part leaves it for the install's kernels to fill in)

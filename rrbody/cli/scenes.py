@@ -21,7 +21,8 @@ __all__ = ["scenes_dir", "output_root", "list_scenes", "load_scene", "run_scene"
 
 #: rrbody modules that import an optional package where they are used: a scene importing one needs it
 _RRBODY_NEEDS = {"rrbody.plugin": ("pymunk",), "rrbody.engine": ("pymunk",), "rrbody.mujoco": ("mujoco",),
-                 "rrbody.envs": ("gymnasium", "pymunk"), "rrbody.analysis.active_study": ("pymunk",), "rrbody.render": ("matplotlib",)}
+                 "rrbody.envs": ("gymnasium", "pymunk"), "rrbody.analysis.active_study": ("pymunk",),
+                 "rrbody.render": ("matplotlib",)}
 
 
 def list_scenes() -> list[tuple[str, str]]:

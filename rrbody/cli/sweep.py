@@ -23,10 +23,15 @@ import sys
 from typing import Any
 
 from rrbody.cli.args import CliError, check_options, given, integer, number, option_help, option_message, suggest
-from rrbody.cli.options import SCENE_OPTIONS, add_accuracy_options, add_scene_options, check_contradictions, \
-    scene_params
+from rrbody.cli.options import (
+    SCENE_OPTIONS,
+    add_accuracy_options,
+    add_scene_options,
+    check_contradictions,
+    scene_params,
+)
 
-__all__ = ["add_parser", "cmd_sweep", "QUANTITY_NAMES"]
+__all__ = ["add_parser", "cmd_sweep", "QUANTITY_NAMES", "quiet_dask"]
 
 #: the sweep engine's quantities (tests check this equals rrbody.analysis.sweep_spec.QUANTITIES)
 QUANTITY_NAMES = ("flip_time", "critical_h", "rr", "rest", "chaos")
@@ -207,7 +212,7 @@ def _base(args: argparse.Namespace, axes: dict[str, Any]) -> dict[str, Any]:
     return base
 
 
-def _quiet_dask() -> None:
+def quiet_dask() -> None:
     """Silence Dask's loggers: it logs a lost connection as tracebacks on stderr, and the command
     reports the fault in one line. Importing it here reports a missing extra before any file."""
     from rrbody.model.extras import require
@@ -294,7 +299,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             raise CliError(f"--axis {name}: {option_message(rest, extended=extended)}") from None
         raise CliError(option_message(msg, extended=extended)) from None
     if args.scheduler is not None:
-        _quiet_dask()
+        quiet_dask()
     try:
         out = run_sweep(sweep, args.out, resume=args.resume, force=args.force, scheduler=args.scheduler,
                         workers=args.workers, batch_size=args.batch_size,

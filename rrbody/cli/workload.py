@@ -163,11 +163,11 @@ def _planar_workload() -> None:
     import numpy as np
 
     from rrbody.contact import kernel as K
-    from rrbody.mujoco_adapter import kernel as MK
     from rrbody.contact.active import NO_ACTIVE
-    from rrbody.physics.batch import stack
     from rrbody.model.pressure import uniform
+    from rrbody.mujoco_adapter import kernel as MK
     from rrbody.physics import planar
+    from rrbody.physics.batch import stack
     from rrbody.physics.footprint import apply_pressure
 
     planar.Footprints([planar.circle(0.1), planar.box(0.2, 0.1)]).wrench(0.0, [[1.0, 0.0], [0.0, 1.0]], 2.0)

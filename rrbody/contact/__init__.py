@@ -10,7 +10,8 @@ with no engine in it (this package imports neither pymunk nor MuJoCo; ``tests/te
   wrench tables are kept; :mod:`~rrbody.contact.lean`: calling a compiled kernel at the least cost.
 
 The adapters: :mod:`rrbody.engine` (pymunk: the plugin ``PlaneFriction`` and rrbody's own scenes) and
-:mod:`rrbody.mujoco_adapter` (MuJoCo, entered through :mod:`rrbody.mujoco`). Units: SI; per unit mass, forces in m/s^2 and torques in m^2/s^2.
+:mod:`rrbody.mujoco_adapter` (MuJoCo, entered through :mod:`rrbody.mujoco`). Units: SI; per unit mass, forces in m/s^2
+and torques in m^2/s^2.
 """
 
 from rrbody._cache import use_for_kernels

@@ -8,8 +8,23 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from rrbody.contact.columns import (COEFF, IPM, LAW, LAW_DRY, LAWP, S0, S1, TAB, TABLE_CIRCLE, TABLE_FOOTPRINT,
-                                   TKIND, VEPS, VGX, VGY, VJ)
+from rrbody.contact.columns import (
+    COEFF,
+    IPM,
+    LAW,
+    LAW_DRY,
+    LAWP,
+    S0,
+    S1,
+    TAB,
+    TABLE_CIRCLE,
+    TABLE_FOOTPRINT,
+    TKIND,
+    VEPS,
+    VGX,
+    VGY,
+    VJ,
+)
 from rrbody.contact.lean import NO_REFCOUNT
 from rrbody.physics import contact as C
 from rrbody.physics.contact import footprint_wrench

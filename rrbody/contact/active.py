@@ -63,10 +63,11 @@ class ActiveSet:
         for body in [b for b in self.params if pf.row_index(b) is None]:
             del self.params[body]
             self.pending.discard(body)
-        n = len(pf._list)
+        order = pf.bodies_by_row
+        n = len(order)
         rows = np.zeros((n, A.N_ACTIVE))
         first = 0
-        for j, body in enumerate(pf._list):  # in row order: the noise's numbers go to the bodies in a fixed order
+        for j, body in enumerate(order):  # in row order: the noise's numbers go to the bodies in a fixed order
             a = self.params.get(body)
             if a is not None:
                 rows[j] = A.row(a.body_force, a.torque, a.drag, a.rot_drag, a.diffusion, a.rot_diffusion,

@@ -51,7 +51,7 @@ def load(i, j, got, bodies, dt, out, active, noise):  # noqa: ANN001, ANN202
     out[i, 1] += bodies[j, MASS] * bodies[j, GTY]
     # the angle friction and the active load are evaluated at (pymunk moves the pose first)
     alpha = got[i, 0] + got[i, 3] * dt
-    sa, ca = sincos_reduced(alpha)  # (a third faster than the library's pair, to 2 ulp)
+    sa, ca = sincos_reduced(alpha)  # (one range reduction for both: cheaper than the library's pair, to 2 ulp)
     ex, ey, ew = extrapolated(i, j, got, bodies, dt)  # the velocity friction and the drag act at
     if active.shape[0] > 0:  # self-propulsion, a medium's drag and noise: a load as well
         fa, fb, fc = act.load(j, ca, sa, ex, ey, ew, bodies[j, MASS], bodies[j, IPM], dt, active, noise)
@@ -102,8 +102,10 @@ def friction(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_b
     """Add this step's friction on plugin body ``j`` (row ``i`` of the space's read) to ``out[i]``, which
     holds the load (the user's force and torque, and a tilt's pull); 1 if the rest rule stops it.
     Inlined (a call would pass its arrays on the stack for every body); ``held`` and ``hold_or_break``
-    are :func:`~rrbody.contact.rest.held` and :func:`~rrbody.contact.rest.hold_or_break` (the limit-set loop, :func:`step_one`) or, with ``defer``,
-    :func:`rrbody.contact.kernel._sweep`'s stand-ins; ``alpha`` (rad) is the angle friction is evaluated at, ``ca``, ``sa`` its
+    are :func:`~rrbody.contact.rest.held` and :func:`~rrbody.contact.rest.hold_or_break` (the limit-set loop,
+    :func:`step_one`) or, with ``defer``,
+    :func:`rrbody.contact.kernel._sweep`'s stand-ins; ``alpha`` (rad) is the angle friction is evaluated at, ``ca``,
+    ``sa`` its
     cosine and sine, (ex, ey, ew) the velocity (:func:`extrapolated`); with ``have``, the friction there
     is (ax0, ay0, aw0) already. With ``defer`` (the lean sweep, which hands the bodies at rest under
     static friction to the limit-set loop itself, before their loads), a body about to stop under a load

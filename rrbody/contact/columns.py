@@ -23,14 +23,14 @@ readers such as the recorder; FEET (1.0: a body on two or more point feet, whose
 holds at rest: :mod:`rrbody.contact.feet`), PIN (1 + the index of the foot held since the last step, 0:
 none), LDX, LDY, LDT: the load the last step applied besides friction (N, world frame, and N m about the
 centre of gravity: the user's force and torque, a tilt's pull, the active load; the coupled step's free
-velocity, :mod:`rrbody.contact.coupled`), DEFR (1.0 while :func:`rrbody.contact.kernel.plane_step` has deferred the body to its limit-set loop), TKIND, TAB:
-how its dry friction is evaluated (TABLE_NONE: :func:`rrbody.physics.contact.footprint_wrench`, exact;
-TABLE_CIRCLE: one disk, the wrench table of :mod:`rrbody.physics.icr_table`; TABLE_FOOTPRINT: the
-footprint's own table, :mod:`rrbody.physics.footprint_table`) and where its table starts in ``tables``.
-``tables`` (float, rows of 3): the wrench tables the bodies use, one copy per distinct table.
-``shapes`` (float, per footprint part) and ``geo``: the footprint rows of :mod:`rrbody.physics.contact`.
-``lookup``: row 0 the plugin bodies' ids (int64 view of pymunk's uintptr ids) sorted, row 1 their rows.
-``cache`` (int64, rows ROWMAP, ROW_ID, STATUS): the plugin row of each row of the space's bulk read,
+velocity, :mod:`rrbody.contact.coupled`), DEFR (1.0 while :func:`rrbody.contact.kernel.plane_step` has deferred the
+body to its limit-set loop), TKIND, TAB: how its dry friction is evaluated (TABLE_NONE:
+:func:`rrbody.physics.contact.footprint_wrench`, exact; TABLE_CIRCLE: one disk, the wrench table of
+:mod:`rrbody.physics.icr_table`; TABLE_FOOTPRINT: the footprint's own table, :mod:`rrbody.physics.footprint_table`)
+and where its table starts in ``tables``. ``tables`` (float, rows of 3): the wrench tables the bodies use, one copy
+per distinct table. ``shapes`` (float, per footprint part) and ``geo``: the footprint rows of
+:mod:`rrbody.physics.contact`. ``lookup``: row 0 the plugin bodies' ids (int64 view of pymunk's uintptr ids) sorted,
+row 1 their rows. ``cache`` (int64, rows ROWMAP, ROW_ID, STATUS): the plugin row of each row of the space's bulk read,
 the id it was found for, and what the last check found (see :func:`rrbody.contact.kernel.plane_check`).
 """
 
@@ -41,7 +41,8 @@ from rrbody.model.laws import LAW_CODES, N_LAW_PARAMS
 __all__ = ["MASS", "IPM", "LAW", "COEFF", "REACH", "SNAP", "S0", "S1", "VEPS", "STAG", "PVX", "PVY", "PW", "GAP",
            "STOP", "EA", "EW", "DRV", "MUS", "GTX", "GTY", "FFX", "FFY", "FFT", "FEET", "TKIND", "TAB",
            "DEFR", "VGX", "VGY", "VJ", "OMG", "DD", "ANX", "ANY", "T0", "DPX", "DPY", "DVX", "DVY", "HX",
-           "HY", "HT", "HA", "HELD", "PIN", "LDX", "LDY", "LDT", "N_BODY", "STOPPING", "ZEROED", "LAW_CODE", "LAW_NONE", "LAW_DRY",
+           "HY", "HT", "HA", "HELD", "PIN", "LDX", "LDY", "LDT", "N_BODY", "STOPPING", "ZEROED", "LAW_CODE",
+           "LAW_NONE", "LAW_DRY",
            "LAW_VISCOUS", "LAWP",
            "DEFER", "TABLE_NONE", "TABLE_CIRCLE", "TABLE_FOOTPRINT", "N_STATUS", "ROWMAP", "ROW_ID",
            "STATUS", "SEEN", "BAD", "FIRST_BAD"]

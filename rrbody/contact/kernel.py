@@ -18,11 +18,11 @@ import math
 import numpy as np
 from numba import njit
 
-# (kernel.body_accel and kernel.limited: the plugin's readers)
-from rrbody.contact.accel import (accel_at, body_accel, limited, prefetch_at,  # noqa: F401
-                                 reads_footprint_table)
 from rrbody.contact import body as B
 from rrbody.contact import rest as R
+
+# (kernel.body_accel and kernel.limited: the plugin's readers)
+from rrbody.contact.accel import accel_at, body_accel, limited, prefetch_at, reads_footprint_table  # noqa: F401
 from rrbody.contact.columns import *  # noqa: F403 (the columns, here and as kernel.MASS etc. for every reader)
 from rrbody.contact.lean import NO_REFCOUNT
 
@@ -105,7 +105,7 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.n
     if not plane_check(got, ids, lookup, cache, bodies.shape[0]):
         return -1
     rowmap = cache[ROWMAP]
-    work = np.empty((got.shape[0], _N_WORK))  # (one allocation per step, ~0.2 us: not worth a cache)
+    work = np.empty((got.shape[0], _N_WORK))  # (one allocation per step, small next to the pass: not worth a cache)
     n_stop, n_defer = _sweep(got, rowmap, bodies, shapes, geo, tables, t, dt, out, active, noise, work)
     if n_defer:
         for i in range(got.shape[0]):
@@ -186,8 +186,8 @@ def _sweep(got: np.ndarray, rowmap: np.ndarray, bodies: np.ndarray, shapes: np.n
            tables: np.ndarray, t: float, dt: float, out: np.ndarray, active: np.ndarray, noise: np.ndarray,
            work: np.ndarray) -> tuple[int, int]:
     """:func:`plane_step`'s loop over the space's bodies: ``out`` starts from each body's own force and
-    torque, and every plugin body gets its step (what :func:`~rrbody.contact.body.step_one` does, in passes) unless it needs the
-    limit-set test (marked DEFR). Returns the bodies the rest rule stopped and the bodies deferred.
+    torque, and every plugin body gets its step (what :func:`~rrbody.contact.body.step_one` does, in passes) unless it
+    needs the limit-set test (marked DEFR). Returns the bodies the rest rule stopped and the bodies deferred.
 
     Three passes over the bodies, each body's numbers kept in ``work``: the loads (:func:`~rrbody.contact.body.load`; a
     body at rest under static friction is left to the limit-set loop at once),

@@ -94,7 +94,8 @@ class BatchIO:
             # (RRBODY_NO_PRIVATE: never the lean route, whose C names pymunk does not document)
             route = ("lean" if lean and private_allowed() else "bulk") if batched else "per-body"
         elif route != "per-body" and not batched:
-            raise ValueError(f"route {route!r} needs a pymunk.batch that reads {'poses' if poses else 'and writes forces'}"
+            raise ValueError(f"route {route!r} needs a pymunk.batch that reads "
+                             f"{'poses' if poses else 'and writes forces'}"
                              f" (pymunk >= {'6.6' if poses else '6.11'}); this is pymunk {_pymunk_version()}: use "
                              f"route='per-body'")
         self.route = route

@@ -36,15 +36,15 @@ from rrbody._private import private_allowed
 from rrbody.contact import kernel as K
 from rrbody.engine.plugin import PlaneFriction
 from rrbody.engine.settings import EngineSettings, check_dt
-from rrbody.physics.footprint import apply_pressure, body_parts, combine, sampled_part
 from rrbody.model.laws import PLUGIN_AREA, bound_params, check_area, law_named
 from rrbody.model.scene import Scene
-from rrbody.physics.bind import area_model, friction_per_mass, kernel_params
 from rrbody.physics import params as P
+from rrbody.physics.bind import area_model, friction_per_mass, kernel_params
+from rrbody.physics.footprint import apply_pressure, body_parts, combine, sampled_part
 
 __all__ = ["EngineHandle", "attach", "plane_for"]
 
-_PLANES: "weakref.WeakKeyDictionary[Any, PlaneFriction]" = weakref.WeakKeyDictionary()
+_PLANES: weakref.WeakKeyDictionary[Any, PlaneFriction] = weakref.WeakKeyDictionary()
 
 
 def plane_for(space: Any, scene: Scene | None = None) -> PlaneFriction:
@@ -215,6 +215,16 @@ class EngineHandle:
         self._set_p(self._drv_ptr, (px, py))
 
     # ---- state readers -----------------------------------------------------------------------
+    @property
+    def beta(self) -> float:
+        """Angle of CM -> P in the body frame (rad), fixed: ``phi`` is the body's angle plus it."""
+        return self._beta
+
+    @property
+    def t0(self) -> float:
+        """The plane's time (``plane.t``, s) when the body was attached: ``t`` counts from it."""
+        return self._t0
+
     @property
     def t(self) -> float:
         """Time since attach (s)."""

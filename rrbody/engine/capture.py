@@ -21,9 +21,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from rrbody.engine.bodymem import ANGLE, SPACE, SPIN, VX, VY, X, Y, f64_at, i64_at, layout
 from rrbody.contact.kernel import FFT, FFX, FFY, GAP, PVX, PVY, PW, STAG, STOP
 from rrbody.contact.lean import NO_REFCOUNT
+from rrbody.engine.bodymem import ANGLE, SPACE, SPIN, VX, VY, X, Y, f64_at, i64_at, layout
 
 __all__ = ["capture_rows", "capture_direct", "layout"]
 

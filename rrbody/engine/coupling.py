@@ -98,7 +98,8 @@ class Coupling:
         while True:
             if self._api is not None:
                 args = (self._api, self._addrs, lookup, self._rec, self._raw, self._body, rows, *arrays, dt, damp, gx,
-                        gy, self.tol, self.max_iter, self.max_sweeps, self._order, self._vel, self._events, self._report)
+                        gy, self.tol, self.max_iter, self.max_sweeps, self._order, self._vel, self._events,
+                        self._report)
                 if self._entry is None:
                     self._entry, (nb, n_ev, n_isl, n_bad) = fast_entry(arbiters.step_compiled, *args)
                 else:

@@ -7,7 +7,9 @@ The rows (one per body, columns :mod:`rrbody.contact.columns`) are written only 
 builder drives, :meth:`PlaneRows.drive`. Everyone else reads them through the accessors here
 (:attr:`PlaneRows.rows`, :meth:`PlaneRows.row_index`, :meth:`PlaneRows.row_of`,
 :meth:`PlaneRows.rows_of_ids`): read-only views, made once per membership change, so that the hot
-readers (the run loop, the recorder's capture) pay no copy and no view per step.
+readers (the run loop, the recorder's capture) pay no copy and no view per step. The row order itself
+(:attr:`PlaneRows.bodies_by_row`, :attr:`PlaneRows.row_ids`) is for the readers that rebuild their own
+arrays once per membership change (the active bodies' rows, the struct reads' addresses).
 ``tests/test_private_fields.py`` checks that no other module reaches into the private fields.
 """
 
@@ -86,6 +88,21 @@ class PlaneRows:
         may move it: ``members`` counts them), then read it again. Row order is not the order of
         :attr:`~rrbody.engine.plane_rows.PlaneRows.bodies`: :meth:`row_index` gives a body's row."""
         return self._read_only
+
+    @property
+    def bodies_by_row(self) -> tuple[Any, ...]:
+        """The bodies in row order: ``bodies_by_row[j]`` owns row ``j`` of :attr:`rows`. A new tuple (O(n)):
+        for readers that rebuild something once per membership change (``members`` counts them), not per
+        step; valid until the next ``add`` or ``remove``."""
+        return tuple(self._list)
+
+    @property
+    def row_ids(self) -> np.ndarray:
+        """Each row's body id (int64, :func:`rrbody.engine.batchio.body_uid`), in row order: a read-only
+        view (no copy), valid until the next ``add`` or ``remove``."""
+        ids = self._idrows.view.view()
+        ids.flags.writeable = False
+        return ids
 
     def row_index(self, body: Any) -> int | None:
         """``body``'s row in :attr:`rows`, or None if it is not in the plugin (O(1)); valid until the

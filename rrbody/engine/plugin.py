@@ -14,8 +14,8 @@ segments with a radius, several per body), each shape pressing with its own weig
 under a pressure distribution you choose (``pf.add(body, mu=0.4, pressure=rrbody.pressure.ring(0.05))``:
 a rim, an annulus, a Hertz patch, feet, any p(x, y); :mod:`rrbody.physics.contact`).
 One compiled call per step reads every body (from their structs, :mod:`rrbody.engine.structio`; else
-through ``pymunk.batch``), computes all wrenches and writes the forces back; then ``space.step`` runs. The contract (what is read, when it acts, what is
-guaranteed at rest) is in docs/plugin.md.
+through ``pymunk.batch``), computes all wrenches and writes the forces back; then ``space.step`` runs. The contract
+(what is read, when it acts, what is guaranteed at rest) is in docs/plugin.md.
 
 The plugin's table of bodies, and the read-only accessors through which the rest of rrbody reads
 their rows, are its base class :class:`rrbody.engine.plane_rows.PlaneRows`; what ``add`` checks and
@@ -268,8 +268,8 @@ class PlaneFriction(PlaneRows):
         still = self._still
         if still is not None and still[0](still[1], dt):
             # the last step was idle and nothing it read has changed, dt included: taken again, its forces
-            # written (a call of two numbers, not the step's eighteen arguments: inside gym-pusht's loop
-            # about 0.3 against 2.3 us per physics step, measured; docs/plugin.md). dt was checked then.
+            # written (a call of two numbers, not the step's eighteen arguments: at rest inside gym-pusht's
+            # loop the arguments were most of the step's cost; docs/plugin.md). dt was checked then.
             dt, n_flag = still[5], 0
         else:
             try:
@@ -289,7 +289,7 @@ class PlaneFriction(PlaneRows):
                 n_flag = None  # no bodies: no friction, no pre_step callbacks
             elif plan is not None:
                 # the steady step: the compiled call with the arguments the last step built (inside
-                # gym-pusht's loop the Python around it was half the table's cost at rest)
+                # gym-pusht's loop, building them in Python cost as much as the table's work at rest)
                 n_flag = plan[0](*plan[1], self.t, dt)
                 if n_flag == IDLE:  # nothing to do: every body at rest and held as it was
                     n_flag = 0

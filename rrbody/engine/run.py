@@ -16,10 +16,34 @@ import numpy as np
 from rrbody.engine.bodymem import address, layout
 from rrbody.engine.builder import EngineHandle, attach
 from rrbody.engine.settings import EngineSettings, check_dt, coarse_meta, make_settings
-from rrbody.engine.track import (ANG_IN, K_OUT, MAX_PIV, PHI_PREV, PHID_PREV, REACHED_END, REST_IN, T_END, new_track,
-                                track_step)
-from rrbody.integrate.events import (E_HAVEMIN, E_NMIN, E_PHIMIN, E_T1, E_TMIN, E_TSTOP, FLIP_SETTLED, GO_ON,
-                                     RR_DECIDED, STOP_FLIP, STOP_REST, STOP_RR, STOP_T_END, new_event_state)
+from rrbody.engine.track import (
+    ANG_IN,
+    K_OUT,
+    MAX_PIV,
+    PHI_PREV,
+    PHID_PREV,
+    REACHED_END,
+    REST_IN,
+    T_END,
+    new_track,
+    track_step,
+)
+from rrbody.integrate.events import (
+    E_HAVEMIN,
+    E_NMIN,
+    E_PHIMIN,
+    E_T1,
+    E_TMIN,
+    E_TSTOP,
+    FLIP_SETTLED,
+    GO_ON,
+    RR_DECIDED,
+    STOP_FLIP,
+    STOP_REST,
+    STOP_RR,
+    STOP_T_END,
+    new_event_state,
+)
 from rrbody.model.checks import check, check_positive
 from rrbody.model.scene import Scene
 
@@ -86,7 +110,7 @@ def _run(scene: Scene, settings: EngineSettings, *, t_end: float, stop: str, dt_
     wall0 = time.perf_counter()
     try:
         if driven:
-            fs = new_track(beta=h._beta, anchor=h.anchor, d=scene.drive.d, omega=scene.omega,
+            fs = new_track(beta=h.beta, anchor=h.anchor, d=scene.drive.d, omega=scene.omega,
                            dt=settings.dt, dt_out=dt_out, n_grid=n_grid, n_out=n_out, t_end=t_end, rule=_STOPS[stop],
                            settle_turns=settle_turns, settle_periods=settle_periods, phi0=h.phi, phid0=h.phi_dot)
             if n_out:
@@ -116,7 +140,7 @@ def _driven_loop(h: EngineHandle, fs: np.ndarray, ev: np.ndarray, minima: np.nda
     dt = h.settings.dt
     plane = h.plane
     step = plane.step  # friction for the body, then space.step
-    t0 = h._t0
+    t0 = h.t0
     offs = layout()
     addr = address(h.body._body) if offs is not None else 0
     offs = np.zeros(10, dtype=np.int64) if offs is None else offs

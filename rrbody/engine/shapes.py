@@ -1,17 +1,16 @@
 """A pymunk body's footprint on the plane: its shapes as parts (:mod:`rrbody.physics.footprint`).
 
-From a pymunk body (:func:`body_parts`, :func:`body_footprint`): circles keep their exact geometry (the instantaneous-centre
-quadrature with 24 nodes, ~5e-12); convex polygons (``pymunk.Poly``) are exact, their rounding radius
-(``Poly(..., radius=r)``) is not part of the footprint; a ``pymunk.Segment`` with radius r is a stadium
-and enters as one convex polygon with ``SEGMENT_CAP_EDGES`` edges on each round end (its caps' area
-0.6 % short at 16); a segment of radius 0 has no area and no friction. rrbody's own scenes build
-their footprint from the scene instead (:func:`rrbody.physics.footprint.body_parts`). Geometry is
-in the body frame with the origin at the body's centre of gravity (m); the pressure distribution
-(:mod:`rrbody.model.pressure`) says what load each part carries. Under the default one each shape
-presses with its own weight (``shape.mass``, as pymunk has it from a mass or a density) over its own
-area, or by area when no shape has a mass (a body whose mass you set); a centre of gravity off the
-shapes' centre of mass (``body.center_of_gravity`` set by hand) gets the linear pressure that centres
-the load on it (:mod:`rrbody.physics.loads`).
+From a pymunk body (:func:`body_parts`, :func:`body_footprint`): circles keep their exact geometry (the
+instantaneous-centre quadrature with 24 nodes, ~5e-12); convex polygons (``pymunk.Poly``) are exact, their rounding
+radius (``Poly(..., radius=r)``) is not part of the footprint; a ``pymunk.Segment`` with radius r is a stadium and
+enters as one convex polygon with ``SEGMENT_CAP_EDGES`` edges on each round end (its caps' area 0.6 % short at 16); a
+segment of radius 0 has no area and no friction. rrbody's own scenes build their footprint from the scene instead
+(:func:`rrbody.physics.footprint.body_parts`). Geometry is in the body frame with the origin at the body's centre of
+gravity (m); the pressure distribution (:mod:`rrbody.model.pressure`) says what load each part carries. Under the
+default one each shape presses with its own weight (``shape.mass``, as pymunk has it from a mass or a density) over
+its own area, or by area when no shape has a mass (a body whose mass you set); a centre of gravity off the shapes'
+centre of mass (``body.center_of_gravity`` set by hand) gets the linear pressure that centres the load on it
+(:mod:`rrbody.physics.loads`).
 """
 
 from __future__ import annotations

@@ -48,8 +48,23 @@ from rrbody.contact import kernel as K
 from rrbody.contact.active import NO_ACTIVE
 from rrbody.contact.body import same_bits
 from rrbody.contact.lean import NO_REFCOUNT, fast_entry
-from rrbody.engine.bodymem import (ANGLE, FX, FY, SPACE, SPIN, TORQUE, VX, VY, address, addresses, f64_at, i64_at,
-                                   layout, set_f64, sleep_offset)
+from rrbody.engine.bodymem import (
+    ANGLE,
+    FX,
+    FY,
+    SPACE,
+    SPIN,
+    TORQUE,
+    VX,
+    VY,
+    address,
+    addresses,
+    f64_at,
+    i64_at,
+    layout,
+    set_f64,
+    sleep_offset,
+)
 
 __all__ = ["StructIO", "gather", "scatter", "struct_step", "struct_still", "still_entry", "GONE", "ASLEEP", "IDLE"]
 
@@ -224,12 +239,12 @@ class StructIO:
     def _relink(self) -> None:
         """After the plugin's membership changed: the bodies' addresses and the arrays (O(n), once per change)."""
         pf = self._pf
-        self._addr = addresses(pf._list)
+        self._addr = addresses(pf.bodies_by_row)
         n = self._addr.shape[0]
         self._got = np.zeros((n, 7))
         self._out = np.zeros((n, 3))
         self._snap = np.zeros((n + 1, 7))
-        self._ids = pf._idrows.view.copy()
+        self._ids = pf.row_ids.copy()
         self._members = pf.members
 
     def step(self, plane: tuple[np.ndarray, ...], t: float, dt: float, act: tuple[np.ndarray, np.ndarray]) -> int:

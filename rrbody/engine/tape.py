@@ -120,8 +120,8 @@ class Tape:
         self._rows = np.full(len(self.bodies), -1, dtype=np.int64)  # their rows in the space's bulk read
         self._prow: tuple[int, np.ndarray] | None = None  # (plane.members, their rows in the plane's arrays)
         self._no_plane = np.full(len(self.bodies), -1, dtype=np.int64)
-        # the bodies' state is read from their structs where pymunk's layout of them is known (about
-        # 2 us per 1,000 bodies), else from the space's bulk read (about 14 us: rrbody.engine.capture)
+        # the bodies' state is read from their structs where pymunk's layout of them is known (no call
+        # into pymunk), else from the space's bulk read, which copies every body (rrbody.engine.capture)
         self._offs = layout()
         self._io = BatchIO(space, poses=True) if self._offs is None else None
         if self._offs is not None:

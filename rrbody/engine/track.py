@@ -18,8 +18,8 @@ import math
 import numpy as np
 from numba import njit
 
-from rrbody.engine.bodymem import ANGLE, SPIN, VX, VY, X, Y, f64_at
 from rrbody.contact.columns import GAP, PW, STAG, STOP
+from rrbody.engine.bodymem import ANGLE, SPIN, VX, VY, X, Y, f64_at
 from rrbody.integrate.events import GO_ON, on_step
 
 __all__ = ["track_step", "new_track", "REACHED_END", "T_END", "T_PREV", "PHI_PREV", "PHID_PREV", "K_OUT", "MAX_PIV",

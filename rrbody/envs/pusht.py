@@ -36,7 +36,7 @@ from gymnasium import spaces
 from rrbody.engine.compat import on_post_solve
 from rrbody.envs.pusht_draw import draw
 from rrbody.envs.substep import guarded
-from rrbody.envs.tabletop import G, MU, SCALE, make_table
+from rrbody.envs.tabletop import MU, SCALE, G, make_table
 from rrbody.model.checks import check_choice, check_int, check_range
 from rrbody.physics.overlap import overlap_area, pieces_area
 

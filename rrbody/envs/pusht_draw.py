@@ -85,7 +85,8 @@ def _lines(p1: np.ndarray, p2: np.ndarray, rows: np.ndarray, cols: np.ndarray) -
     pygame clips the line to the surface (Liang-Barsky on 0..512, ends rounded half away from 0) but walks
     from the clipped start with the whole line's steps, past the clipped end to the line's end or edge."""
     ad = np.abs(d := p2 - p1)
-    steep, big, small = ad[:, 0] <= ad[:, 1], ad.max(axis=1, initial=0)[:, None], ad.min(axis=1, initial=1 << 30)[:, None]
+    steep, big, small = ad[:, 0] <= ad[:, 1], ad.max(axis=1, initial=0)[:, None], ad.min(axis=1, initial=1 << 30)[:,
+                                                                                                                  None]
     sgn, c1, end = np.where(d > 0, 1, -1), p1, big
     if min(p1.min(initial=0), p2.min(initial=0)) < 0 or max(p1.max(initial=0), p2.max(initial=0)) > SIZE:
         n, mj = np.arange(len(p1)), steep.astype(np.int64)
@@ -151,7 +152,8 @@ def _paint(grid: np.ndarray, t: _Tables, s: Spans, labels: list[int]) -> None:
     d = np.bincount((at + ca).ravel(), minlength=size) - np.bincount((at + cb).ravel(), minlength=size)
     inside = d.reshape(m, h, w + 1).cumsum(axis=2)[..., :-1] > 0
     if len(vid):
-        ra, rb = (np.minimum(np.searchsorted(t.rows, e, side=sd) - i0, h) * w for e, sd in ((vf, "left"), (vl, "right")))
+        ra, rb = (np.minimum(np.searchsorted(t.rows, e, side=sd) - i0, h) * w for e, sd in ((vf, "left"), (vl,
+                                                                                                           "right")))
         at, size = vid[:, None] * (h + 1) * w + np.arange(w), m * (h + 1) * w
         d = np.bincount((at + ra).ravel(), minlength=size) - np.bincount((at + rb).ravel(), minlength=size)
         inside |= d.reshape(m, h + 1, w).cumsum(axis=1)[:, :-1] > 0
@@ -219,7 +221,8 @@ def _marker(img: np.ndarray, x: int, y: int, size: int, thickness: int) -> None:
     """cv2.drawMarker's MARKER_CROSS at pixel (x, y): arms of half-length size // 2; thicker than 1, each
     arm is (thickness + 1) // 2 pixels to either side, with round caps of that radius."""
     m, r = size // 2, (thickness + 1) // 2 if thickness > 1 else 0
-    y0, y1, x0, x1 = max(y - m - r, 0), min(y + m + r + 1, img.shape[0]), max(x - m - r, 0), min(x + m + r + 1, img.shape[1])
+    y0, y1, x0, x1 = max(y - m - r, 0), min(y + m + r + 1, img.shape[0]), max(x - m - r, 0), min(x + m + r + 1,
+                                                                                                 img.shape[1])
     dy, dx = np.arange(y0, y1)[:, None] - y, np.arange(x0, x1)[None, :] - x
     on = (((ay := np.abs(dy)) <= r) & ((ax := np.abs(dx)) <= m)) | ((ax <= r) & (ay <= m))
     if r:

@@ -27,7 +27,7 @@ from gymnasium.utils import RecordConstructorArgs
 
 from rrbody.engine.plugin import PlaneFriction
 from rrbody.envs.substep import guarded
-from rrbody.envs.tabletop import G, MU, SCALE, Table, make_table
+from rrbody.envs.tabletop import MU, SCALE, G, Table, make_table
 
 __all__ = ["CONTRACT", "TableSpace", "TableWrapper", "table"]
 
@@ -80,11 +80,11 @@ class TableSpace:
 class TableWrapper(gymnasium.Wrapper[Any, Any, Any, Any], RecordConstructorArgs):
     """``env`` on a table: :func:`table` (the same keywords, checked here, before anything changes).
 
-    After every ``reset`` of ``env``: a new :class:`~rrbody.engine.plugin.PlaneFriction` on ``env.unwrapped.space`` (pressing
-    with ``table.g_space`` = g / scale, units/s^2), carrying the table's bodies with ``mu``,
-    ``mu_static`` and ``pressure``; the space's damping set to 1 if it was 0 (any other value is kept);
-    and :class:`TableSpace` in ``env.unwrapped.space``. Before every ``reset`` the environment gets
-    its own space back, with its own damping, so its reset runs exactly as without the table.
+    After every ``reset`` of ``env``: a new :class:`~rrbody.engine.plugin.PlaneFriction` on ``env.unwrapped.space``
+    (pressing with ``table.g_space`` = g / scale, units/s^2), carrying the table's bodies with ``mu``, ``mu_static``
+    and ``pressure``; the space's damping set to 1 if it was 0 (any other value is kept); and :class:`TableSpace` in
+    ``env.unwrapped.space``. Before every ``reset`` the environment gets its own space back, with its own damping, so
+    its reset runs exactly as without the table.
 
     It records its keywords as gymnasium's wrappers do (``gymnasium.utils.RecordConstructorArgs``), so
     that ``env.spec`` makes it again (``gymnasium.make(env.spec)``, the checker's ``check_env``).

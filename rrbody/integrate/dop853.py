@@ -13,7 +13,6 @@ import math
 import numpy as np
 from numba import literally, njit
 
-
 from rrbody._private import no_refcount
 from rrbody.integrate.tableaus import DOP853_A, DOP853_B, DOP853_C, DOP853_E3, DOP853_E5, DOP853_STAGES
 from rrbody.physics import params as P

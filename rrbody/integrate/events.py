@@ -106,7 +106,8 @@ STOP_T_END, STOP_FLIP, STOP_RR, STOP_REST = 0, 1, 2, 3
 GO_ON, FLIP_SETTLED, RR_DECIDED = 0, 1, 2
 
 __all__ += ["new_event_state", "crossings", "record_minimum", "stop_reached", "on_step", "hermite",
-            "E_PHIMIN", "E_TMIN", "E_HAVEMIN", "E_THETA0", "E_T1", "E_NMIN", "E_TSTOP", "E_SECTION", "E_SECDIR", "EV_SIZE",
+            "E_PHIMIN", "E_TMIN", "E_HAVEMIN", "E_THETA0", "E_T1", "E_NMIN", "E_TSTOP", "E_SECTION", "E_SECDIR",
+            "EV_SIZE",
             "section_crossings", "section_gap",
             "STOP_T_END", "STOP_FLIP", "STOP_RR", "STOP_REST", "GO_ON", "FLIP_SETTLED", "RR_DECIDED"]
 

@@ -50,9 +50,9 @@ import time
 import numpy as np
 
 from rrbody._version import __version__
-from rrbody.integrate.events import E_TSTOP, STEP_FRACTION, STOP_REST, STOP_SPEED_FRACTION, STOP_T_END, new_event_state
 from rrbody.integrate.chunks import run_in_chunks
-from rrbody.integrate.loop import L_NEXTOUT, L_NREJ, L_NOUT, L_NSTEP, L_T, STEP_METHODS, advance_for, new_loop_state
+from rrbody.integrate.events import E_TSTOP, STEP_FRACTION, STOP_REST, STOP_SPEED_FRACTION, STOP_T_END, new_event_state
+from rrbody.integrate.loop import L_NEXTOUT, L_NOUT, L_NREJ, L_NSTEP, L_T, STEP_METHODS, advance_for, new_loop_state
 from rrbody.integrate.pivot import FeetRun
 from rrbody.integrate.sde import run_sde, uses_sde
 from rrbody.model.scene import Scene

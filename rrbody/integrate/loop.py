@@ -44,9 +44,25 @@ import numpy as np
 from numba import literally, njit
 
 from rrbody.integrate.dop853 import TABLEAU, hlamb, step_factor, trial_step
-from rrbody.integrate.events import (E_HAVEMIN, E_PHIMIN, E_SECDIR, E_SECTION, E_T1, E_THETA0, E_TMIN, E_TSTOP, STOP_REST, crossings,
-                                     record_minimum, rest_admissible, rest_reached, rest_step_limit, section_crossings, section_gap,
-                                     stop_reached)
+from rrbody.integrate.events import (
+    E_HAVEMIN,
+    E_PHIMIN,
+    E_SECDIR,
+    E_SECTION,
+    E_T1,
+    E_THETA0,
+    E_TMIN,
+    E_TSTOP,
+    STOP_REST,
+    crossings,
+    record_minimum,
+    rest_admissible,
+    rest_reached,
+    rest_step_limit,
+    section_crossings,
+    section_gap,
+    stop_reached,
+)
 from rrbody.integrate.radau import K_ROWS, radau_memory
 from rrbody.integrate.refine import method_step, refine_event
 from rrbody.integrate.rodas import spectral_radius, stiff_factor
@@ -54,7 +70,8 @@ from rrbody.physics import params as P
 from rrbody.physics.dynamics import SYSTEM_DRIVEN, jacobian
 from rrbody.physics.effects import compiled_code
 
-__all__ = ["advance", "advance_for", "new_loop_state", "STATUS", "STEP_METHODS", "L_T", "L_H", "L_NSTEP", "L_NREJ", "L_NOUT",
+__all__ = ["advance", "advance_for", "new_loop_state", "STATUS", "STEP_METHODS", "L_T", "L_H", "L_NSTEP", "L_NREJ",
+           "L_NOUT",
            "L_NROS", "L_NSWITCH"]
 
 #: ``method`` names -> ``mode`` of :func:`advance`
@@ -189,10 +206,12 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
             break
         if track >= 0:
             scale[track] = rtol * max(yscale, abs(y[track]))
-        if meth == 0:  # direct: trial_step is inlined by LLVM without the reference counts method_step's arrays would add
+        # direct: trial_step is inlined by LLVM without the reference counts method_step's arrays would add
+        if meth == 0:
             err = trial_step(system, t, y, f, hh, p, S, A, B, C, E3, E5, K, ynew, ytmp, scale)
         else:
-            err = method_step(meth, system, t, y, f, hh, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost, rtol)
+            err = method_step(meth, system, t, y, f, hh, p, S, J, fx, K, ynew, ytmp, scale, A, B, C, E3, E5, boost,
+                              rtol)
         if not math.isfinite(err):
             err = 1e10
         bad = rest and not rest_admissible(y, ynew, icm, p[P.GTX], p[P.GTY])
@@ -249,7 +268,8 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
             which, gmin, gt1 = crossings(t1_open, target, t, y[0], y[1], t + hh, ynew[0], ynew[1], omega)
             if which & 1:
                 # the event's number as np.int64: literal constants would compile refine_event once per event
-                hm, phim, _ = refine_event(meth, system, t, y, f, gmin, hh, np.int64(1), p, S, J, fx, K2, y2, ytmp, scale,
+                hm, phim, _ = refine_event(meth, system, t, y, f, gmin, hh, np.int64(1), p, S, J, fx, K2, y2, ytmp,
+                                           scale,
                                            A, B, C, E3, E5, omega, 0.0, rtol)
                 record_minimum(ev, minima, t + hm, phim)
                 havemin = True
@@ -268,7 +288,8 @@ def advance(system, y, f, st, ev, p, S, t_end, stop, settle_turns, settle_period
                     surf = theta_s + 2.0 * math.pi * kk
                     g0 = section_gap(y[0], t, omega, surf)
                     g1 = section_gap(ynew[0], t + hh, omega, surf)
-                    hm, phis, phids = refine_event(meth, system, t, y, f, hh * g0 / (g0 - g1), hh, np.int64(2), p, S, J, fx,
+                    hm, phis, phids = refine_event(meth, system, t, y, f, hh * g0 / (g0 - g1), hh, np.int64(2), p, S,
+                                                   J, fx,
                                                    K2, y2, ytmp, scale, A, B, C, E3, E5, omega, surf, rtol)
                     k = int(st[L_NOUT])
                     out[k, 0] = t + hm

@@ -34,10 +34,22 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from rrbody.integrate.events import E_HAVEMIN, E_NMIN, E_PHIMIN, E_T1, E_TMIN, new_event_state
 from rrbody.integrate.chunks import run_in_chunks
-from rrbody.integrate.loop import STIFF_HLAMB, STIFF_METHOD, L_METH, L_NREJ, L_NROS, L_NSTEP, L_NSWITCH, L_NOUT, L_T, \
-    STEP_METHODS, advance_for, new_loop_state
+from rrbody.integrate.events import E_HAVEMIN, E_NMIN, E_PHIMIN, E_T1, E_TMIN, new_event_state
+from rrbody.integrate.loop import (
+    L_METH,
+    L_NOUT,
+    L_NREJ,
+    L_NROS,
+    L_NSTEP,
+    L_NSWITCH,
+    L_T,
+    STEP_METHODS,
+    STIFF_HLAMB,
+    STIFF_METHOD,
+    advance_for,
+    new_loop_state,
+)
 from rrbody.integrate.rodas import spectral_radius
 from rrbody.model.laws import law_coded
 from rrbody.physics import params as P
@@ -140,8 +152,8 @@ def integrate_driven(p: np.ndarray, S: np.ndarray, y0: tuple[float, float], *, t
     if method not in STEP_METHODS:
         raise ValueError(f"method must be one of {', '.join(repr(m) for m in STEP_METHODS)}, got {method!r}")
     mode = STEP_METHODS[method]
-    # Python floats throughout the set-up (numpy scalars cost ~10x per operation): it is part of
-    # every short run's cost
+    # Python floats throughout the set-up (an operation on a numpy scalar costs many times one on a
+    # float): it is part of every short run's cost
     omega = float(p[P.OMEGA])
     phi0 = float(y0[0])
     phid0 = float(y0[1])

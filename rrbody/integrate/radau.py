@@ -30,7 +30,8 @@ K_ROWS: int = 18
 
 
 RADAU_TABLE: tuple[np.ndarray, ...] = (
-    RADAU_C, RADAU_E, RADAU_T, RADAU_TI, np.array([RADAU_MU_REAL, RADAU_MU_COMPLEX.real, RADAU_MU_COMPLEX.imag]), RADAU_P)
+    RADAU_C, RADAU_E, RADAU_T, RADAU_TI, np.array([RADAU_MU_REAL, RADAU_MU_COMPLEX.real, RADAU_MU_COMPLEX.imag]),
+                                       RADAU_P)
 """(C, E, T, TI, [MU_REAL, MU_COMPLEX.real, MU_COMPLEX.imag], P): the Radau IIA constants
 (:mod:`rrbody.integrate.tableaus`), P the dense-output coefficients, Z(s) = sum_q (Z^T P)_q s^(q+1)."""
 # global arrays are compile-time constants for numba
@@ -47,10 +48,10 @@ def radau_step(system, t, y, f0, h, p, S, J, K, ynew, ytmp, scale, rtol):  # noq
     ``K`` (at least :data:`K_ROWS` rows) is also the step's memory: rows 0-8 are scratch (the stage
     increments Z, their transform W, the stage slopes), rows 13-15 the collocation polynomial of the
     last converged step (power-basis coefficients of Z(s), s in units of its h), row 16 its (t, h)
-    and K[17, 0] its Newton contraction factor. The Newton iteration starts from that polynomial, extrapolated to this step's stages,
-    when this step starts where that one started or ended (as RADAU5 and scipy's Radau do), else
-    from Z = 0: one to two iterations fewer per step in smooth stretches, and fewer failed
-    iterations where the step is limited by Newton's convergence rather than by the error.
+    and K[17, 0] its Newton contraction factor. The Newton iteration starts from that polynomial, extrapolated to this
+    step's stages, when this step starts where that one started or ended (as RADAU5 and scipy's Radau do), else from Z
+    = 0: one to two iterations fewer per step in smooth stretches, and fewer failed iterations where the step is
+    limited by Newton's convergence rather than by the error.
     """
     literally(system)
     n = 2

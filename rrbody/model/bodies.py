@@ -207,13 +207,13 @@ class Polygon(Body):
         object.__setattr__(self, "vertices", tuple((float(x - cx), float(y - cy)) for x, y in v))
 
     @classmethod
-    def box(cls, width: float, height: float, **kw: object) -> "Polygon":
+    def box(cls, width: float, height: float, **kw: object) -> Polygon:
         """A rectangle of ``width`` along the body x axis and ``height`` (m)."""
         w, h = 0.5 * check("width", width), 0.5 * check("height", height)
         return cls(vertices=((w, -h), (w, h), (-w, h), (-w, -h)), **kw)  # type: ignore[arg-type]
 
     @classmethod
-    def regular(cls, sides: int, R: float, **kw: object) -> "Polygon":
+    def regular(cls, sides: int, R: float, **kw: object) -> Polygon:
         """A regular polygon of ``sides`` (>= 3) inscribed in the circle of radius ``R`` (m), a vertex on +x."""
         n = int(check("sides", sides))
         r = check("R", R)

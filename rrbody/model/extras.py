@@ -3,19 +3,19 @@
 The core install (``pip install rrbody``: numpy, scipy, numba, tqdm) computes flip times, H_c,
 trajectories and sweeps and writes CSV. Everything else is an extra, imported only where it is used:
 
-=========  =====================================  ==========================================
-extra      packages                               needed for
-=========  =====================================  ==========================================
-engine     pymunk                                 ``method="engine"``, the pymunk plugin
-movie      matplotlib, imageio, imageio-ffmpeg    MP4 movies, posters, every scene's figure
-rerun      rerun-sdk                              ``.rrd`` recordings, the rerun viewer
-dask       dask[distributed]                      sweeps on a Dask cluster
-data       xarray                                 NetCDF (``.nc``) sweep output
-mujoco     mujoco                                 the MuJoCo adapter (``rrbody.mujoco``)
-docs       sphinx, furo, myst-parser, selenium    ``make docs`` and its browser check
-test       pytest, hypothesis, pytest-xdist       ``make test``
+=========  ======================================  ==========================================
+extra      packages                                needed for
+=========  ======================================  ==========================================
+engine     pymunk                                  ``method="engine"``, the pymunk plugin
+movie      matplotlib, imageio, imageio-ffmpeg     MP4 movies, posters, every scene's figure
+rerun      rerun-sdk                               ``.rrd`` recordings, the rerun viewer
+dask       dask[distributed]                       sweeps on a Dask cluster
+data       xarray                                  NetCDF (``.nc``) sweep output
+mujoco     mujoco                                  the MuJoCo adapter (``rrbody.mujoco``)
+docs       sphinx, furo, myst-parser, selenium     ``make docs`` and its browser check
+test       pytest, hypothesis, pytest-xdist, ruff  ``make test``
 all        every extra above
-=========  =====================================  ==========================================
+=========  ======================================  ==========================================
 
 The hint names the install command that works where rrbody runs from: ``pip install 'rrbody[movie]'``
 for an installed package, ``pip install -e '.[movie]'`` run in the checkout's folder (named in the

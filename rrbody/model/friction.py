@@ -59,7 +59,7 @@ class Friction:
             object.__setattr__(self, "coeff", 0.0)
 
     @classmethod
-    def from_k(cls, law: str, k: float, d: float, params: object = ()) -> "Friction":
+    def from_k(cls, law: str, k: float, d: float, params: object = ()) -> Friction:
         """From k = mu g / d (1/s^2) and the drive radius d (m). Viscous: gamma = k (paper convention)."""
         spec = law_named(law)
         k = check("k", k)
@@ -67,7 +67,7 @@ class Friction:
         return cls(law, k * d if spec.load_scaled else k, params)  # type: ignore[arg-type]
 
     @classmethod
-    def from_mu(cls, law: str, mu: float, g: float = 9.81, d: float = 1.0, params: object = ()) -> "Friction":
+    def from_mu(cls, law: str, mu: float, g: float = 9.81, d: float = 1.0, params: object = ()) -> Friction:
         """From the friction coefficient mu, gravity g (m/s^2) and, for the viscous convention, d (m)."""
         mu = check("mu", mu)
         g = check("g", g)

@@ -28,11 +28,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field as _field
+from dataclasses import dataclass
+from dataclasses import field as _field
 
 from rrbody.model.checks import MAX_LENGTH, MIN_LENGTH, check_choice, number_rows, range_text
 
-__all__ = ["Pressure", "uniform", "ring", "annulus", "hertz", "points", "field", "parse_pressure", "as_pressure", "pressure_from_description",
+__all__ = ["Pressure", "uniform", "ring", "annulus", "hertz", "points", "field", "parse_pressure", "as_pressure",
+           "pressure_from_description",
            "PRESSURE_KINDS"]
 
 PRESSURE_KINDS: tuple[str, ...] = ("uniform", "ring", "annulus", "hertz", "points", "field")

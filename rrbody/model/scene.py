@@ -14,8 +14,8 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 from rrbody.model.active import MAX_SEED, Active
-from rrbody.model.checks import LIMITS, MAX_TIME, MissingParameters, check, check_choice, check_int, check_range
 from rrbody.model.bodies import BODY_KINDS, Body, Polygon, RodMass
+from rrbody.model.checks import LIMITS, MAX_TIME, MissingParameters, check, check_choice, check_int, check_range
 from rrbody.model.drive import CircularDrive
 from rrbody.model.friction import LAWS, Friction, check_mu_static
 from rrbody.model.laws import AREA_METHODS, LAW_PARAMS, LAW_TABLE, zero_speed_mu
@@ -52,10 +52,10 @@ class Scene:
         Horizon (s). ``None``: analyses choose (the flip-time rule stops by itself).
     friction_method : {"auto", "sampled", "icr", "table", "contact"}
         Area integration for extended bodies ("auto": the instantaneous-centre method where it
-        applies, its table for a disk under dry friction, else sampled elements; "table": a precomputed table of the instantaneous-centre
-        wrench for disks and ellipses, built once per aspect ratio, <= 1e-10 from "icr" and several
-        times cheaper per evaluation; docs/extended.md; "contact": the plugin's exact footprint kernel,
-        which any pressure other than uniform uses).
+        applies, its table for a disk under dry friction, else sampled elements; "table": a precomputed table of the
+        instantaneous-centre wrench for disks and ellipses, built once per aspect ratio, <= 1e-10 from "icr" and
+        several times cheaper per evaluation; docs/extended.md; "contact": the plugin's exact footprint kernel, which
+        any pressure other than uniform uses).
     samples : int
         Resolution of the sampled-element quadrature (elements, approximately).
     v0, spin0 : free-body initial CM velocity (m/s, world frame) and spin (rad/s).
@@ -135,7 +135,8 @@ class Scene:
         if self.mu_static is not None:
             if not self.friction.spec.sticks:  # (the laws under which a body comes to rest: rrbody.model.laws)
                 sticky = ", ".join(repr(x.name) for x in LAW_TABLE if x.sticks)
-                raise ValueError(f"mu_static applies to a law that sticks ({sticky}), got friction {self.friction.law!r}")
+                raise ValueError(f"mu_static applies to a law that sticks ({sticky}), got friction "
+                                 f"{self.friction.law!r}")
             # (at least the law's coefficient at zero speed: dry's mu = (mu g) / g, Stribeck's mu_s)
             mu0 = zero_speed_mu(self.friction.law, self.friction.coeff / self.g, self.friction.params)
             object.__setattr__(self, "mu_static", check_mu_static(self.mu_static, mu0, rounding=1e-12,
@@ -238,7 +239,7 @@ class Scene:
         spin = abs(self.initial_phi_dot)
         return self.omega * self.d + (self.body.l + max(ra, rb)) * max(spin, self.omega) + math.hypot(*self.v0)
 
-    def with_(self, **changes: Any) -> "Scene":
+    def with_(self, **changes: Any) -> Scene:
         """A copy with some fields changed (validated again)."""
         return replace(self, **changes)
 
@@ -268,7 +269,7 @@ class Scene:
         }
 
     @classmethod
-    def from_description(cls, desc: dict[str, Any]) -> "Scene":
+    def from_description(cls, desc: dict[str, Any]) -> Scene:
         """Inverse of :meth:`describe` (used to reload trajectories and sweeps)."""
         kind = desc["body"]
         if kind not in BODY_KINDS:
@@ -307,12 +308,14 @@ def rod_mass_scene(H: float, k: float, omega: float, phi0: float = math.pi, *, f
 
 #: The flat parameters of :func:`scene_from_params` (the CLI's scene options and a sweep's base and
 #: axes use these names; the law table's parameters last); the numeric ones can be sweep axes.
-SCENE_PARAMS: tuple[str, ...] = ("body", "H", "l", "R0", "delta", "orientation", "omega", "d", "k", "mu", "g", "friction",
+SCENE_PARAMS: tuple[str, ...] = ("body", "H", "l", "R0", "delta", "orientation", "omega", "d", "k", "mu", "g",
+                                 "friction",
                                  "phi0", "phi_dot0", "t_max", "friction_method", "samples", "no_drive", "v0", "spin0",
                                  "pressure", "tilt", "downhill", "mu_static", "sides", "vertices", *LAW_PARAMS)
 #: the body names scene_from_params takes (a box and a regular polygon are Polygon bodies)
 BODY_CHOICES: tuple[str, ...] = ("rod", "disk", "ellipse", "box", "polygon")
-NUMERIC_SCENE_PARAMS: tuple[str, ...] = ("H", "l", "R0", "delta", "omega", "d", "k", "mu", "g", "phi0", "phi_dot0", "t_max",
+NUMERIC_SCENE_PARAMS: tuple[str, ...] = ("H", "l", "R0", "delta", "omega", "d", "k", "mu", "g", "phi0", "phi_dot0",
+                                         "t_max",
                                          "samples", "spin0", "tilt", "downhill", "mu_static", "sides", *LAW_PARAMS)
 
 
@@ -330,13 +333,13 @@ def scene_from_params(*, body: str = "rod", H: float | None = None, l: float | N
     ``body``: ``rod`` (H = l/d, give ``H`` or ``l``), ``disk`` (radius ``R0``), ``ellipse``
     (``R0``, ``delta``), ``box`` (half-sides R0 (1 + delta) along x and R0 (1 - delta) along y, as
     an ellipse's semi-axes) or ``polygon`` (``sides`` of a regular polygon inscribed in a circle of
-    radius ``R0``, or ``vertices`` [(x, y), ...] in m); ``l`` (m) is the CM -> P distance (default 0 for extended bodies). Friction:
-    ``k`` (1/s^2; gamma in 1/s for viscous) or ``mu`` with ``g`` (m/s^2) and ``d`` (m), or
-    ``friction="none"``. ``no_drive``: a free body launched with ``v0`` (m/s) and ``spin0`` (rad/s).
-    ``pressure``: a :class:`rrbody.model.pressure.Pressure` or its text form (``"ring:0.05"``);
-    ``tilt``, ``downhill`` (rad) and ``mu_static``: a tilted plane and static friction (``g`` is the tilt's gravity).
-    ``law_params``: the friction law's further parameters by name (:data:`rrbody.model.laws.LAW_PARAMS`).
-    Every parameter missing for the chosen body is named in one ValueError.
+    radius ``R0``, or ``vertices`` [(x, y), ...] in m); ``l`` (m) is the CM -> P distance (default 0 for extended
+    bodies). Friction: ``k`` (1/s^2; gamma in 1/s for viscous) or ``mu`` with ``g`` (m/s^2) and ``d`` (m), or
+    ``friction="none"``. ``no_drive``: a free body launched with ``v0`` (m/s) and ``spin0`` (rad/s). ``pressure``: a
+    :class:`rrbody.model.pressure.Pressure` or its text form (``"ring:0.05"``); ``tilt``, ``downhill`` (rad) and
+    ``mu_static``: a tilted plane and static friction (``g`` is the tilt's gravity). ``law_params``: the friction
+    law's further parameters by name (:data:`rrbody.model.laws.LAW_PARAMS`). Every parameter missing for the chosen
+    body is named in one ValueError.
     """
     check_choice("body", body, BODY_CHOICES)
     if body == "polygon" and (sides is None) == (vertices is None):
@@ -379,7 +382,8 @@ def scene_from_params(*, body: str = "rod", H: float | None = None, l: float | N
     drive = None if no_drive else CircularDrive(omega=omega, d=d)  # type: ignore[arg-type]
     if body == "rod":
         if H is not None and l is not None:
-            raise ValueError(f"H must be given alone for a rod-mass body: H and l are alternatives, got H={H!r}, l={l!r}")
+            raise ValueError(f"H must be given alone for a rod-mass body: H and l are alternatives, got H={H!r}, "
+                             f"l={l!r}")
         rod_l = float(check("H", H)) * d if H is not None else l
         b: Body = RodMass(l=rod_l, orientation=orientation)  # type: ignore[arg-type]
     else:

@@ -24,7 +24,7 @@ from rrbody.model.io import atomic_path
 if TYPE_CHECKING:
     from rrbody.model.scene import Scene
 
-__all__ = ["Trajectory", "COLUMNS", "VOLATILE_META", "driven_trajectory"]
+__all__ = ["Trajectory", "COLUMNS", "VOLATILE_META", "driven_trajectory", "jsonable"]
 
 COLUMNS: tuple[str, ...] = ("t", "phi", "phi_dot", "x_cm", "y_cm", "vx_cm", "vy_cm", "x_p", "y_p", "body_angle",
                             "spin")
@@ -34,13 +34,18 @@ _META_PREFIX = "# rrbody-meta: "
 VOLATILE_META: tuple[str, ...] = ("wall_s",)
 
 
-def _jsonable(obj: Any) -> Any:
+def jsonable(obj: Any) -> Any:
+    """``obj`` as plain Python that :func:`json.dumps` writes as strict JSON: dict keys made strings,
+    tuples and arrays made lists, numpy scalars made ``float`` and ``int``, and a non-finite float
+    (NaN, inf) made ``None`` (JSON has no such number); anything else is returned as it is. Values keep
+    their units: nothing is converted. Used for every JSON rrbody writes (CSV headers, summaries,
+    sweep specs, the CLI's ``--json`` lines)."""
     if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
+        return {str(k): jsonable(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
-        return [_jsonable(v) for v in obj]
+        return [jsonable(v) for v in obj]
     if isinstance(obj, np.ndarray):
-        return _jsonable(obj.tolist())
+        return jsonable(obj.tolist())
     if isinstance(obj, (np.floating, float)):
         v = float(obj)
         return v if math.isfinite(v) else None
@@ -129,7 +134,7 @@ class Trajectory:
         Wall-clock timings (:data:`VOLATILE_META`) are left out, so the file depends on the run only.
         """
         meta = {k: v for k, v in self.meta.items() if k not in VOLATILE_META}
-        header = _META_PREFIX + json.dumps(_jsonable({"meta": meta, "events": self.events}))
+        header = _META_PREFIX + json.dumps(jsonable({"meta": meta, "events": self.events}))
         with atomic_path(path, force=force, name="out") as tmp, open(tmp, "w") as fh:
             fh.write(header + "\n")
             fh.write(",".join(COLUMNS) + "\n")
@@ -137,7 +142,7 @@ class Trajectory:
         return Path(path)
 
     @classmethod
-    def load(cls, path: str | Path) -> "Trajectory":
+    def load(cls, path: str | Path) -> Trajectory:
         """Read a CSV written by :meth:`save`."""
         p = Path(path)
         with open(p) as fh:
@@ -151,7 +156,7 @@ class Trajectory:
         return cls(**cols, events=head.get("events", {}), meta=head.get("meta", {}))
 
 
-def driven_trajectory(scene: "Scene", t: np.ndarray, phi: np.ndarray, phi_dot: np.ndarray) -> Trajectory:
+def driven_trajectory(scene: Scene, t: np.ndarray, phi: np.ndarray, phi_dot: np.ndarray) -> Trajectory:
     """Assemble a Trajectory of a driven body from samples of phi(t), phi'(t) (rad, rad/s)."""
     drive = scene.drive
     if drive is None:

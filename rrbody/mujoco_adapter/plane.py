@@ -43,14 +43,16 @@ from typing import Any
 import numpy as np
 
 from rrbody.contact import kernel as K
-from rrbody.mujoco_adapter import kernel as MK
 from rrbody.contact.active import NO_ACTIVE
 from rrbody.contact.lean import fast_entry
-from rrbody.mujoco_adapter.geoms import gap, name_of as _name, lookup as _lookup, parts_of
-from rrbody.mujoco_adapter.seat import reseat
 from rrbody.model.checks import check_int, check_nonnegative, check_positive
 from rrbody.model.extras import require
 from rrbody.model.pressure import Pressure, as_pressure
+from rrbody.mujoco_adapter import kernel as MK
+from rrbody.mujoco_adapter.geoms import gap, parts_of
+from rrbody.mujoco_adapter.geoms import lookup as _lookup
+from rrbody.mujoco_adapter.geoms import name_of as _name
+from rrbody.mujoco_adapter.seat import reseat
 from rrbody.physics.batch import stack
 from rrbody.physics.footprint import Part, apply_pressure
 from rrbody.physics.planar import is_part, masses_given
@@ -272,7 +274,7 @@ class PlaneFriction:
     # ---- stepping ----------------------------------------------------------------------------
     def _gather(self, dt: float) -> None:
         """Read MuJoCo's state into the kernel's rows; ``dt``: the step (s), checked by the caller."""
-        m, d = self.model, self.data
+        d = self.data
         c = d.contact
         # MuJoCo's contact fields are strided views (contiguous when they hold one contact or none): copied
         # contiguous, every call has the types of the first, as the compiled entry point requires

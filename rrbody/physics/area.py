@@ -21,12 +21,12 @@ import math
 
 import numpy as np
 
+from rrbody.model.bodies import Body, Disk, Ellipse
 from rrbody.model.checks import check_int, check_positive, check_real
+from rrbody.model.laws import LAW_CODES, check_area, law_named
 from rrbody.physics.icr import ECC_ETA
 from rrbody.physics.icr import icr_wrench as _icr_kernel
 from rrbody.physics.icr_panels import NODE_COUNTS
-from rrbody.model.bodies import Body, Disk, Ellipse
-from rrbody.model.laws import LAW_CODES, check_area, law_named
 
 __all__ = ["icr_supported", "icr_nodes", "area_samples", "icr_wrench", "sampled_wrench", "disk_closed_form",
            "disk_closed_form_ratio"]

@@ -58,7 +58,8 @@ def _area_model(scene: Scene) -> int:
         return P.BODY_POINT
     if isinstance(scene.body, Polygon):
         if method not in ("auto", "contact"):
-            raise ValueError(f"friction_method must be 'auto' or 'contact' for a polygon (its exact wrench), got {method!r}")
+            raise ValueError("friction_method must be 'auto' or 'contact' for a polygon (its exact wrench), got "
+                             f"{method!r}")
         return P.BODY_CONTACT
     if method == "contact" or not scene.pressure.is_uniform:
         return P.BODY_CONTACT
@@ -74,9 +75,9 @@ def _area_model(scene: Scene) -> int:
         return P.BODY_ICR
     if not supported:
         return P.BODY_SAMPLED
-    # "auto": a dry disk uses the table (1-D, built in ~0.1 s, within 3e-14 of the quadrature and
-    # about half its RHS cost); an ellipse keeps the quadrature, since its table costs 3-14 s to
-    # build per aspect ratio (delta 0.5-0.9), more than a typical run saves (docs/extended.md); the
+    # "auto": a dry disk uses the table (1-D, quick to build, within 3e-14 of the quadrature and
+    # cheaper to evaluate); an ellipse keeps the quadrature, since its 2-D table per aspect ratio
+    # takes longer to build than a typical run saves (docs/extended.md gives the times); the
     # table is dry friction's own (a viscous disk's quadrature is already a closed form)
     ra, rb = scene.body.semi_axes
     return P.BODY_TABLE if (ra == rb and scene.friction.law == "dry") else P.BODY_ICR

@@ -5,9 +5,9 @@
 times a driven body's friction law). The kernels are compiled once per code, with the code as a
 compile-time constant (the state size fixes the loops' trip counts; a driven body's law read at run
 time was measured to cost the stiff runs a quarter of their speed; a free body's law is read from
-``p[LAW]``, its Jacobian being numerical). The area method is chosen at run time from ``p[BODY]``, so every area method runs in the same
-compiled code and a new combination of effects compiles nothing (docs/compile.md). The point mass,
-where an evaluation costs a few ns, is written inline; an extended body's area method is one call of
+``p[LAW]``, its Jacobian being numerical). The area method is chosen at run time from ``p[BODY]``, so every area
+method runs in the same compiled code and a new combination of effects compiles nothing (docs/compile.md). The point
+mass, where an evaluation costs a few ns, is written inline; an extended body's area method is one call of
 :func:`_driven_extended` or :func:`_free`, so the loop's code does not grow with the area methods.
 
 Driven body (the impulsive start, docs/physics.md), state y = (phi, phi') with phi the angle of CM -> P (rad):
@@ -35,11 +35,12 @@ from numba import literally, njit
 
 from rrbody._private import no_refcount
 from rrbody.physics import params as P
-from rrbody.physics.effects import DRIVEN, active, compiled_code, drive_circular, tangent, tilt
 from rrbody.physics.areas import POINT, body_frame_wrench, body_wrench
+from rrbody.physics.effects import DRIVEN, active, compiled_code, drive_circular, tangent, tilt
 from rrbody.physics.effects.laws import NONE, element_perp, law_params
 
-__all__ = ["rhs", "rhs_near", "rhs_for", "tangent_rhs_for", "driven_rhs", "driven_tangent", "driven_kinematics", "jacobian", "system_from_params", "SYSTEM_DRIVEN",
+__all__ = ["rhs", "rhs_near", "rhs_for", "tangent_rhs_for", "driven_rhs", "driven_tangent", "driven_kinematics",
+           "jacobian", "system_from_params", "SYSTEM_DRIVEN",
            "SYSTEM_FREE"]
 
 SYSTEM_DRIVEN = 0  # kind code: y = (phi, phi')
@@ -145,8 +146,8 @@ def driven_tangent(law, area, t, y, p, S, out, row):  # noqa: ANN001 (numba)
 
 @njit(cache=True, **no_refcount())
 def rhs_near(code, t, y, p, S, out, row, d, s0, c0):  # noqa: ANN001
-    """out[row, :] = y' for the equations of the compiled code ``code`` and the area method of ``p`` (module docstring), where a
-    driven body's drive phase psi = phi - omega t is psi0 + d with (sin, cos)(psi0) = (s0, c0): a
+    """out[row, :] = y' for the equations of the compiled code ``code`` and the area method of ``p`` (module
+    docstring), where a driven body's drive phase psi = phi - omega t is psi0 + d with (sin, cos)(psi0) = (s0, c0): a
     Runge-Kutta stage passes its step's start (:func:`drive_circular.sincos_psi`; d = NaN: no base).
 
     Compiled once per code (``literally``); the area method is read from ``p`` (a load and a
@@ -191,7 +192,7 @@ def _twin(fn: Any, name: str) -> Any:
 
 #: :func:`rhs_near` compiled a second time, for every caller but the DOP853 stages (:func:`rhs`: the
 #: stiff methods, the first step, the Jacobian). With one compiled function for all, LLVM stopped
-#: inlining it into the DOP853 step, which became 8 % slower (measured: 359 -> 391 ns a step);
+#: inlining it into the DOP853 step, which became measurably slower per step;
 #: with literal constant rows, as before, numba compiled it three times per law, not twice.
 _rhs_other = njit(cache=True, **no_refcount())(_twin(rhs_near.py_func, "rhs_other"))
 

@@ -141,7 +141,8 @@ def inside(parts: list[Part], x: np.ndarray, y: np.ndarray) -> np.ndarray:
             e = np.roll(v, -1, axis=0) - v
             length = np.hypot(e[:, 0], e[:, 1])
             # signed distance inside every edge's line (>= -tol) for a convex polygon
-            d = (e[:, 0, None] * (y[None] - v[:, 1, None]) - e[:, 1, None] * (x[None] - v[:, 0, None])) / length[:, None]
+            d = (e[:, 0, None] * (y[None] - v[:, 1, None]) - e[:, 1, None] * (x[None] - v[:, 0, None])) / length[:,
+                                                                                                                 None]
             ok |= np.all(d >= -tol, axis=0)
     return ok
 

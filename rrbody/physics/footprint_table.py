@@ -61,8 +61,18 @@ from numba.extending import intrinsic
 from rrbody._private import no_refcount, private_allowed
 from rrbody.physics import contact as C
 from rrbody.physics.contact import footprint_wrench
-from rrbody.physics.footprint_fit import (BLOCK, N, N64, ROWS, cell_line, deadband_factor, edge_lines, fit_cells, pack,
-                                          table_reach)
+from rrbody.physics.footprint_fit import (
+    BLOCK,
+    N64,
+    ROWS,
+    N,
+    cell_line,
+    deadband_factor,
+    edge_lines,
+    fit_cells,
+    pack,
+    table_reach,
+)
 from rrbody.physics.icr_table import HUGE, TINY, twist_scale
 
 __all__ = ["build_footprint_table", "footprint_table_wrench", "footprint_table_prefetch", "table_covers", "table_reach",

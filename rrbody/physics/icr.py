@@ -1,10 +1,10 @@
 """Area-integrated friction on a homogeneous ellipse by the instantaneous centre of rotation (ICR).
 
 Pure numba kernels; the quadrature's Gauss tables and panels (one node, a graded panel, the thin
-ellipse's split rule) are in the sibling :mod:`rrbody.physics.icr_panels`. Units per unit mass: force m/s^2, torque about the CM m^2/s^2; inputs
-in SI. The core, :func:`icr_wrench_body`, works in the body frame (CM velocity in, force out, no
-trigonometric call); :func:`icr_wrench` is its world-frame wrapper (one cos/sin of the body angle
-and two rotations) for callers that hold world-frame velocities.
+ellipse's split rule) are in the sibling :mod:`rrbody.physics.icr_panels`. Units per unit mass: force m/s^2, torque
+about the CM m^2/s^2; inputs in SI. The core, :func:`icr_wrench_body`, works in the body frame (CM velocity in, force
+out, no trigonometric call); :func:`icr_wrench` is its world-frame wrapper (one cos/sin of the body angle and two
+rotations) for callers that hold world-frame velocities.
 
 Method (derivation in ``docs/extended.md``)
 ----------------------------------------------------------
@@ -40,8 +40,20 @@ from numba import njit
 
 from rrbody.physics.effects import law_viscous
 from rrbody.physics.effects.laws import DRY, VISCOUS
-from rrbody.physics.icr_panels import FULL_C, FULL_S, GW, GX, KAPPA_SWITCH, MID_C, MID_S, OFFS, SIZES, X_END, \
-    eccentric_wrench, node_wrench
+from rrbody.physics.icr_panels import (
+    FULL_C,
+    FULL_S,
+    GW,
+    GX,
+    KAPPA_SWITCH,
+    MID_C,
+    MID_S,
+    OFFS,
+    SIZES,
+    X_END,
+    eccentric_wrench,
+    node_wrench,
+)
 
 __all__ = ["icr_wrench", "icr_wrench_body", "translation_wrench", "scaled_icr", "TRANSLATION_EPS", "ECC_ETA"]
 

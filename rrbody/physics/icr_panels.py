@@ -219,7 +219,8 @@ def eccentric_wrench(eta, a, b, nn, o, inside, r, S, kap, kp, kp2, cpsi0, spsi0,
                 ay += dfy
                 at += dtq
             elif math.isfinite(prev_y):
-                dfx, dfy, dtq = panel_wrench(prev, cur, 1, prev_y, nn, o, inside, r, S, kap, kp2, cpsi0, spsi0, g0, a, b)
+                dfx, dfy, dtq = panel_wrench(prev, cur, 1, prev_y, nn, o, inside, r, S, kap, kp2, cpsi0, spsi0, g0, a,
+                                             b)
                 ax += dfx
                 ay += dfy
                 at += dtq
@@ -229,7 +230,8 @@ def eccentric_wrench(eta, a, b, nn, o, inside, r, S, kap, kp, kp2, cpsi0, spsi0,
                 ay += dfy
                 at += dtq
             else:
-                dfx, dfy, dtq = panel_wrench(prev, cur, 0, math.inf, nn, o, inside, r, S, kap, kp2, cpsi0, spsi0, g0, a, b)
+                dfx, dfy, dtq = panel_wrench(prev, cur, 0, math.inf, nn, o, inside, r, S, kap, kp2, cpsi0, spsi0, g0,
+                                             a, b)
                 ax += dfx
                 ay += dfy
                 at += dtq

@@ -34,7 +34,8 @@ instead of 100, which roughly halves the evaluation. Share of the m-panels that 
 100 % at b/a = 0.82, 99 % at 0.54, 95 % at 1/3, 89 % at 1/4, 74 % at 1/9, 79 % at 1/19.
 A negative spin flips the wrench (W(-v, -Omega) = -W(v, Omega), the ICR is unchanged).
 :func:`table_wrench_body` works in the body frame (no trigonometric call); the area methods' one
-world-frame wrapper is :func:`rrbody.physics.areas.body_wrench`. Pure translation and the zero-speed dead band are handled exactly as
+world-frame wrapper is :func:`rrbody.physics.areas.body_wrench`. Pure translation and the zero-speed dead band are
+handled exactly as
 :func:`icr_wrench_body` does; the viscous law is linear and exact, so it never uses the table.
 
 Layout of the table array ``S`` (rows of 3, what the kernels receive as the area-sample array):

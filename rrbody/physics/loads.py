@@ -31,6 +31,7 @@ whose load lies on a line (points in a row) when its centre of gravity is off th
 from __future__ import annotations
 
 import math
+
 import numpy as np
 
 from rrbody.physics import contact as C

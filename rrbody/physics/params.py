@@ -1,10 +1,10 @@
 """Layout of the float64 parameter vector ``p`` that every compiled kernel receives.
 
 Kernels take parameters as arguments (no closures) so one compiled function serves every scene.
-:func:`rrbody.physics.bind.kernel_params` fills this vector from a :class:`rrbody.model.scene.Scene`; nothing else writes it.
-The codes LAW and BODY form the scene's system code (:func:`rrbody.physics.dynamics.system_from_params`);
-the stepping loop is compiled for its kind and LAW, and reads BODY (the area method) at run time,
-as the engine's per-step hook (:func:`rrbody.physics.wrench.body_wrench`) reads both.
+:func:`rrbody.physics.bind.kernel_params` fills this vector from a :class:`rrbody.model.scene.Scene`; nothing else
+writes it. The codes LAW and BODY form the scene's system code (:func:`rrbody.physics.dynamics.system_from_params`);
+the stepping loop is compiled for its kind and LAW, and reads BODY (the area method) at run time, as the engine's
+per-step hook (:func:`rrbody.physics.wrench.body_wrench`) reads both.
 """
 
 from rrbody.model.laws import AREA_CODES, N_LAW_PARAMS

@@ -115,7 +115,8 @@ def carlson_rd(x: float, y: float, z: float) -> float:
     ee = ed + ec + ec
     c3 = 9.0 / 22.0
     c4 = 3.0 / 26.0
-    tail = 1.0 + ed * (-3.0 / 14.0 + 0.25 * c3 * ed - 1.5 * c4 * dz * ee) + dz * (ee / 6.0 + dz * (-c3 * ec + dz * c4 * ea))
+    tail = (1.0 + ed * (-3.0 / 14.0 + 0.25 * c3 * ed - 1.5 * c4 * dz * ee)
+            + dz * (ee / 6.0 + dz * (-c3 * ec + dz * c4 * ea)))
     return 3.0 * s + fac * tail / (ave * math.sqrt(ave))
 
 

@@ -31,7 +31,8 @@ from rrbody.model.trajectory import Trajectory
 from rrbody.render.flip import BLUE, RED, FlipMark, flip_mark
 from rrbody.render.movie_figure import GREEN, MovieFigure, check_movie, check_span
 
-__all__ = ["render_movie", "render_poster", "write_frames", "frame_times", "frame_schedule", "MovieFigure", "RED", "BLUE", "GREEN"]
+__all__ = ["render_movie", "render_poster", "write_frames", "frame_times", "frame_schedule", "MovieFigure", "RED",
+           "BLUE", "GREEN"]
 
 CODEC = "libx264"
 PIX_FMT = "yuv420p"
@@ -75,7 +76,7 @@ def _open_writer(path: Path, size: tuple[int, int], fps: float) -> Generator[Non
         str(path), size, pix_fmt_in="rgba", pix_fmt_out=PIX_FMT, fps=fps, codec=CODEC,
         quality=None, macro_block_size=2,  # size is checked even; no rescaling
         # crf 28 / preset fast: line art with a fading trail and arrows stays < 1 MB a minute at 1280x720
-        # (medium: same size, ~40% slower encoding, measured with `python -m rrbody.render.mp4`);
+        # (medium: the same size, encoded more slowly, measured with `python -m rrbody.render.mp4`);
         # faststart puts the index first so browsers can play while downloading
         # no creation_time and no encoder/version strings in the container: identical runs, identical bytes
         output_params=["-crf", "28", "-preset", "fast", "-movflags", "+faststart", "-map_metadata", "-1",

@@ -40,9 +40,9 @@ class Mechanics:
 
 def mechanics(traj: Trajectory) -> Mechanics | None:
     """The run's friction wrench and energies, or None without a scene description in ``traj.meta``."""
+    from rrbody.model.scene import Scene
     from rrbody.physics.bind import kernel_params
     from rrbody.physics.wrench import body_wrench
-    from rrbody.model.scene import Scene
 
     sc = traj.meta.get("scene") or {}
     if "body" not in sc:
@@ -54,7 +54,7 @@ def mechanics(traj: Trajectory) -> Mechanics | None:
     spin, ang = np.asarray(traj.spin, float), np.asarray(traj.body_angle, float)
     F = np.zeros((n, 3))
     if scene.friction.active:
-        for i in range(n):  # one compiled kernel call per sample: ~1 us (point) to ~20 us (ICR quadrature)
+        for i in range(n):  # one compiled kernel call per sample, the run's own friction: no second code path
             F[i] = body_wrench(p, S, float(ang[i]), float(vx[i]), float(vy[i]), float(spin[i]))
     kinetic = 0.5 * (vx * vx + vy * vy) + 0.5 * scene.body.inertia_per_mass * spin * spin
     power = F[:, 0] * vx + F[:, 1] * vy + F[:, 2] * spin

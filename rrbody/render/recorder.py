@@ -39,8 +39,8 @@ from __future__ import annotations
 
 import math
 import sys
-from operator import attrgetter
 from collections.abc import Iterable, Sequence
+from operator import attrgetter
 from pathlib import Path
 from typing import Any
 
@@ -50,8 +50,21 @@ from rrbody.engine.tape import Tape
 from rrbody.model.checks import check_int, check_real
 from rrbody.model.io import atomic_path, check_writable
 from rrbody.render.movie_figure import check_movie, check_size
-from rrbody.render.recorder_picture import (CIRCLE_POINTS, NEUTRAL, REVERSE, VW, VX, VY, WITH, Picture, body_colours,
-                                            check_color, fit_view, shape_outlines, to_world)
+from rrbody.render.recorder_picture import (
+    CIRCLE_POINTS,
+    NEUTRAL,
+    REVERSE,
+    VW,
+    VX,
+    VY,
+    WITH,
+    Picture,
+    body_colours,
+    check_color,
+    fit_view,
+    shape_outlines,
+    to_world,
+)
 
 __all__ = ["Recorder", "shape_outlines", "CIRCLE_POINTS", "REVERSE", "WITH", "NEUTRAL"]
 
@@ -273,7 +286,8 @@ class Recorder:
         a = float(t[0]) if t_start is None else check_real("t_start", t_start)
         b = float(t[-1]) if t_end is None else check_real("t_end", t_end)
         if not (t[0] - 1e-9 <= a <= b <= t[-1] + 1e-9):
-            raise ValueError(f"t_start, t_end must satisfy {t[0]:g} <= t_start <= t_end <= {t[-1]:g} s, got {a!r}, {b!r}")
+            raise ValueError(f"t_start, t_end must satisfy {t[0]:g} <= t_start <= t_end <= {t[-1]:g} s, got {a!r}, "
+                             f"{b!r}")
         taus = frame_times(a, b, fps=fps, speed=speed) if b > a else np.array([a])
         ks = [self._frame_at(float(x)) for x in taus]
         span = np.arange(ks[0], ks[-1] + 1)

@@ -13,7 +13,8 @@ import numpy as np
 from rrbody.engine.tape import FT, FX, FY, PA, PX, PY, VW, VX, VY, WIDTH_MOTION, WIDTH_POSE  # the frames' columns
 
 __all__ = ["shape_outlines", "fit_view", "MARGIN", "CIRCLE_POINTS", "REVERSE", "WITH", "NEUTRAL", "Picture", "to_world",
-           "check_color", "body_colours", "WIDTH_POSE", "WIDTH_MOTION", "PX", "PY", "PA", "VX", "VY", "VW", "FX", "FY", "FT"]
+           "check_color", "body_colours", "WIDTH_POSE", "WIDTH_MOTION", "PX", "PY", "PA", "VX", "VY", "VW", "FX", "FY",
+           "FT"]
 
 #: points on a circle's rim in its outline (a regular polygon: its centroid is the circle's centre)
 CIRCLE_POINTS = 48
@@ -168,7 +169,7 @@ class Picture:
         _scale_bar(ax, box)
         # the bodies' outlines, all in one array, each polygon closed by a repeat of its first vertex:
         # vertex -> body, vertex -> polygon; drawn as one compound path per colour (a PathCollection of
-        # a few paths renders 1,000 bodies several times faster than 1,000 separate polygons)
+        # a few paths: matplotlib's cost grows with the paths it draws, not with their vertices)
         from matplotlib.collections import PathCollection
         from matplotlib.path import Path as MPath
 
@@ -199,7 +200,8 @@ class Picture:
         self.driven = np.flatnonzero(~np.isnan(rec._anchor[:, 0]))
         self.p = ax.scatter([], [], s=14, c="k", zorder=5, animated=True) if len(self.driven) else None
         # the rigid link from P to the centre of gravity (P may lie outside the body, as for a rod-mass)
-        self.link = LineCollection([], colors="k", linewidths=0.8, zorder=5, animated=True) if len(self.driven) else None
+        self.link = LineCollection([], colors="k", linewidths=0.8, zorder=5,
+                                   animated=True) if len(self.driven) else None
         if self.link is not None:
             ax.add_collection(self.link)
         # arrows: one scale per kind over the frames filmed, its largest value a tenth of the box's width
@@ -208,7 +210,8 @@ class Picture:
         d = rec._data[:rec.n_frames][span]
         width = box[1] - box[0]
         legend = []
-        for kind, cols, colour, unit in (("velocity", (VX, VY), "#2ca02c", "m/s"), ("friction", (FX, FY), "#9467bd", "N")):
+        for kind, cols, colour, unit in (("velocity", (VX, VY), "#2ca02c", "m/s"), ("friction", (FX, FY), "#9467bd",
+                                                                                    "N")):
             if kind in arrows:
                 big = float(np.hypot(d[:, :, cols[0]], d[:, :, cols[1]]).max()) if d.size else 0.0
                 scale = 0.1 * width / big if big > 0.0 else 0.0
@@ -227,7 +230,8 @@ class Picture:
                 legend.append(f"torque arc: {big:.3g} N m = 270 deg")
         else:
             self.torque = None
-        if self.spin is not None and not isinstance(color, np.ndarray):  # (marks: the caller's title says what they are)
+        if self.spin is not None and not isinstance(color,
+                                                    np.ndarray):  # (marks: the caller's title says what they are)
             legend.insert(0, "red: turns against its orbit, blue: with it, grey: neither")
         style = dict(transform=ax.transAxes, fontsize=max(7, min(12, size[1] // 50)),
                      bbox=dict(facecolor="white", alpha=0.8, edgecolor="none", pad=2))

@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.render.rerun import MAX_TRAIL_POINTS, TIMELINE, _stride, _trail_blocks, _z
+from rrbody.render.rerun import MAX_TRAIL_POINTS, TIMELINE, points_3d, stride, trail_blocks
 
 __all__ = ["blueprint", "send", "entities"]
 
@@ -37,7 +37,8 @@ def _u8(rgba: np.ndarray) -> np.ndarray:
 def entities(rec: Any, *, trails: np.ndarray | None = None, plots: list[int] | None = None) -> set[str]:
     """The entity paths :func:`send` writes (trail blocks as their body's ``world/trails/<label>``)."""
     out = {f"world/bodies/{x}" for x in rec.labels}
-    out |= {f"world/bodies/{rec.labels[k]}/{x}" for k in np.flatnonzero(~np.isnan(rec._anchor[:, 0])) for x in ("P", "link")}
+    out |= {f"world/bodies/{rec.labels[k]}/{x}" for k in np.flatnonzero(~np.isnan(rec._anchor[:, 0])) for x in ("P",
+                                                                                                                "link")}
     if rec._static:
         out.add("world/static")
     for k in plots or []:
@@ -76,7 +77,7 @@ def send(stream: Any, rec: Any, *, color: Any, trails: np.ndarray, plots: list[i
     times = rr.TimeColumn(TIMELINE, duration=t)
     stream.log("world", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
     if rec._static:
-        stream.log("world/static", rr.LineStrips3D([_z(np.vstack([o, o[:1]])) for o in rec._static],
+        stream.log("world/static", rr.LineStrips3D([points_3d(np.vstack([o, o[:1]])) for o in rec._static],
                                                    colors=[(90, 90, 90)], radii=[-1.5]), static=True)
     fixed = rec.colours(color)
     sense = rec.marks(color) if fixed is None else None
@@ -84,7 +85,7 @@ def send(stream: Any, rec: Any, *, color: Any, trails: np.ndarray, plots: list[i
     half = 0.5 * d[:, :, 2]
     for k, label in enumerate(rec.labels):
         path = f"world/bodies/{label}"
-        strips = [_z(np.vstack([o, o[:1]])) for o in rec._outlines[k]]
+        strips = [points_3d(np.vstack([o, o[:1]])) for o in rec._outlines[k]]
         colours = [tuple(int(v) for v in _u8(fixed[k]))] if fixed is not None else None
         stream.log(path, rr.LineStrips3D(strips, colors=colours, radii=[-1.5]), static=True)
         quat = np.column_stack([np.zeros(n), np.zeros(n), np.sin(half[:, k]), np.cos(half[:, k])])
@@ -96,27 +97,29 @@ def send(stream: Any, rec: Any, *, color: Any, trails: np.ndarray, plots: list[i
             rgb = np.array([spin_rgb[float(s)] for s in sense[:, k]], dtype=np.uint8)
             stream.send_columns(path, indexes=[times], columns=rr.LineStrips3D.columns(colors=rgb))
         if not math.isnan(rec._anchor[k, 0]):
-            stream.log(f"{path}/P", rr.Points3D([_z(rec._anchor[k:k + 1])[0]], colors=[(0, 0, 0)], radii=[-4.0],
+            stream.log(f"{path}/P", rr.Points3D([points_3d(rec._anchor[k:k + 1])[0]], colors=[(0, 0, 0)], radii=[-4.0],
                                                 labels=["P"], show_labels=True), static=True)
-            stream.log(f"{path}/link", rr.LineStrips3D([_z(np.vstack([rec._anchor[k], rec._cog[k]]))],
+            stream.log(f"{path}/link", rr.LineStrips3D([points_3d(np.vstack([rec._anchor[k], rec._cog[k]]))],
                                                        colors=[(0, 0, 0)], radii=[-1.0]), static=True)
     if trails.any():
         centres = rec.centres()
-        keep = _stride(n, MAX_TRAIL_POINTS)
+        keep = stride(n, MAX_TRAIL_POINTS)
         for k in np.flatnonzero(trails):
-            for b, (tb, pb, _) in enumerate(_trail_blocks(t[keep], centres[keep, k], None)):
+            for b, (tb, pb, _) in enumerate(trail_blocks(t[keep], centres[keep, k], None)):
                 path = f"world/trails/{rec.labels[k]}/b{b:04d}"
                 stream.log(path, rr.LineStrips3D.from_fields(colors=[(68, 68, 68)], radii=[-1.0]), static=True)
                 if len(tb) < 2:
                     continue
                 stream.send_columns(path, indexes=[rr.TimeColumn(TIMELINE, duration=tb[1:])],
-                                    columns=rr.LineStrips3D.columns(strips=[_z(pb[: j + 1]) for j in range(1, len(tb))]))
+                                    columns=rr.LineStrips3D.columns(strips=[points_3d(pb[: j + 1]) for j in range(1,
+                                                                                                                  len(tb))]))
     for k in plots:
         label = rec.labels[k]
         speed = np.hypot(d[:, k, 3], d[:, k, 4])
         series = [("speed", speed), ("spin", d[:, k, 5])]
         if rec.plane is not None:
-            series.append(("friction_power", d[:, k, 6] * d[:, k, 3] + d[:, k, 7] * d[:, k, 4] + d[:, k, 8] * d[:, k, 5]))
+            series.append(("friction_power", d[:, k, 6] * d[:, k, 3] + d[:, k, 7] * d[:, k, 4] + d[:, k, 8] * d[:, k,
+                                                                                                                5]))
         for what, vals in series:
             path = f"plots/{what}/{label}"
             stream.log(path, rr.SeriesLines(names=label), static=True)

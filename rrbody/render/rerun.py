@@ -43,18 +43,19 @@ import os
 import shutil
 import sys
 import uuid
-from pathlib import Path
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from rrbody.model.io import atomic_path, check_writable
-from rrbody.model.trajectory import Trajectory, _jsonable
+from rrbody.model.trajectory import Trajectory, jsonable
 from rrbody.render.flip import FlipMark, flip_mark
 from rrbody.render.quantities import mechanics
 
-__all__ = ["record", "check_output", "write_recording", "TIMELINE", "TRAIL_BLOCK", "MAX_WORLD_ROWS", "MAX_TRAIL_POINTS", "expected_entities"]
+__all__ = ["record", "check_output", "write_recording", "TIMELINE", "TRAIL_BLOCK", "MAX_WORLD_ROWS", "MAX_TRAIL_POINTS",
+           "expected_entities", "stride", "trail_blocks", "points_3d"]
 
 TIMELINE = "time"
 #: trail points per block (storage ~ TRAIL_BLOCK / 2 points per trail sample)
@@ -71,7 +72,7 @@ _GREEN = (44, 160, 44)
 _PURPLE = (148, 103, 189)
 
 
-def _stride(n: int, cap: int) -> np.ndarray:
+def stride(n: int, cap: int) -> np.ndarray:
     """Indices 0..n-1 thinned to at most ``cap`` (the last sample always kept)."""
     if n <= cap:
         return np.arange(n)
@@ -85,9 +86,10 @@ def _has_screen() -> bool:
     return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
 
 
-def _trail_blocks(t: np.ndarray, xy: np.ndarray, t_f: float | None) -> list[tuple[np.ndarray, np.ndarray, bool]]:
-    """Split the (decimated) trail into blocks (times, points, before_flip); consecutive blocks
-    share their boundary point so the polyline is continuous; no block straddles t_f."""
+def trail_blocks(t: np.ndarray, xy: np.ndarray, t_f: float | None) -> list[tuple[np.ndarray, np.ndarray, bool]]:
+    """Split the (decimated) trail, times ``t`` (s) and points ``xy`` (n, 2; m), into blocks (times,
+    points, before_flip); consecutive blocks share their boundary point so the polyline is continuous;
+    no block straddles the flip time ``t_f`` (s; None: no flip)."""
     if t_f is not None and t[0] < t_f < t[-1]:
         i = int(np.searchsorted(t, t_f, side="right"))
         at = np.array([np.interp(t_f, t, xy[:, 0]), np.interp(t_f, t, xy[:, 1])])
@@ -174,8 +176,8 @@ def _view_box(traj: Trajectory) -> tuple[float, float, float]:
     return 0.5 * (lo_x + hi_x), 0.5 * (lo_y + hi_y), max(0.5 * max(hi_x - lo_x, hi_y - lo_y), 1e-6)
 
 
-def _z(xy: np.ndarray) -> np.ndarray:
-    """Points of the plane as 3D points at z = 0."""
+def points_3d(xy: np.ndarray) -> np.ndarray:
+    """Points of the plane, (n, 2), as 3D points at z = 0, (n, 3), in the same units."""
     return np.column_stack([xy, np.zeros(len(xy))])
 
 
@@ -190,7 +192,7 @@ def _scene_text(traj: Trajectory, mark: FlipMark, scales: list[str]) -> str:
     if scales:
         lines.append("Arrows at the CM (green: CM velocity, purple: friction force): " + "; ".join(scales) + ".")
         lines.append("")
-    lines += ["```json", json.dumps(_jsonable({k: v for k, v in traj.meta.items() if k != "wall_s"}), indent=1), "```"]
+    lines += ["```json", json.dumps(jsonable({k: v for k, v in traj.meta.items() if k != "wall_s"}), indent=1), "```"]
     return "\n".join(lines)
 
 
@@ -217,7 +219,7 @@ def _log_run(rec: Any, traj: Trajectory, mark: FlipMark) -> None:
     if drive:
         s = np.linspace(0.0, 2.0 * math.pi, 257)
         d = float(drive["d"])
-        rec.log("world/drive_circle", rr.LineStrips3D([_z(np.column_stack([d * np.cos(s), d * np.sin(s)]))],
+        rec.log("world/drive_circle", rr.LineStrips3D([points_3d(np.column_stack([d * np.cos(s), d * np.sin(s)]))],
                                                       colors=[(0, 0, 0)], radii=[-1.0]), static=True)
         rec.log("world/O", rr.Points3D([[0.0, 0.0, 0.0]], colors=[(0, 0, 0)], radii=[-3.0], labels=["O"],
                                        show_labels=True), static=True)
@@ -256,7 +258,7 @@ def _log_run(rec: Any, traj: Trajectory, mark: FlipMark) -> None:
     rec.reset_time()
 
     # the plane: O, P, CM, rod, outline, arrows (decimated for very long runs)
-    w = _stride(n, MAX_WORLD_ROWS)
+    w = stride(n, MAX_WORLD_ROWS)
     tw = rr.TimeColumn(TIMELINE, duration=t[w])
     cm = np.column_stack([traj.x_cm, traj.y_cm])[w]
     pp = np.column_stack([traj.x_p, traj.y_p])[w]
@@ -264,11 +266,11 @@ def _log_run(rec: Any, traj: Trajectory, mark: FlipMark) -> None:
     # marker sizes in UI points (negative radii), so they read the same at any zoom
     rec.log("world/P", rr.Points3D.from_fields(colors=[(0, 0, 0)], radii=[-4.0], labels=["P"], show_labels=True),
             static=True)
-    rec.send_columns("world/P", indexes=[tw], columns=rr.Points3D.columns(positions=_z(pp)))
+    rec.send_columns("world/P", indexes=[tw], columns=rr.Points3D.columns(positions=points_3d(pp)))
     rec.log("world/cm", rr.Points3D.from_fields(colors=[_GREEN], radii=[-7.0 if ra == 0.0 else -3.0], labels=["CM"],
                                                 show_labels=True), static=True)
-    rec.send_columns("world/cm", indexes=[tw], columns=rr.Points3D.columns(positions=_z(cm)))
-    rods = np.stack([_z(cm), _z(pp)], axis=1)  # (rows, 2 points, xyz)
+    rec.send_columns("world/cm", indexes=[tw], columns=rr.Points3D.columns(positions=points_3d(cm)))
+    rods = np.stack([points_3d(cm), points_3d(pp)], axis=1)  # (rows, 2 points, xyz)
     rec.log("world/body/rod", rr.LineStrips3D.from_fields(colors=[(40, 40, 40)], radii=[-2.0]), static=True)
     rec.send_columns("world/body/rod", indexes=[tw], columns=rr.LineStrips3D.columns(strips=list(rods)))
     if ra > 0.0:
@@ -292,14 +294,15 @@ def _log_run(rec: Any, traj: Trajectory, mark: FlipMark) -> None:
         scales[f"{name} drawn at {scale:.3g} {unit}"] = scale
         path = f"world/arrows/{name}"
         rec.log(path, rr.Arrows3D.from_fields(colors=[colour], radii=[-1.5]), static=True)
-        rec.send_columns(path, indexes=[tw], columns=rr.Arrows3D.columns(origins=_z(cm), vectors=_z(vec * scale)))
+        rec.send_columns(path, indexes=[tw], columns=rr.Arrows3D.columns(origins=points_3d(cm),
+                                                                         vectors=points_3d(vec * scale)))
     rec.log("meta/scene", rr.TextDocument(_scene_text(traj, mark, list(scales)), media_type=rr.MediaType.MARKDOWN),
             static=True)
 
     # the CM trail in blocks (see the module docstring)
-    k = _stride(n, MAX_TRAIL_POINTS)
+    k = stride(n, MAX_TRAIL_POINTS)
     tf = mark.t_f if mark.status == "flip" else None
-    blocks = _trail_blocks(t[k], np.column_stack([traj.x_cm, traj.y_cm])[k], tf if tf is not None else None)
+    blocks = trail_blocks(t[k], np.column_stack([traj.x_cm, traj.y_cm])[k], tf if tf is not None else None)
     base = _GREY if mark.status == "unknown" else _BLUE
     for b, (tb, pb, red) in enumerate(blocks):
         path = f"world/cm_trail/b{b:04d}"
@@ -308,7 +311,7 @@ def _log_run(rec: Any, traj: Trajectory, mark: FlipMark) -> None:
         m = len(tb)
         if m < 2:
             continue
-        strips = [_z(pb[: j + 1]) for j in range(1, m)]
+        strips = [points_3d(pb[: j + 1]) for j in range(1, m)]
         rec.send_columns(path, indexes=[rr.TimeColumn(TIMELINE, duration=tb[1:])],
                          columns=rr.LineStrips3D.columns(strips=strips))
 

@@ -31,7 +31,8 @@ so a plain run pays one branch per step and no loop is compiled for it.
 
 Adding an effect: one module with the signature of its kind plus its registration. A law is declared
 in the one law table, :data:`rrbody.model.laws.LAW_TABLE` (name, code, parameters, area methods, this
-package's module of its entry points), from which :mod:`rrbody.physics.effects.laws` builds the compiled dispatch; an area
+package's module of its entry points), from which :mod:`rrbody.physics.effects.laws` builds the compiled dispatch; an
+area
 method takes a name in :data:`rrbody.model.laws.AREA_METHODS` and one branch in :mod:`rrbody.physics.areas`. A new
 law adds one compiled loop per kind, which the prebuild's workload (:mod:`rrbody.cli.workload`) compiles
 at install: it runs each law of the table.

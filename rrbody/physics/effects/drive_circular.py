@@ -1,4 +1,5 @@
-"""Effect ``circular drive``: the pivot P moves on a circle of radius d at rate omega (the impulsive start, docs/physics.md).
+"""Effect ``circular drive``: the pivot P moves on a circle of radius d at rate omega (the impulsive start,
+docs/physics.md).
 
 Its term in the driven body's equation, per unit mass, is the torque about P of the inertial force
 of the accelerating pivot: omega^2 l d sin(phi - omega t) (m^2/s^2), with the CM at

@@ -6,11 +6,10 @@ start from phi0 = pi (the equation of motion (docs/physics.md); the band's width
 :mod:`rrbody.physics.bind`). Declared in the law table (:data:`rrbody.model.laws.LAW_TABLE`).
 
 Entry points, both paths: the element force :func:`force` and its one-axis component :func:`perp` (the
-point and sampled methods, the point-mass Jacobian: :mod:`rrbody.physics.effects.laws`; the plugin's point feet and sampled
-parts). Its exact area integrals are kernels of their own, which call these: the instantaneous-centre
-quadrature and its table (:mod:`rrbody.physics.icr`, :mod:`rrbody.physics.icr_table`) and the footprint
-kernel (:func:`rrbody.physics.contact.footprint_wrench`), which the ODE path's contact method and the
-plugin both use.
+point and sampled methods, the point-mass Jacobian: :mod:`rrbody.physics.effects.laws`; the plugin's point feet and
+sampled parts). Its exact area integrals are kernels of their own, which call these: the instantaneous-centre
+quadrature and its table (:mod:`rrbody.physics.icr`, :mod:`rrbody.physics.icr_table`) and the footprint kernel
+(:func:`rrbody.physics.contact.footprint_wrench`), which the ODE path's contact method and the plugin both use.
 """
 
 from __future__ import annotations

@@ -10,10 +10,10 @@ zero-speed dead band ``v_eps`` (m/s) the force is zero, as dry friction's (:mod:
 is Coulomb friction with mu_k, v_s -> infinity Coulomb friction with mu_s (``tests/test_stribeck.py``).
 
 Entry points, both paths: the element force :func:`force` and its one-axis component :func:`perp` (the
-point and sampled methods and the point-mass Jacobian, through :mod:`rrbody.physics.effects.laws`). It has no closed form over an
-area: the contact method (the ODE path's, and the plugin's footprints) integrates :func:`force` by
-quadrature (:mod:`rrbody.physics.footprint_quad`, with its stated error); the icr and table methods are dry
-friction's own and have no form for it.
+point and sampled methods and the point-mass Jacobian, through :mod:`rrbody.physics.effects.laws`). It has no closed
+form over an area: the contact method (the ODE path's, and the plugin's footprints) integrates :func:`force` by
+quadrature (:mod:`rrbody.physics.footprint_quad`, with its stated error); the icr and table methods are dry friction's
+own and have no form for it.
 """
 
 from __future__ import annotations

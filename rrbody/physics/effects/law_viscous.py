@@ -4,7 +4,8 @@ Parameter: ``coeff`` = gamma (1/s). Smooth everywhere; ``v_eps`` is unused. Decl
 (:data:`rrbody.model.laws.LAW_TABLE`).
 
 Entry points, both paths: the element force :func:`force` and its one-axis component :func:`perp` (the
-point and sampled methods, the point-mass Jacobian: :mod:`rrbody.physics.effects.laws`); the law is linear, so its integral over
+point and sampled methods, the point-mass Jacobian: :mod:`rrbody.physics.effects.laws`); the law is linear, so its
+integral over
 any area is a closed form of the load's moments: :func:`rigid` for a homogeneous disk or ellipse (the icr
 and table methods) and :func:`moments` for any footprint: :func:`footprint`, the law's contact form,
 which the contact method on the ODE path (:mod:`rrbody.physics.areas.area_contact`) and the plugin's kernel

@@ -37,7 +37,8 @@ from numba import njit
 from rrbody.model.laws import LAW_CODES, LAW_TABLE, N_LAW_PARAMS
 from rrbody.physics import params as P
 
-__all__ = ["element_force", "element_perp", "law_footprint", "law_has_footprint", "law_rest_coeff", "one_of", "law_params",
+__all__ = ["element_force", "element_perp", "law_footprint", "law_has_footprint", "law_rest_coeff", "one_of",
+           "law_params",
            "law_params_at",
            "MODULES", "NO_PARAMS",
            "NONE", "DRY", "VISCOUS"]
