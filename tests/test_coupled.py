@@ -332,3 +332,36 @@ def test_a_solve_that_does_not_converge_says_so() -> None:
                                             r"Newton iterations \(tolerance 1e-17\)"):
         for _ in range(20):
             pf.step(0.01)
+
+
+def test_an_island_of_more_than_max_island_bodies_is_left_to_the_split_step() -> None:
+    """Ten boxes in a touching row pushed by a kinematic disk: one island of ten bodies on the plane (more
+    than MAX_ISLAND) steps as the split step steps it, bit for bit, and the plugin says so once; a row of
+    MAX_ISLAND boxes is solved (it differs from the split step)."""
+    import warnings
+
+    from rrbody.contact.coupled import MAX_ISLAND
+
+    def run(n: int, scheme: str) -> tuple[np.ndarray, list[warnings.WarningMessage]]:
+        space = pymunk.Space()
+        pf = PlaneFriction(space, g=9.81, scheme=scheme)
+        made = [box(space, 0.1, (0.0995 * k, 0.0)) for k in range(n)]  # (overlapping: one island from the start)
+        pusher = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+        pusher.position = (-0.05 - 0.01 - 0.0005, 0.01)
+        space.add(pusher, pymunk.Circle(pusher, 0.01))
+        pusher.velocity = (0.02, 0.0)
+        for b in made:
+            pf.add(b, mu=0.4)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            for _ in range(60):
+                pf.step(0.01)
+        return np.array([[*b.position, b.angle, *b.velocity] for b in made]), caught
+
+    large, said = run(MAX_ISLAND + 2, "coupled")
+    split, _ = run(MAX_ISLAND + 2, "split")
+    assert np.array_equal(large, split)
+    assert sum("left to the split step" in str(w.message) for w in said) == 1
+    small, said_small = run(MAX_ISLAND, "coupled")
+    assert not any("left to the split step" in str(w.message) for w in said_small)
+    assert not np.array_equal(small, run(MAX_ISLAND, "split")[0])

@@ -77,7 +77,8 @@ N_IB = 16
 (CN_A, CN_B, CN_NX, CN_NY, CN_R1X, CN_R1Y, CN_R2X, CN_R2Y, CN_FRICTION, CN_BOUNCE, CN_VN0, CN_VT0) = range(12)
 N_CN = 12
 #: the per-island report: Newton iterations, contact sweeps in all, the last relative change, the island
-#: body whose change it was (-1: none), and 1.0 where the island was left to the engine (squeezed: SQUEEZE)
+#: body whose change it was (-1: none), and where the island was left to the engine: 1.0 squeezed (SQUEEZE),
+#: 2.0 too large (MAX_ISLAND); 0.0 solved
 OUT_ITER, OUT_SWEEPS, OUT_RESIDUAL, OUT_WORST, OUT_LEFT = range(5)
 N_OUT = 5
 
@@ -101,6 +102,15 @@ SMALL_STEP = 1e-3
 NEAR_REST = 1e-3
 #: how often a body may stick or let go in one step's solve (the active set's cycles end there)
 MAX_FLIPS = 6
+#: the Gauss-Seidel sweeps of a programme or of the nonsmooth iteration at most this many contact points and
+#: bodies over the island's count (and at least MIN_SWEEPS): a jammed cluster of hundreds of bodies is one
+#: island whose sweeps would otherwise cost seconds a step; an island that does not settle within them is
+#: left to the engine (its squeeze test) or warns
+ISLAND_WORK = 20000
+MIN_SWEEPS = 20
+#: an island of more bodies on the plane than this is left to the engine (the split step's answer): a jammed
+#: cluster's solve costs seconds a step (benchmarks/active.py) where its bodies mostly push one another
+MAX_ISLAND = 8
 #: the nonsmooth Gauss-Seidel iteration's sweeps at most, per Newton iteration allowed (``max_iter``)
 NSGS_PER_ITER = 50
 #: the nonsmooth Gauss-Seidel iteration hands back to Newton, to polish, once no body's velocity moves by more
@@ -677,7 +687,19 @@ def _solve_island(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, 
     scale = np.zeros(nb)
     mode = np.zeros(nb, dtype=np.int64)
     flips = np.zeros(nb, dtype=np.int64)
+    if nb > MAX_ISLAND:  # too large to solve at a useful cost: left to the engine, as a squeezed island
+        for ii in range(nb):
+            pinned[b0 + ii] = -1
+        out[OUT_ITER] = 0
+        out[OUT_SWEEPS] = 0
+        out[OUT_RESIDUAL] = 0.0
+        out[OUT_WORST] = -1
+        out[OUT_LEFT] = 2.0
+        return
     vscale = _start(b0, b1, isl, bodies, shapes, geo, dt, q, s, mode, scale)
+    cap = max(MIN_SWEEPS, ISLAND_WORK // (k1 - k0 + nb))
+    max_sweeps = min(max_sweeps, cap)
+    nsgs_sweeps = min(NSGS_PER_ITER * max_iter, cap)
     it, sweeps, change, worst = _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s, qn,
                                         mode, flips, scale, vscale, tol, max_iter, max_sweeps, MAX_FLIPS)
     if change < 0.0:  # squeezed: left to the engine (its velocities, its friction as the split step applied it)
@@ -695,7 +717,7 @@ def _solve_island(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, 
     if change > tol:
         jac = np.zeros((2, 6))
         n_sw, change, worst = _nsgs(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s, scale,
-                                    max(tol, SETTLED), NSGS_PER_ITER * max_iter, jac)
+                                    max(tol, SETTLED), nsgs_sweeps, jac)
         sweeps += n_sw
         # Newton from there, the modes the Gauss-Seidel answer has
         keep_q = q[b0:b1].copy()
@@ -723,7 +745,7 @@ def _solve_island(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, 
             s[:, :] = keep_s
             if change > tol:
                 n_sw, change, worst = _nsgs(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s,
-                                            scale, tol, NSGS_PER_ITER * max_iter, jac)
+                                            scale, tol, nsgs_sweeps, jac)
                 sweeps += n_sw
     for ii in range(nb):
         i = b0 + ii

@@ -66,6 +66,7 @@ class Coupling:
         self._touch: Any = None  # and its first look's (whether anything touched)
         self._count = np.zeros(1, dtype=np.int64)
         self.last_report: np.ndarray = np.zeros((0, CP.N_OUT))  # the last step's report, a row per island
+        self._told_large = False  # whether the warning for an island left for its size was given
 
     def after_step(self, dt: float, bodies: list[Any], slots: dict[Any, int], rows: np.ndarray,
                    arrays: tuple[np.ndarray, np.ndarray, np.ndarray], lookup: np.ndarray,
@@ -122,9 +123,15 @@ class Coupling:
                     self.max_sweeps, self._order, self._vel, self._events, self._report)
                 arbiters.write_public(bodies, self._order[:nb], self._vel)
                 break
+        self.last_report = self._report[:n_isl]
+        if not self._told_large and n_isl and (self.last_report[:, CP.OUT_LEFT] == 2.0).any():
+            self._told_large = True  # (once per plugin: a jammed space has such islands at every step)
+            warnings.warn(f"an island of more than {CP.MAX_ISLAND} touching bodies on the plane is left to the split "
+                          "step (friction before pymunk's contact solve): the coupled solve of a jammed cluster costs "
+                          "seconds a step (docs/plugin.md, 'The coupled step'); this is said once",
+                          RuntimeWarning, stacklevel=4)
         if not nb:
             return None
-        self.last_report = self._report[:n_isl]
         if n_bad:
             for r in self._report[:n_isl]:
                 if r[CP.OUT_RESIDUAL] > self.tol:
