@@ -107,6 +107,19 @@ def box(space: pymunk.Space, size: float, position: tuple[float, float], density
     return body
 
 
+def pushed_row(space: pymunk.Space, pf: PlaneFriction, positions: list[tuple[float, float]]) -> list[pymunk.Body]:
+    """Boxes of 0.1 m at ``positions`` on the plane (mu 0.4), and a kinematic disk (radius 0.01 m) 0.5 mm
+    behind the first moving along +x at 2 cm/s."""
+    made = [box(space, 0.1, p) for p in positions]
+    pusher = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+    pusher.position = (-0.05 - 0.01 - 0.0005, 0.01)
+    space.add(pusher, pymunk.Circle(pusher, 0.01))
+    pusher.velocity = (0.02, 0.0)
+    for b in made:
+        pf.add(b, mu=0.4)
+    return made
+
+
 def test_box_pushed_slowly_moves_with_the_pusher() -> None:
     """A box pushed through its centre at 1 cm/s (below mu g dt = 4.9 cm/s at 10 ms) moves with the pusher at
     its speed, without stop-go: its velocity is steady to 1e-9 after the first steps (the exact motion: the
@@ -321,13 +334,7 @@ def test_a_solve_that_does_not_converge_says_so() -> None:
     names the body and the remaining change."""
     space = pymunk.Space()
     pf = PlaneFriction(space, g=9.81, tol=1e-17, max_iter=1)
-    made = [box(space, 0.1, (0.1 * k, 0.02 * k)) for k in range(3)]
-    pusher = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
-    pusher.position = (-0.05 - 0.01 - 0.0005, 0.01)
-    space.add(pusher, pymunk.Circle(pusher, 0.01))
-    pusher.velocity = (0.02, 0.0)
-    for b in made:
-        pf.add(b, mu=0.4)
+    pushed_row(space, pf, [(0.1 * k, 0.02 * k) for k in range(3)])
     with pytest.warns(RuntimeWarning, match=r"did not converge for body pf.bodies\[\d\] .*still moved by .* after \d+ "
                                             r"Newton iterations \(tolerance 1e-17\)"):
         for _ in range(20):
@@ -345,13 +352,7 @@ def test_an_island_of_more_than_max_island_bodies_is_left_to_the_split_step() ->
     def run(n: int, scheme: str) -> tuple[np.ndarray, list[warnings.WarningMessage]]:
         space = pymunk.Space()
         pf = PlaneFriction(space, g=9.81, scheme=scheme)
-        made = [box(space, 0.1, (0.0995 * k, 0.0)) for k in range(n)]  # (overlapping: one island from the start)
-        pusher = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
-        pusher.position = (-0.05 - 0.01 - 0.0005, 0.01)
-        space.add(pusher, pymunk.Circle(pusher, 0.01))
-        pusher.velocity = (0.02, 0.0)
-        for b in made:
-            pf.add(b, mu=0.4)
+        made = pushed_row(space, pf, [(0.0995 * k, 0.0) for k in range(n)])  # (overlapping: one island at once)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             for _ in range(60):
