@@ -67,7 +67,7 @@ def test_every_python_writer_says_force_and_names_its_own_file() -> None:
                 continue
             name = first.group(1)
             assert names.setdefault(name, page.name) == page.name, f"{name} is written by {names[name]} and {page.name}"
-    assert seen >= 8
+    assert seen >= 5  # (the README's poster and movie, getting-started's two writers, the command line page's)
     assert "topdown.mp4" in names and names["topdown.mp4"] == "README.md"
     assert "traj_py.csv" in names and names["traj_py.csv"] == "cli.md"
 
