@@ -19,6 +19,7 @@ its footprint (:mod:`rrbody.physics.limit`), or slides with the friction of the 
 M (v - v*) = dt w(v) + contact impulses.
 
 How it is solved (:func:`couple`, one call per step for every island):
+
 - the velocities are scaled to q = (vx, vy, r_g w), r_g = sqrt(I / m), where kinetic energy is m |q|^2 / 2
   and the friction per unit mass a(q) is minus the gradient of D / m (symmetric Jacobian);
 - Newton's method on the sliding bodies: the friction linearised at the current q, a(q) + G (q' - q)
