@@ -26,9 +26,11 @@ TRAVELS = (3.0, 30.0)  # units of the centre of gravity's travel at which dtheta
 G, DT, OFFSET, RADIUS, GAP = 5886.0, 0.01, 60.0, 15.0, 0.5  # units/s^2, s, units, units, units
 
 
-def push(mu: float, speed: float, scheme: str) -> tuple[dict[float, float], object]:
-    """The push on the plugin at DT with ``scheme``: dtheta/ds (rad/unit) at each of TRAVELS, and the push's
-    geometry (for the exact references)."""
+def push(mu: float, speed: float, scheme: str, *, dt: float = DT, offset: float = OFFSET,
+         travels: tuple[float, ...] = TRAVELS) -> tuple[dict[float, float], object]:
+    """The push on the plugin at ``dt`` (s) with ``scheme``, the disk ``offset`` units from the T's axis:
+    dtheta/ds (rad/unit) when the centre of gravity first travels each of ``travels`` (units), and the
+    push's geometry (for the exact references)."""
     import pymunk
 
     from rrbody.analysis.pushing import PushGeometry
@@ -38,16 +40,16 @@ def push(mu: float, speed: float, scheme: str) -> tuple[dict[float, float], obje
     space = pymunk.Space()
     body, _ = tee_body(space)
     agent = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
-    agent.position = (256.0 + OFFSET, 300.0 - RADIUS - GAP)  # the bar's face is the T's origin line, y = 300
+    agent.position = (256.0 + offset, 300.0 - RADIUS - GAP)  # the bar's face is the T's origin line, y = 300
     space.add(agent, pymunk.Circle(agent, RADIUS))
     agent.velocity = (0.0, speed)
     geometry = PushGeometry(body, RADIUS, tuple(agent.position), (0.0, speed))
     pf = PlaneFriction(space, g=G, scheme=scheme)
     pf.add(body, mu=mu)
     cg0 = np.array(body.local_to_world(body.center_of_gravity))
-    out, todo = {}, list(TRAVELS)
+    out, todo = {}, list(travels)
     while todo:
-        pf.step(DT)
+        pf.step(dt)
         s = float(np.hypot(*(np.array(body.local_to_world(body.center_of_gravity)) - cg0)))
         if s >= todo[0]:
             out[todo.pop(0)] = body.angle / s

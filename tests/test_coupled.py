@@ -13,7 +13,7 @@ import numpy as np
 import pymunk
 import pytest
 
-from rrbody.analysis.pushing import PushGeometry, push_limit, quasi_static_push
+from rrbody.analysis.pushing import push_limit, quasi_static_push
 from rrbody.plugin import PlaneFriction
 
 G = 5886.0  # gym-pusht's units: 9.81 m/s^2 at 600 units per metre
@@ -29,26 +29,12 @@ def tee(space: pymunk.Space, position: tuple[float, float] = (256.0, 300.0)) -> 
 
 
 def push_tee(mu: float, speed: float, dt: float, offset: float, travels: tuple[float, ...], scheme: str = "coupled"):
-    """The issue's push: a kinematic disk of radius 15, 0.5 units below the top bar's face at ``offset`` from
-    the T's axis, moving along +y at ``speed``; dtheta/ds when the centre of gravity first travels each of
-    ``travels`` (rad per unit)."""
-    space = pymunk.Space()
-    body = tee(space)
-    agent = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
-    agent.position = (256.0 + offset, 300.0 - AGENT_R - 0.5)
-    space.add(agent, pymunk.Circle(agent, AGENT_R))
-    agent.velocity = (0.0, speed)
-    pf = PlaneFriction(space, g=G, scheme=scheme)
-    pf.add(body, mu=mu)
-    geometry = PushGeometry(body, AGENT_R, tuple(agent.position), (0.0, speed))
-    cg0 = np.array(body.local_to_world(body.center_of_gravity))
-    out, todo = {}, list(travels)
-    while todo:
-        pf.step(dt)
-        s = float(np.hypot(*(np.array(body.local_to_world(body.center_of_gravity)) - cg0)))
-        if s >= todo[0]:
-            out[todo.pop(0)] = body.angle / s
-    return out, geometry
+    """The issue's push (``rrbody scene coupled-push``'s, scenes/coupled_push.py): a kinematic disk of radius
+    15, 0.5 units below the top bar's face at ``offset`` from the T's axis, moving along +y at ``speed``;
+    dtheta/ds when the centre of gravity first travels each of ``travels`` (rad per unit), and the geometry."""
+    from scenes.coupled_push import push
+
+    return push(mu, speed, scheme, dt=dt, offset=offset, travels=travels)
 
 
 # the 1 % of the issue's target; the plugin's own limit differs from the reference by pymunk's contact slop

@@ -28,7 +28,7 @@ from rrbody.contact.lean import NO_REFCOUNT
 
 
 @njit(cache=True)
-def _find(lookup: np.ndarray, key: np.int64) -> int:
+def find_row(lookup: np.ndarray, key: np.int64) -> int:
     """The plugin row of the body with id ``key``, or -1 (binary search in lookup[0])."""
     lo = 0
     hi = lookup.shape[1]
@@ -60,7 +60,7 @@ def plane_check(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.
     for i in range(got.shape[0]):
         key = ids[i]
         if seen[i] != key:
-            rowmap[i] = _find(lookup, key)
+            rowmap[i] = find_row(lookup, key)
             seen[i] = key
         if rowmap[i] < 0:
             continue

@@ -34,6 +34,7 @@ from numba.extending import intrinsic
 
 from rrbody._private import private_allowed
 from rrbody.contact import islands as I
+from rrbody.contact.kernel import find_row
 
 __all__ = ["ROUTES", "read_public", "write_public", "touching", "read_compiled", "write_compiled", "step_compiled",
            "compiled_route", "CompiledRoute"]
@@ -224,22 +225,6 @@ def _on_constraint(body: Any, constraint: Any, data: Any) -> None:
 
 
 @njit(cache=True)
-def _row(lookup: np.ndarray, key: int) -> int:
-    """The plugin row of the body with id ``key`` (binary search in lookup[0]), or -1."""
-    lo = 0
-    hi = lookup.shape[1]
-    while lo < hi:
-        mid = (lo + hi) // 2
-        if lookup[0, mid] < key:
-            lo = mid + 1
-        else:
-            hi = mid
-    if lo < lookup.shape[1] and lookup[0, lo] == key:
-        return lookup[1, lo]
-    return -1
-
-
-@njit(cache=True)
 def _body_state(api: np.ndarray, b: int, out: np.ndarray) -> None:
     """A body's centre of gravity (world, m), angle, velocity and spin into ``out`` (RB_CX .. RB_W)."""
     px, py = _vec_i(api[BODY_POSITION], b)
@@ -297,10 +282,10 @@ def read_compiled(api: np.ndarray, addrs: np.ndarray, lookup: np.ndarray, rec: n
         base = 4 + _REC * r
         arb = rec[base]
         x = rec[base + 1]  # the plugin body that handed the arbiter over, first in this record's view
-        jx = _row(lookup, _p_i(api[BODY_ID], x))
+        jx = find_row(lookup, _p_i(api[BODY_ID], x))
         _v_iii(api[GET_BODIES], arb, pair.ctypes.data, pair.ctypes.data + 8)
         other = pair[1] if pair[0] == x else pair[0]
-        jo = _row(lookup, _p_i(api[BODY_ID], other))
+        jo = find_row(lookup, _p_i(api[BODY_ID], other))
         if jo >= 0 and jo < jx:
             continue  # an arbiter of two plugin bodies: taken once, from the one with the lower row
         _v_iii(api[GET_SHAPES], arb, pair.ctypes.data, pair.ctypes.data + 8)
