@@ -97,7 +97,8 @@ def run_movie_s1() -> None:
 
 def _plugin_workload() -> None:
     """The plugin's kernels: a circle (the disk's table), a box (its footprint table) and a thick segment
-    (the exact wrench), stepped a few times."""
+    (the exact wrench), stepped a few times; static friction on a tilt; the coupled step of two boxes a
+    pusher presses together (a new user's first contact would otherwise compile its solve)."""
     try:
         import pymunk
     except ImportError:  # the engine extra is absent: nothing of the plugin can run here
@@ -129,9 +130,23 @@ def _plugin_workload() -> None:
         tilted.space.add(body, shape)
         body.velocity, body.angular_velocity = (0.2, 0.0), 1.0  # (a moving body on feet: its first half kick)
         tilted.add(body, mu=0.2, mu_static=0.5, pressure=pr)
+    # the coupled step (its first look, its islands and its solve): two boxes pressed together by a pusher
+    pushed = PlaneFriction(pymunk.Space(), g=9.81)
+    for k in range(2):
+        body = pymunk.Body()
+        shape = pymunk.Poly.create_box(body, (0.1, 0.1))
+        shape.density = 10.0
+        body.position = (0.0995 * k, 0.0)
+        pushed.space.add(body, shape)
+        pushed.add(body, mu=0.4)
+    pusher = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+    pusher.position = (-0.0605, 0.01)
+    pusher.velocity = (0.02, 0.0)
+    pushed.space.add(pusher, pymunk.Circle(pusher, 0.01))
     for _ in range(3):
         pf.step(1 / 240)
         tilted.step(1 / 240)
+        pushed.step(0.01)
     pf.wrench(pf.bodies[0])
     from rrbody.render.recorder import Recorder
 
