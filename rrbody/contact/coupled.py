@@ -57,7 +57,9 @@ from rrbody.physics.limit import at_rest
 __all__ = ["IB_ROW", "IB_M", "IB_RG", "IB_CA", "IB_SA", "IB_SX", "IB_SY", "IB_SW", "IB_VX", "IB_VY", "IB_VW",
            "IB_REST", "IB_ISLAND", "IB_PX", "IB_PY", "IB_PW", "N_IB", "CN_A", "CN_B", "CN_NX", "CN_NY", "CN_R1X", "CN_R1Y", "CN_R2X", "CN_R2Y",
            "CN_FRICTION", "CN_BOUNCE", "CN_VN0", "CN_VT0", "N_CN", "OUT_ITER", "OUT_SWEEPS", "OUT_RESIDUAL",
-           "OUT_WORST", "OUT_LEFT", "N_OUT", "couple"]
+           "OUT_WORST", "OUT_LEFT", "N_OUT", "MEMO_SET", "MEMO_QX", "MEMO_QY", "MEMO_QW", "MEMO_GXX", "MEMO_GXY",
+           "MEMO_GXW", "MEMO_GYY", "MEMO_GYW", "MEMO_GWW", "MEMO_MOVED", "MEMO_DX", "MEMO_DY", "MEMO_DW", "N_MEMO",
+           "couple"]
 
 #: island-body columns (one row per body on the plane in an island): its row in ``bodies``, mass (kg),
 #: radius of gyration r_g = sqrt(I / m) (m), cosine and sine of its angle after the engine's position
@@ -82,6 +84,14 @@ N_CN = 12
 #: 2.0 too large (MAX_ISLAND); 0.0 solved
 OUT_ITER, OUT_SWEEPS, OUT_RESIDUAL, OUT_WORST, OUT_LEFT = range(5)
 N_OUT = 5
+#: the Jacobian memo (a row per plane row, kept by the caller from step to step): 1.0 where the row holds a
+#: Jacobian, the twist it was taken at and the Jacobian itself, both in the body frame (q coordinates: the
+#: friction of a footprint as a function of its body-frame twist does not change as the body turns), its
+#: symmetric entries xx, xy, xw, yy, yw, ww (1/s); then 1.0 where the row holds the velocity change the
+#: coupled step gave the body in the last step (a slide it solved), and that change (q coordinates, world frame)
+(MEMO_SET, MEMO_QX, MEMO_QY, MEMO_QW, MEMO_GXX, MEMO_GXY, MEMO_GXW, MEMO_GYY, MEMO_GYW, MEMO_GWW, MEMO_MOVED,
+ MEMO_DX, MEMO_DY, MEMO_DW) = range(14)
+N_MEMO = 14
 
 #: forward-difference step of the friction's Jacobian, relative to the twist (the wrench is homogeneous of
 #: degree zero: its curvature scale is the twist itself, so the Jacobian is good to about this)
@@ -89,6 +99,11 @@ FD_STEP = 1e-7
 #: a Newton iteration whose step moved a body by more than this fraction of its scale is followed by one with
 #: a fresh Jacobian; closer to the answer the last one serves (the chord method)
 CHORD = 1e-2
+#: the first Newton iteration of a step takes a body's Jacobian from the last steps' (the memo) where the memo's
+#: was taken within this fraction of its scale of its twist now: close enough that the second iteration's
+#: step is within about a thousandth of the first's and the third lands (a Jacobian costs three evaluations
+#: of the friction, an iteration one)
+MEMO_REUSE = 2e-3
 #: a Newton step that brings a body below this fraction of its scale passes through rest: test sticking
 PASS_REST = 1e-9
 #: a contact programme that, its sweeps spent, still has a contact closing faster than this fraction of the
@@ -271,6 +286,23 @@ def _largest(b0, nb, q, qn, scale):  # noqa: ANN001, ANN202
 
 
 @njit(cache=True)
+def _newtons(b0, nb, q, qn, mode):  # noqa: ANN001, ANN202
+    """Whether the step from q to qn moves every sliding body by at most SMALL_STEP of its own velocity: near
+    the answer, away from rest (where the friction's kink is), where Newton's full step is the one to take."""
+    for ii in range(nb):
+        if mode[ii] != 1:
+            continue
+        d = 0.0
+        v = 0.0
+        for r in range(3):
+            d += (qn[ii, r] - q[b0 + ii, r]) ** 2
+            v += q[b0 + ii, r] ** 2
+        if d > (SMALL_STEP * SMALL_STEP) * v:
+            return False
+    return True
+
+
+@njit(cache=True)
 def _pushed(i, b0, k0, k1, con, isl, qn, mode, jac, slack):  # noqa: ANN001, ANN202
     """Whether a contact of island body i, at rest, with a body that cannot give way either (a static or
     kinematic body, or another held body, at rest) closes faster than its bounce allows: no impulse can hold
@@ -321,14 +353,79 @@ def _start(b0, b1, isl, bodies, shapes, geo, dt, q, s, mode, scale):  # noqa: AN
     return vscale
 
 
+@njit(cache=True, inline="always")
+def _turn(ca: float, sa: float, r: int, k: int) -> float:
+    """Entry (r, k) of the rotation from the body frame to the world frame in q coordinates (the third
+    coordinate, the spin, does not turn)."""
+    if r == 2 or k == 2:
+        return 1.0 if r == k else 0.0
+    if r == k:
+        return ca
+    return -sa if r == 0 else sa
+
+
+@njit(cache=True)
+def _recall(i, isl, q, scale, memo, G):  # noqa: ANN001, ANN202
+    """Island body i's Jacobian from the memo (world frame, into G) if the memo holds one taken at a twist
+    within MEMO_REUSE of its scale of q (the chord method across steps: a body pushed steadily turns its
+    twist little from one step to the next); False if not."""
+    j = int(isl[i, IB_ROW])
+    if memo[j, MEMO_SET] == 0.0:
+        return False
+    ca = isl[i, IB_CA]
+    sa = isl[i, IB_SA]
+    dx = ca * q[i, 0] + sa * q[i, 1] - memo[j, MEMO_QX]
+    dy = -sa * q[i, 0] + ca * q[i, 1] - memo[j, MEMO_QY]
+    dw = q[i, 2] - memo[j, MEMO_QW]
+    if math.sqrt(dx * dx + dy * dy + dw * dw) > MEMO_REUSE * scale:
+        return False
+    for r in range(3):
+        for c in range(3):
+            v = 0.0
+            for k in range(3):
+                for m in range(3):
+                    v += _turn(ca, sa, r, k) * memo[j, _memo_column(k, m)] * _turn(ca, sa, c, m)
+            G[r, c] = v
+    return True
+
+
+@njit(cache=True, inline="always")
+def _memo_column(k: int, m: int) -> int:
+    """The memo's column of the body-frame Jacobian's entry (k, m) (symmetric)."""
+    lo = min(k, m)
+    hi = max(k, m)
+    if lo == 0:
+        return MEMO_GXX + hi
+    return MEMO_GYY + hi - 1 if lo == 1 else MEMO_GWW
+
+
+@njit(cache=True)
+def _remember(i, isl, q, G, memo):  # noqa: ANN001, ANN202
+    """Keep island body i's Jacobian G (world frame), taken at q, in the memo (body frame)."""
+    j = int(isl[i, IB_ROW])
+    ca = isl[i, IB_CA]
+    sa = isl[i, IB_SA]
+    memo[j, MEMO_QX] = ca * q[i, 0] + sa * q[i, 1]
+    memo[j, MEMO_QY] = -sa * q[i, 0] + ca * q[i, 1]
+    memo[j, MEMO_QW] = q[i, 2]
+    for k in range(3):
+        for m in range(k, 3):
+            v = 0.0
+            for r in range(3):
+                for c in range(3):
+                    v += _turn(ca, sa, r, k) * G[r, c] * _turn(ca, sa, c, m)
+            memo[j, _memo_column(k, m)] = v
+    memo[j, MEMO_SET] = 1.0
+
+
 @njit(cache=True)
 def _linearise(b0, b1, isl, bodies, shapes, geo, tables, dt, q, s, mode, scale, W, f, frozen, Gs, a0s,
-               refresh):  # noqa: ANN001, ANN202
+               refresh, memo):  # noqa: ANN001, ANN202
     """Each body's linearised step: W = (I - dt G)^-1 (G the friction's Jacobian, symmetrised) and its
     velocity with no contact impulse f = W (q* + dt (a(q) - G q)); a held body none (W = 0, f = 0). The
     friction a(q) is evaluated at q (kept in ``a0s``); its Jacobian by forward differences there where
     ``refresh`` says so for the body, else the one kept in ``Gs`` (the chord method: close to the solution it
-    hardly changes). A sliding body at rest to within rounding is tested for sticking first (it may become
+    hardly changes); a fresh one is kept in ``memo`` too. A sliding body at rest to within rounding is tested for sticking first (it may become
     held), unless the modes are ``frozen``: then it is linearised about the velocity the engine's solve gave
     it (and its Jacobian computed afresh)."""
     A = np.zeros((3, 3))
@@ -383,6 +480,7 @@ def _linearise(b0, b1, isl, bodies, shapes, geo, tables, dt, q, s, mode, scale, 
                 for c2 in range(3):
                     G[r, c2] = 0.5 * (G[r, c2] + G[c2, r]) if r <= c2 else G[c2, r]
             refresh[ii] = False
+            _remember(i, isl, q, G, memo)
         for r in range(3):
             for c2 in range(3):
                 A[r, c2] = (1.0 if r == c2 else 0.0) - dt * G[r, c2]
@@ -488,10 +586,11 @@ def _programme(b0, b1, k0, k1, isl, con, W, f, lam, s, qn, keff, jac, slack, max
 
 @njit(cache=True)
 def _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s, qn, mode, flips, scale, vscale,
-            tol, max_iter, max_sweeps, max_flips):  # noqa: ANN001, ANN202
+            tol, max_iter, max_sweeps, max_flips, memo):  # noqa: ANN001, ANN202
     """Newton's method on the island from ``q`` (each body's starting velocity) in its ``mode``s: the
     linearised step's programme, then sticking and letting go with its impulses (at most ``max_flips``
-    times a body; 0 keeps the modes), then a line search on the objective. Leaves the last programme's
+    times a body; 0 keeps the modes), then a line search on the objective. The first iteration takes a
+    body's Jacobian from ``memo`` where the memo's is close (:func:`_recall`). Leaves the last programme's
     answer in ``qn`` (the impulses in ``lam``, ``s``). Returns (iterations, sweeps, the last relative
     change, its body's index in the island or -1)."""
     nb = b1 - b0
@@ -526,10 +625,13 @@ def _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s
     worst = -1
     it = 0
     for it in range(1, max_iter + 1):
-        if it == 1 or last > CHORD:
+        if it == 1:
+            for ii in range(nb):  # (a fresh Jacobian, unless the last step's is close)
+                refresh[ii] = mode[ii] != 1 or not _recall(b0 + ii, isl, q, scale[ii], memo, Gs[ii])
+        elif last > CHORD:
             refresh[:] = True  # (far from the answer, or a restart: a fresh Jacobian)
         _linearise(b0, b1, isl, bodies, shapes, geo, tables, dt, q, s, mode, scale, W, f, max_flips == 0, Gs, a0s,
-                   refresh)
+                   refresh, memo)
         inner = slack
         n_sw, closing = _programme(b0, b1, k0, k1, isl, con, W, f, lam, s, qn, keff, jac, inner, max_sweeps)
         sweeps += n_sw
@@ -595,7 +697,9 @@ def _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s
         for ii in range(nb):
             if mode[ii] == 1 and not dry[ii]:
                 all_dry = False
-        if all_dry and feasible:
+        if all_dry and feasible and last < math.inf and _newtons(b0, nb, q, qn, mode):
+            phi_known = False  # a step this small against each sliding body's velocity: Newton's own, taken whole
+        elif all_dry and feasible:
             # (the objective at q is the last search's accepted value, where no contact has friction of its own:
             # only those parts change with the impulses)
             phi0 = phi if (phi_known and not rubbing) else _objective(b0, nb, k0, k1, isl, con, lam, q, qn, 0.0, mode,
@@ -670,12 +774,12 @@ def _consistent(b0, b1, k0, k1, isl, con, bodies, shapes, geo, dt, qn, s, mode, 
 
 @njit(cache=True)
 def _solve_island(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, pinned, fric, tol,
-                  max_iter, max_sweeps, out):  # noqa: ANN001, ANN202
+                  max_iter, max_sweeps, out, memo):  # noqa: ANN001, ANN202
     """One island: bodies [b0, b1) of ``isl``, contact points [k0, k1) of ``con`` (their body indices
     into ``isl``). ``q`` holds each body's starting guess and receives its velocity (q coordinates),
     ``lam`` each point's normal and tangential impulse (N s: warm start in, answer out), ``pinned``
     1 for a body held at rest, ``fric`` its friction per unit mass (q coordinates, m/s^2). Writes the
-    report to ``out``.
+    report to ``out``; ``memo``: the Jacobian memo (``MEMO_*``, a row per plane row).
 
     Newton's method first (:func:`_newton`). Where it does not settle which bodies stick (its active set
     cycles: several bodies sticking and letting go in turn through their contacts), the nonsmooth
@@ -702,7 +806,7 @@ def _solve_island(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, 
     max_sweeps = min(max_sweeps, cap)
     nsgs_sweeps = min(NSGS_PER_ITER * max_iter, cap)
     it, sweeps, change, worst = _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s, qn,
-                                        mode, flips, scale, vscale, tol, max_iter, max_sweeps, MAX_FLIPS)
+                                        mode, flips, scale, vscale, tol, max_iter, max_sweeps, MAX_FLIPS, memo)
     if change < 0.0:  # squeezed: left to the engine (its velocities, its friction as the split step applied it)
         for ii in range(nb):
             pinned[b0 + ii] = -1
@@ -732,7 +836,7 @@ def _solve_island(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, 
             if mode[ii] == 2 and _pushed(b0 + ii, b0, k0, k1, con, isl, q[b0:b1], mode, jac, 1e-3 * tol * vscale):
                 mode[ii] = 1
         it2, sw2, change2, worst2 = _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s, qn,
-                                            mode, flips, scale, vscale, tol, max_iter, max_sweeps, 0)
+                                            mode, flips, scale, vscale, tol, max_iter, max_sweeps, 0, memo)
         it += it2
         sweeps += sw2
         if 0.0 <= change2 <= tol and _consistent(b0, b1, k0, k1, isl, con, bodies, shapes, geo, dt, qn, s, mode, tol, vscale):
@@ -926,10 +1030,10 @@ def _nsgs(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s, 
 @njit(cache=True)
 def couple(isl: np.ndarray, con: np.ndarray, bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray,
            tables: np.ndarray, dt: float, q: np.ndarray, lam: np.ndarray, pinned: np.ndarray, fric: np.ndarray,
-           tol: float, max_iter: int, max_sweeps: int, report: np.ndarray) -> int:
+           tol: float, max_iter: int, max_sweeps: int, report: np.ndarray, memo: np.ndarray) -> int:
     """The coupled step of every island: ``isl`` rows sorted by island (IB_ISLAND: 0, 1, ...), ``con``
     rows sorted by the island of their bodies. ``q`` (start guesses in, velocities out), ``lam``,
-    ``pinned``, ``fric``: see :func:`_solve_island`; ``report`` gets a row (N_OUT) per island. Returns
+    ``pinned``, ``fric``, ``memo``: see :func:`_solve_island`; ``report`` gets a row (N_OUT) per island. Returns
     the number of islands that did not converge to ``tol`` within ``max_iter`` Newton iterations."""
     nb = isl.shape[0]
     nk = con.shape[0]
@@ -951,7 +1055,7 @@ def couple(isl: np.ndarray, con: np.ndarray, bodies: np.ndarray, shapes: np.ndar
                 break
             k1 += 1
         _solve_island(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, pinned, fric, tol,
-                      max_iter, max_sweeps, report[n_isl])
+                      max_iter, max_sweeps, report[n_isl], memo)
         if report[n_isl, OUT_RESIDUAL] > tol:
             bad += 1
         n_isl += 1

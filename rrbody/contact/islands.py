@@ -45,6 +45,12 @@ KIND_PLANE, KIND_STATIC, KIND_KINEMATIC, KIND_OFF = 0.0, 1.0, 2.0, 3.0
 N_RB = 8
 
 
+#: a body that slid through the last coupled step starts Newton from its velocity plus that step's change where
+#: the change is at most this fraction of its velocity (steady sliding: the first iteration's step is then of
+#: the change's own change, and the second lands)
+EXTRAPOLATE = 1e-2
+
+
 @njit(cache=True)
 def _root(parent: np.ndarray, k: int) -> int:
     while parent[k] != k:
@@ -82,6 +88,8 @@ def _before(raw: np.ndarray, where: np.ndarray, k: int, m: int) -> bool:
 def _canonical(raw: np.ndarray, pick: np.ndarray, where: np.ndarray) -> np.ndarray:
     """The raw points ``pick`` in canonical order (:func:`_before`): a merge sort (stable, n log n)."""
     n = pick.shape[0]
+    if n <= 1:
+        return pick
     out = pick.copy()
     tmp = np.empty(n, dtype=np.int64)
     width = 1
@@ -247,39 +255,51 @@ def assemble(raw: np.ndarray, n_raw: int, body: np.ndarray, bodies: np.ndarray, 
         con[p, CP.CN_BOUNCE] = bounce
         con[p, CP.CN_VN0] = sx * nx + sy * ny
         con[p, CP.CN_VT0] = sx * tx + sy * ty
-    return isl, con, order[:nb].copy()
+    return isl, con, order
 
 
 @njit(cache=True)
 def couple_islands(raw: np.ndarray, n_raw: int, body: np.ndarray, bodies: np.ndarray, shapes: np.ndarray,
                    geo: np.ndarray, tables: np.ndarray, dt: float, damp: float, gx: float, gy: float, tol: float,
                    max_iter: int, max_sweeps: int, order: np.ndarray, vel: np.ndarray, stopped: np.ndarray,
-                   report: np.ndarray) -> tuple[int, int, int, int]:
-    """The coupled step of every island (:func:`assemble`, then :func:`rrbody.contact.coupled.couple`, each
-    body starting from its velocity at the step's start, or from the engine's where it was at rest). Writes
-    each island body's friction (FFX, FFY, FFT: N, N m) and clears its rest-rule flag (STOP) in ``bodies``;
-    into the caller's arrays (a row per plane row at least) the plane rows solved (``order``), their
-    velocities (``vel``: m/s, rad/s), the plane rows of the bodies it brought to rest in this step
-    (``stopped``: held now, moving at the step's start) and each island's report (``report``: a row of
-    :data:`rrbody.contact.coupled.N_OUT`, its worst body as a plane row). Returns (the bodies whose velocity
-    it set, the bodies stopped, the islands, how many islands did not converge). An island squeezed between
-    bodies that cannot give way (:data:`rrbody.contact.coupled.SQUEEZE`) keeps the engine's velocities and the
-    plane step's friction: none of its bodies is among those set."""
+                   report: np.ndarray, memo: np.ndarray) -> tuple[int, int, int, int, int]:
+    """The coupled step of every island (:func:`assemble`, then :func:`rrbody.contact.coupled.couple`, each body
+    starting from its velocity at the step's start, or from the engine's where it was at rest, or, sliding steadily,
+    from its velocity plus the last step's change: ``memo``). Writes each island body's friction (FFX, FFY, FFT: N,
+    N m) and clears its rest-rule flag (STOP) in ``bodies``; into the caller's arrays (a row per plane row at least)
+    the plane rows solved (``order``), their velocities (``vel``: m/s, rad/s), the plane rows of the bodies it
+    brought to rest in this step (``stopped``: held now, moving at the step's start) and each island's report
+    (``report``: a row of :data:`rrbody.contact.coupled.N_OUT`, its worst body as a plane row); ``memo``: the
+    solver's memo (each body's Jacobian and last change), a row per plane row, kept by the caller from step to step
+    (:data:`rrbody.contact.coupled.N_MEMO` columns; zeros: none). Returns (the bodies whose velocity it set, the
+    bodies stopped, the islands, how many islands did not converge, how many were left to the engine for their
+    size). An island squeezed between bodies that cannot give way (:data:`rrbody.contact.coupled.SQUEEZE`) keeps the
+    engine's velocities and the plane step's friction: none of its bodies is among those set."""
     isl, con, rows = assemble(raw, n_raw, body, bodies, dt, damp, gx, gy)
     nb = isl.shape[0]
     q = np.zeros((nb, 3))
     n_isl = 0
     for i in range(nb):
+        j = rows[i]
         if isl[i, CP.IB_REST] > 0.0:
             q[i, 0], q[i, 1], q[i, 2] = isl[i, CP.IB_PX], isl[i, CP.IB_PY], isl[i, CP.IB_PW]
         else:
             q[i, 0], q[i, 1], q[i, 2] = isl[i, CP.IB_VX], isl[i, CP.IB_VY], isl[i, CP.IB_VW]
+            if memo[j, CP.MEMO_MOVED] > 0.0:
+                # a body sliding steadily: its last step's change once more (only where that change is small
+                # against its velocity, so that the guess stays on the same side of rest)
+                dx, dy, dw = memo[j, CP.MEMO_DX], memo[j, CP.MEMO_DY], memo[j, CP.MEMO_DW]
+                if dx * dx + dy * dy + dw * dw <= EXTRAPOLATE ** 2 * (q[i, 0] ** 2 + q[i, 1] ** 2 + q[i, 2] ** 2):
+                    q[i, 0] += dx
+                    q[i, 1] += dy
+                    q[i, 2] += dw
+        memo[j, CP.MEMO_MOVED] = 0.0
         n_isl = max(n_isl, int(isl[i, CP.IB_ISLAND]) + 1)
     lam = np.zeros((con.shape[0], 2))
     pinned = np.zeros(nb, dtype=np.int64)
     fric = np.zeros((nb, 3))
     n_bad = CP.couple(isl, con, bodies, shapes, geo, tables, dt, q, lam, pinned, fric, tol, max_iter, max_sweeps,
-                      report)
+                      report, memo)
     n_ev = 0
     n_set = 0
     for i in range(nb):
@@ -297,10 +317,18 @@ def couple_islands(raw: np.ndarray, n_raw: int, body: np.ndarray, bodies: np.nda
         bodies[j, FFY] = m * fric[i, 1]
         bodies[j, FFT] = m * rg * fric[i, 2]
         bodies[j, STOP] = 0.0  # (the plane step's rest rule does not act on a body the coupled step solved)
+        if pinned[i] == 0 and isl[i, CP.IB_REST] == 0.0:
+            memo[j, CP.MEMO_MOVED] = 1.0
+            memo[j, CP.MEMO_DX] = q[i, 0] - isl[i, CP.IB_VX]
+            memo[j, CP.MEMO_DY] = q[i, 1] - isl[i, CP.IB_VY]
+            memo[j, CP.MEMO_DW] = q[i, 2] - isl[i, CP.IB_VW]
         if pinned[i] > 0 and isl[i, CP.IB_REST] == 0.0:
             stopped[n_ev] = j
             n_ev += 1
+    n_large = 0
     for r in range(n_isl):
         if report[r, CP.OUT_WORST] >= 0:
             report[r, CP.OUT_WORST] = rows[int(report[r, CP.OUT_WORST])]
-    return n_set, n_ev, n_isl, n_bad
+        if report[r, CP.OUT_LEFT] == 2.0:
+            n_large += 1
+    return n_set, n_ev, n_isl, n_bad, n_large

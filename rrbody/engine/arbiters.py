@@ -36,7 +36,8 @@ from rrbody._private import private_allowed
 from rrbody.contact import islands as I
 from rrbody.contact.kernel import find_row
 
-__all__ = ["ROUTES", "read_public", "write_public", "touching", "read_compiled", "write_compiled", "step_compiled",
+__all__ = ["ROUTES", "read_public", "write_public", "touching", "read_compiled", "write_compiled", "space_loads",
+           "step_compiled",
            "compiled_route", "CompiledRoute"]
 
 #: the routes to the contacts, fastest first
@@ -185,10 +186,11 @@ _API = ("cpBodyEachArbiter", "cpArbiterGetNormal", "cpArbiterGetSurfaceVelocity"
         "cpArbiterGetShapes", "cpShapeGetSensor", "cpArbiterGetCount", "cpArbiterGetPointA", "cpArbiterGetPointB",
         "cpArbiterGetDepth", "cpArbiterGetFriction", "cpArbiterGetRestitution", "cpBodyGetUserData", "cpBodyGetType",
         "cpBodyGetPosition", "cpBodyGetCenterOfGravity", "cpBodyGetAngle", "cpBodyGetVelocity",
-        "cpBodyGetAngularVelocity", "cpBodyEachConstraint", "cpBodySetVelocity", "cpBodySetAngularVelocity")
+        "cpBodyGetAngularVelocity", "cpBodyEachConstraint", "cpBodySetVelocity", "cpBodySetAngularVelocity",
+        "cpSpaceGetGravity", "cpSpaceGetDamping")
 (EACH_ARBITER, GET_NORMAL, GET_SURFACE_V, GET_BODIES, GET_SHAPES, SHAPE_SENSOR, GET_COUNT, GET_POINT_A, GET_POINT_B,
  GET_DEPTH, GET_FRICTION, GET_RESTITUTION, BODY_ID, BODY_TYPE, BODY_POSITION, BODY_COG, BODY_ANGLE, BODY_V, BODY_W,
- EACH_CONSTRAINT, SET_V, SET_W, ON_ARBITER, ON_CONSTRAINT, ON_ANY) = range(len(_API) + 3)
+ EACH_CONSTRAINT, SET_V, SET_W, SPACE_GRAVITY, SPACE_DAMPING, ON_ARBITER, ON_CONSTRAINT, ON_ANY) = range(len(_API) + 3)
 #: Chipmunk's body types (cpBodyType)
 _DYNAMIC, _KINEMATIC, _STATIC = 0, 1, 2
 #: a record of the arbiter callback: the arbiter, the body handing it over, the normal and surface velocity
@@ -249,7 +251,7 @@ def _on_any(body: Any, arb: Any, data: Any) -> None:
 @njit(cache=True)
 def touching(api: np.ndarray, addrs: np.ndarray, count: np.ndarray) -> bool:
     """Whether any plugin body (``addrs``: their cpBody addresses) touched something in the last step: the
-    cheap first look of every step (``count``: one int64 of scratch)."""
+    cheap first look of a step after one that touched nothing (``count``: one int64 of scratch)."""
     for j in range(addrs.shape[0]):
         count[0] = 0
         _v_iii(api[EACH_ARBITER], addrs[j], api[ON_ANY], count.ctypes.data)
@@ -359,22 +361,31 @@ def write_compiled(api: np.ndarray, addrs: np.ndarray, order: np.ndarray, vel: n
 
 
 @njit(cache=True)
-def step_compiled(api: np.ndarray, addrs: np.ndarray, lookup: np.ndarray, rec: np.ndarray, raw: np.ndarray,
-                  body: np.ndarray, bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray, tables: np.ndarray,
-                  dt: float, damp: float, gx: float, gy: float, tol: float, max_iter: int, max_sweeps: int,
-                  order: np.ndarray, vel: np.ndarray, stopped: np.ndarray,
-                  report: np.ndarray) -> tuple[int, int, int, int]:
+def space_loads(api: np.ndarray, space: int, dt: float) -> tuple[float, float, float]:
+    """The space's gravity (m/s^2) and its damping factor over a step of ``dt`` (s), as Chipmunk's step takes
+    them (``cpSpaceGetGravity``, ``cpSpaceGetDamping`` to the power dt); ``space``: the cpSpace's address."""
+    gx, gy = _vec_i(api[SPACE_GRAVITY], space)
+    return gx, gy, _d_i(api[SPACE_DAMPING], space) ** dt
+
+
+@njit(cache=True)
+def step_compiled(dt: float, api: np.ndarray, space: int, addrs: np.ndarray, lookup: np.ndarray, rec: np.ndarray,
+                  raw: np.ndarray, body: np.ndarray, bodies: np.ndarray, shapes: np.ndarray, geo: np.ndarray,
+                  tables: np.ndarray, tol: float, max_iter: int, max_sweeps: int, order: np.ndarray, vel: np.ndarray,
+                  stopped: np.ndarray, report: np.ndarray, memo: np.ndarray) -> tuple[int, int, int, int, int]:
     """The compiled route's whole coupled step in one call: :func:`read_compiled`, then
-    :func:`rrbody.contact.islands.couple_islands` into the caller's arrays, then :func:`write_compiled`. Returns
-    couple_islands' counts, or (minus the records or points needed, 0, 0, 0) where a buffer is too small
+    :func:`rrbody.contact.islands.couple_islands` into the caller's arrays with the space's gravity and
+    damping (:func:`space_loads`; ``space``: the cpSpace's address), then :func:`write_compiled`. Returns
+    couple_islands' counts, or (minus the records or points needed, 0, 0, 0, 0) where a buffer is too small
     (nothing written then)."""
     n_raw = read_compiled(api, addrs, lookup, rec, raw, body)
     if n_raw <= 0:
-        return n_raw, 0, 0, 0
-    nb, n_ev, n_isl, n_bad = I.couple_islands(raw, n_raw, body, bodies, shapes, geo, tables, dt, damp, gx, gy, tol,
-                                              max_iter, max_sweeps, order, vel, stopped, report)
-    write_compiled(api, addrs, order[:nb], vel)
-    return nb, n_ev, n_isl, n_bad
+        return n_raw, 0, 0, 0, 0
+    gx, gy, damp = space_loads(api, space, dt)
+    counts = I.couple_islands(raw, n_raw, body, bodies, shapes, geo, tables, dt, damp, gx, gy, tol, max_iter,
+                              max_sweeps, order, vel, stopped, report, memo)
+    write_compiled(api, addrs, order[:counts[0]], vel)
+    return counts
 
 
 # ---- the public route ------------------------------------------------------------------------------
@@ -543,5 +554,16 @@ def _probe(api: np.ndarray) -> bool:
             and np.array_equal(b0.view(np.int64), b1.view(np.int64))
             and {I.KIND_PLANE, I.KIND_STATIC, I.KIND_KINEMATIC, I.KIND_OFF} <= kinds):
         return False
+    space.gravity, space.damping = (0.25, -9.75), 0.875
+    gx, gy = space.gravity
+    if space_loads(api, space_address(space), 0.01) != (gx, gy, space.damping ** 0.01):
+        return False
     write_compiled(api, addrs, np.array([1], dtype=np.int64), np.array([[0.125, -0.375, 1.5]]))
     return (made[1].velocity.x, made[1].velocity.y, made[1].angular_velocity) == (0.125, -0.375, 1.5)
+
+
+def space_address(space: Any) -> int:
+    """The address of a pymunk space's cpSpace (for :func:`step_compiled`)."""
+    from rrbody.engine.bodymem import address
+
+    return address(space._space)

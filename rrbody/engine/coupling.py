@@ -57,16 +57,54 @@ class Coupling:
                              "platform reads other numbers through it: rrbody.engine.arbiters)")
         self._api = None if compiled is None else compiled.api
         self.route = "public" if self._api is None else "compiled"
+        self._space_address = 0 if self._api is None else arbiters.space_address(space)
+        self._rows: np.ndarray | None = None  # the plugin's rows the arguments were made for
         self._raw = np.zeros((16, I.N_RP))
         self._body = np.zeros((0, I.N_RB))
         self._rec = np.zeros(4 + 6 * 16, dtype=np.int64)
         self._addrs = np.zeros(0, dtype=np.int64)
-        self._members = -1  # the plugin's membership count the addresses were read at
+        self._members = -1  # the plugin's membership count the per-row arrays were made at
+        self._args: tuple[Any, ...] | None = None  # the compiled route's arguments after dt (forget() drops them)
         self._entry: Any = None  # the compiled route's entry point (fast_entry), found on its first call
         self._touch: Any = None  # and its first look's (whether anything touched)
         self._count = np.zeros(1, dtype=np.int64)
-        self.last_report: np.ndarray = np.zeros((0, CP.N_OUT))  # the last step's report, a row per island
+        self._report = np.zeros((0, CP.N_OUT))
+        self._n_isl = 0
+        self._touched = False  # whether the last step solved an island
         self._told_large = False  # whether the warning for an island left for its size was given
+
+    @property
+    def last_report(self) -> np.ndarray:
+        """The last step's report, a row per island (:data:`rrbody.contact.coupled.N_OUT` columns)."""
+        return self._report[:self._n_isl]
+
+    def forget(self) -> None:
+        """Drop the arguments made for the plugin's arrays (they changed, or a row was written outside a step):
+        made again at the next step. The per-row arrays, the Jacobian memo among them, are made again when the
+        membership changes."""
+        self._args = None
+
+    def _prepare(self, bodies: list[Any], rows: np.ndarray, arrays: tuple[np.ndarray, np.ndarray, np.ndarray],
+                 lookup: np.ndarray, members: int) -> None:
+        """The per-row arrays for the plugin's ``bodies`` and the compiled route's arguments."""
+        n = len(bodies)
+        if members != self._members or self._body.shape[0] != n:
+            self._body = np.zeros((n, I.N_RB))
+            self._order = np.zeros(n, dtype=np.int64)
+            self._vel = np.zeros((n, 3))
+            self._events = np.zeros(n, dtype=np.int64)
+            self._report = np.zeros((n, CP.N_OUT))
+            self._n_isl = 0
+            self._memo = np.zeros((n, CP.N_MEMO))
+            if self._api is not None:
+                self._addrs = addresses(bodies)
+            self._members = members
+        self._rows = rows
+        if self._api is not None:
+            self._args = (self._api, self._space_address, self._addrs, lookup, self._rec, self._raw,
+                          self._body, rows, *arrays, self.tol, self.max_iter, self.max_sweeps, self._order, self._vel,
+                          self._events, self._report, self._memo)
+            self._touch_args = (self._api, self._addrs, self._count)
 
     def after_step(self, dt: float, bodies: list[Any], slots: dict[Any, int], rows: np.ndarray,
                    arrays: tuple[np.ndarray, np.ndarray, np.ndarray], lookup: np.ndarray,
@@ -74,57 +112,55 @@ class Coupling:
         """Solve again, coupled, the velocities of the plugin's bodies that touched something in the step
         just taken (``dt``, s). The plugin hands over its bodies by row (``bodies``; ``slots``: body -> row),
         their rows (:mod:`rrbody.contact.columns`), its footprint arrays (shapes, geo, tables), its sorted id
-        table and its membership count. Returns None where no body was solved, else the rows of the bodies it
-        brought to rest in this step (held now, moving at the step's start)."""
-        n = len(bodies)
-        if self._body.shape[0] != n or members != self._members:
-            self._body = np.zeros((n, I.N_RB))
-            self._order = np.zeros(n, dtype=np.int64)
-            self._vel = np.zeros((n, 3))
-            self._events = np.zeros(n, dtype=np.int64)
-            self._report = np.zeros((n, CP.N_OUT))
-            if self._api is not None:
-                self._addrs = addresses(bodies)
-            self._members = members
+        table and its membership count (the arrays are taken as they were at the last :meth:`forget`).
+        Returns None where no body was solved, else the rows of the bodies it brought to rest in this step
+        (held now, moving at the step's start)."""
+        if self._args is None or members != self._members or rows is not self._rows:
+            self._prepare(bodies, rows, arrays, lookup, members)
         if self._api is not None:
-            if self._touch is None:
-                self._touch, touched = fast_entry(arbiters.touching, self._api, self._addrs, self._count)
-            else:
-                touched = self._touch(self._api, self._addrs, self._count)
-            if not touched:
-                return None
-        space = self.space
-        gx, gy = space.gravity
-        damp = space.damping ** dt
-        while True:
-            if self._api is not None:
-                args = (self._api, self._addrs, lookup, self._rec, self._raw, self._body, rows, *arrays, dt, damp, gx,
-                        gy, self.tol, self.max_iter, self.max_sweeps, self._order, self._vel, self._events,
-                        self._report)
-                if self._entry is None:
-                    self._entry, (nb, n_ev, n_isl, n_bad) = fast_entry(arbiters.step_compiled, *args)
+            # the cheap first look, unless something touched in the last step (it most likely touches again: the
+            # whole step finds out as cheaply)
+            if not self._touched:
+                if self._touch is None:
+                    self._touch, touched = fast_entry(arbiters.touching, *self._touch_args)
                 else:
-                    nb, n_ev, n_isl, n_bad = self._entry(*args)
+                    touched = self._touch(*self._touch_args)
+                if not touched:
+                    return None
+            while True:
+                if self._entry is None:
+                    self._entry, counts = fast_entry(arbiters.step_compiled, dt, *self._args)
+                else:
+                    counts = self._entry(dt, *self._args)
+                nb = counts[0]
                 if nb >= 0:
                     break
                 if -nb > (self._rec.shape[0] - 4) // 6:
                     self._rec = np.zeros(4 + 6 * 2 * -nb, dtype=np.int64)
                 else:
                     self._raw = np.zeros((2 * -nb, I.N_RP))
-            else:
+                self._prepare(bodies, rows, arrays, lookup, members)
+        else:
+            space = self.space
+            gx, gy = space.gravity
+            damp = space.damping ** dt
+            while True:
                 n_raw = arbiters.read_public(space, bodies, slots, self._raw, self._body)
                 if n_raw < 0:
                     self._raw = np.zeros((2 * -n_raw, I.N_RP))
                     continue
                 if n_raw == 0:
+                    self._n_isl = 0
                     return None
-                nb, n_ev, n_isl, n_bad = I.couple_islands(
+                counts = I.couple_islands(
                     self._raw, n_raw, self._body, rows, *arrays, dt, damp, gx, gy, self.tol, self.max_iter,
-                    self.max_sweeps, self._order, self._vel, self._events, self._report)
-                arbiters.write_public(bodies, self._order[:nb], self._vel)
+                    self.max_sweeps, self._order, self._vel, self._events, self._report, self._memo)
+                arbiters.write_public(bodies, self._order[:counts[0]], self._vel)
                 break
-        self.last_report = self._report[:n_isl]
-        if not self._told_large and n_isl and (self.last_report[:, CP.OUT_LEFT] == 2.0).any():
+        nb, n_ev, n_isl, n_bad, n_large = counts
+        self._n_isl = n_isl
+        self._touched = n_isl > 0
+        if n_large and not self._told_large:
             self._told_large = True  # (once per plugin: a jammed space has such islands at every step)
             warnings.warn(f"an island of more than {CP.MAX_ISLAND} touching bodies on the plane is left to the split "
                           "step (friction before pymunk's contact solve): the coupled solve of a jammed cluster costs "

@@ -345,6 +345,9 @@ class PlaneFriction(PlaneRows):
         sio = getattr(self, "_sio", None)  # (PlaneRows.__init__ calls this before or after it is made)
         if sio is not None:
             sio.forget()
+        coupling = getattr(self, "_coupling", None)
+        if coupling is not None:
+            coupling.forget()
 
     # ---- active bodies (rrbody.contact.active) -------------------------------------------------
     def activate(self, body: Any, active: Active | None) -> None:
