@@ -297,7 +297,6 @@ def one_call(n: int, steps: int, small: int = 10) -> dict[str, Any]:
         kernel, rest = pf._kernel, pf._rest
         sio = pf._sio  # the struct route's one call (read, step, write), where it is taken
         entry = sio._entry if sio is not None else None
-        still = sio._still_entry if sio is not None else None  # its call after an idle step (struct_still)
 
         def counted(*a: Any) -> Any:
             calls[0] += 1
@@ -307,10 +306,6 @@ def one_call(n: int, steps: int, small: int = 10) -> dict[str, Any]:
             calls[0] += 1
             return entry(*a)
 
-        def counted_still(*a: Any) -> Any:
-            calls[0] += 1
-            return still(*a)
-
         def counted_rest(dt: float) -> None:
             calls[1] += 1
             rest(dt)
@@ -318,14 +313,12 @@ def one_call(n: int, steps: int, small: int = 10) -> dict[str, Any]:
         pf._kernel, pf._rest = counted, counted_rest
         if entry is not None:
             sio._entry = counted_entry
-            if still is not None:  # (made with the first plan, at the second step)
-                sio._still_entry = counted_still
-            pf._plan = pf._still = None  # the steady step holds the entries: the next step builds it again, counted
+            pf._plan = None  # the steady step holds the entry: the next step builds it again, counted
         _steps(pf, steps)
         pf._kernel, pf._rest = kernel, rest
         if entry is not None:
-            sio._entry, sio._still_entry = entry, still
-            pf._plan = pf._still = None
+            sio._entry = entry
+            pf._plan = None
         res["kernel_calls_per_step"] = calls[0] / steps
         res["rest_entries"] = calls[1]
     except AttributeError as e:

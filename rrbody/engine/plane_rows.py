@@ -36,10 +36,7 @@ class PlaneRows:
         #: the plugin's steady step (StructIO.plan: its compiled call and its arguments), or None;
         #: dropped (_unplan) by every change of the arrays or the membership and every write of a row
         #: outside a step, made again by the next step
-        self._plan: tuple[Any, tuple[Any, ...], tuple[Any, ...]] | None = None
-        #: the plan's still call (StructIO.plan: its entry, keys and the arrays they point into), set while
-        #: the last step was idle, else None
-        self._still: tuple[Any, ...] | None = None
+        self._plan: tuple[Any, tuple[Any, ...]] | None = None
         self._slots: dict[Any, int] = {}  # body -> row; its keys keep the order bodies were added in
         self._list: list[Any] = []  # row -> body
         self._rows = Rows(K.N_BODY)  # the kernel's ``bodies`` rows
@@ -76,8 +73,8 @@ class PlaneRows:
         self._unplan()
 
     def _unplan(self) -> None:
-        """Drop the plugin's steady step and its still call (the plugin also clears its record of an idle step)."""
-        self._plan = self._still = None
+        """Drop the plugin's steady step (the plugin also drops its coupled step's arguments)."""
+        self._plan = None
 
     # ---- read-only accessors -------------------------------------------------------------------
     @property

@@ -265,41 +265,31 @@ class PlaneFriction(PlaneRows):
         or whose angle, velocity or spin is not finite. The check is part of the compiled step; positions,
         which the step does not read, are checked by ``add``.
         """
-        still = self._still
-        if still is not None and still[0](still[1], dt):
-            # the last step was idle and nothing it read has changed, dt included: taken again, its forces
-            # written (a call of two numbers, not the step's eighteen arguments: at rest inside gym-pusht's
-            # loop the arguments were most of the step's cost; docs/plugin.md). dt was checked then.
-            dt, n_flag = still[5], 0
+        try:
+            ok = 0.0 < dt < _INF  # (also refuses NaN; no check helper: this is the hot path)
+        except TypeError:  # not a number
+            ok = False
+        if not ok:
+            raise ValueError(f"dt must be a number > 0 s and finite, got {dt!r}")
+        dt = float(dt)
+        if dt != self._dt and self._list:
+            self._resync(dt)
+        self._dt = dt
+        plan = self._plan
+        if not self._list:
+            if self._dirty:
+                self._relink()
+            n_flag = None  # no bodies: no friction, no pre_step callbacks
+        elif plan is not None:
+            # the steady step: the compiled call with the arguments the last step built (inside
+            # gym-pusht's loop, building them in Python cost as much as the table's work at rest)
+            n_flag = plan[0](*plan[1], self.t, dt)
+            if n_flag == IDLE:  # nothing to do: every body at rest and held as it was
+                n_flag = 0
+            elif n_flag < 0:  # sleeping turned on, a body gone, the check failed (drops the plan)
+                n_flag = self._step_apart(dt, NO_ACTIVE)
         else:
-            try:
-                ok = 0.0 < dt < _INF  # (also refuses NaN; no check helper: this is the hot path)
-            except TypeError:  # not a number
-                ok = False
-            if not ok:
-                raise ValueError(f"dt must be a number > 0 s and finite, got {dt!r}")
-            dt = float(dt)
-            if dt != self._dt and self._list:
-                self._resync(dt)
-            self._dt = dt
-            plan = self._plan
-            if not self._list:
-                if self._dirty:
-                    self._relink()
-                n_flag = None  # no bodies: no friction, no pre_step callbacks
-            elif plan is not None:
-                # the steady step: the compiled call with the arguments the last step built (inside
-                # gym-pusht's loop, building them in Python cost as much as the table's work at rest)
-                n_flag = plan[0](*plan[1], self.t, dt)
-                if n_flag == IDLE:  # nothing to do: every body at rest and held as it was
-                    n_flag = 0
-                    self._still = (*plan[2], dt)
-                else:
-                    self._still = None  # (a step that moved something: the next one is not still)
-                    if n_flag < 0:  # sleeping turned on, a body gone, the check failed (drops the plan)
-                        n_flag = self._step_apart(dt, NO_ACTIVE)
-            else:
-                n_flag = self._step_first(dt)
+            n_flag = self._step_first(dt)
         stopping = None
         if n_flag is not None:
             if self.pre_step:
@@ -333,18 +323,13 @@ class PlaneFriction(PlaneRows):
         if n_flag < 0 and n_flag != IDLE:  # a step the compiled call does not take: the separate calls
             return self._step_apart(dt, act)
         if acts is None:  # the next steps: the same call, until something changes (_unplan)
-            plan = self._plan = self._sio.plan(arrays)
-            if plan is not None and n_flag == IDLE:
-                self._still = (*plan[2], dt)
+            self._plan = self._sio.plan(arrays)
         return 0 if n_flag == IDLE else n_flag
 
     def _unplan(self) -> None:
-        """Drop the steady step and clear the struct route's record of an idle step: every change of the
-        plugin's arrays or membership, every write of a row outside a step, every step outside the one call."""
+        """Drop the steady step and the coupled step's arguments: every change of the plugin's arrays or
+        membership, every write of a row outside a step, every step outside the one call."""
         super()._unplan()
-        sio = getattr(self, "_sio", None)  # (PlaneRows.__init__ calls this before or after it is made)
-        if sio is not None:
-            sio.forget()
         coupling = getattr(self, "_coupling", None)
         if coupling is not None:
             coupling.forget()
@@ -463,9 +448,6 @@ class PlaneFriction(PlaneRows):
             v = body.velocity
             body.velocity = (v.x + k * (gx + (r[K.FFX] + r[K.LDX]) / m), v.y + k * (gy + (r[K.FFY] + r[K.LDY]) / m))
             body.angular_velocity += k * (r[K.FFT] + r[K.LDT]) / (m * r[K.IPM])
-        self._still = None  # velocities written outside the compiled call
-        if self._sio is not None:
-            self._sio.forget()
 
     def _couple(self, dt: float) -> None:
         """The coupled step after pymunk's (:mod:`rrbody.engine.coupling`), and its bookkeeping: the rest
@@ -477,9 +459,6 @@ class PlaneFriction(PlaneRows):
                                            self.members)
         if events is None:
             return
-        self._still = None  # velocities written outside the compiled call: no step repeats the last one
-        if self._sio is not None:
-            self._sio.forget()
         for j in events.tolist():  # the bodies it brought to rest in this step
             self.n_stopped += 1
             self._t_stop[self._list[j]] = self.t + dt
