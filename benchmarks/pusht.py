@@ -178,6 +178,58 @@ def _physics_steps(n_steps: int = 200) -> dict[str, list[float]]:
     return {k: [float(np.percentile(v, 25)) / 1e3 for v in lists] for k, lists in spent.items()}
 
 
+def _moving_parts(n_steps: int = 300, rounds: int = 3) -> dict[str, float]:
+    """Where the wrapper's time goes while the T is pushed: over the walk of the timing above (the same actions
+    for both envs, interleaved step by step), each ``env.step`` of gym-pusht and of the wrapper timed whole, and
+    inside it the 10 physics steps (gym-pusht's ``space.step``; the wrapper's ``plane.step``: the table's
+    friction, the same ``space.step`` and the coupled step). Returns per env.step, us, the median over the walk
+    of the best of ``rounds`` passes: each env's whole step and its physics steps. The rest of a step is
+    gym-pusht's own code (observation, reward, coverage), which runs on each env's own path of the T: the T on
+    the table moves otherwise than without it."""
+    import gymnasium as gym
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        import gym_pusht  # noqa: F401 (registers gym_pusht/PushT-v0)
+    from rrbody.envs import table
+
+    inside = {"physics": 0}
+
+    def timed(step: Callable[[float], None]) -> Callable[[float], None]:
+        def run(dt: float) -> None:
+            t0 = time.perf_counter_ns()
+            step(dt)
+            inside["physics"] += time.perf_counter_ns() - t0
+        return run
+
+    class Timed:  # gym-pusht's own space, its step timed (gym-pusht reads nothing else of it in step)
+        __slots__ = ("_space", "step")
+
+        def __init__(self, space: Any) -> None:
+            self._space, self.step = space, timed(space.step)
+
+    acts = _walk(n_steps)
+    best = {k: np.full((n_steps, 2), np.inf) for k in ("gym-pusht", "wrapper")}
+    for _ in range(rounds):
+        envs = {"gym-pusht": gym.make("gym_pusht/PushT-v0"), "wrapper": table(gym.make("gym_pusht/PushT-v0"))}
+        for k, env in envs.items():
+            env.reset(seed=0)
+            if k == "gym-pusht":
+                env.unwrapped.space = Timed(env.unwrapped.space)
+            else:
+                proxy = env.unwrapped.space
+                object.__setattr__(proxy, "step", timed(proxy.step))
+        for i, a in enumerate(acts):
+            for k, env in envs.items():
+                inside["physics"] = 0
+                t0 = time.perf_counter_ns()
+                env.step(a)
+                whole = time.perf_counter_ns() - t0
+                best[k][i] = np.minimum(best[k][i], (whole / 1e3, inside["physics"] / 1e3))
+    return {f"{k}: {part}": float(np.median(best[k][:, c])) for k in best for c, part in enumerate(("env.step",
+                                                                                                      "physics"))}
+
+
 def _runs(n: int) -> list[dict[str, dict[str, list[float]]]]:
     """:func:`_measure` in ``n`` fresh processes, one after the other (this interpreter, this environment)."""
     runs = []
@@ -224,6 +276,14 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
           f"{float(np.median(gym_s[1:])):.2f} on the others; the table adds {added[0]:.2f} and "
           f"{float(np.median(added[1:])):.2f} us ({sum(added):.1f} us per env.step)", flush=True)
 
+    parts = _moving_parts(100 if quick else 300, 1 if quick else 3)
+    write_csv(out / "pusht_moving.csv", [{"part": k, "us_per_env_step": v} for k, v in parts.items()])
+    own = {k: parts[f"{k}: env.step"] - parts[f"{k}: physics"] for k in ("gym-pusht", "wrapper")}
+    added_phys = parts["wrapper: physics"] - parts["gym-pusht: physics"]
+    print(f"[pusht] moving, per env.step: physics gym-pusht {parts['gym-pusht: physics']:.1f} us, wrapper "
+          f"{parts['wrapper: physics']:.1f} us; gym-pusht's own code {own['gym-pusht']:.0f} us without the table, "
+          f"{own['wrapper']:.0f} us on it", flush=True)
+
     targets = []
     for k in ("rrbody/PushT-v0", "gym-pusht + rrbody.envs.table"):
         for phase, bound in zip(("moving", "at rest"), BOUNDS[k]):
@@ -251,5 +311,16 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
           f"plane.step adds {added[0]:.2f} and {float(np.median(added[1:])):.2f} us to them: "
           f"{sum(added):.1f} us per env.step, {sum(added) / rest_gym:.1%} "
           f"of gym-pusht's step (the whole step's ratio above also holds what these timers cannot see: the "
-          f"caches the table's work takes from gym-pusht's own code).\n")
-    return StudyResult(NAME, TITLE, targets=targets, markdown=md, files=["pusht.csv", "pusht_physics.csv"])
+          f"caches the table's work takes from gym-pusht's own code).\n\n"
+          f"Where the wrapper's time goes while the T is pushed (pusht_moving.csv): over the walk of the timing above, "
+          f"the same actions for both envs interleaved step by step, each env.step and the 10 physics steps inside "
+          f"it timed (per env.step, the median over the walk of the best of {1 if quick else 3} passes). The "
+          f"physics steps take {parts['gym-pusht: physics']:.1f} us in gym-pusht and {parts['wrapper: physics']:.1f}"
+          f" us in the wrapper (the table adds {added_phys:.1f} us, {added_phys / own['gym-pusht']:.1%} of "
+          f"gym-pusht's own code); gym-pusht's own code (observation, reward, shapely's coverage) takes "
+          f"{own['gym-pusht']:.0f} us per step on the path the T takes without the table and {own['wrapper']:.0f} "
+          f"us on the path it takes on the table (the T on the table takes another path, whose coverage costs "
+          f"what it costs, and the table's work takes caches from gym-pusht's code: these timers cannot tell the "
+          f"two apart).\n")
+    return StudyResult(NAME, TITLE, targets=targets, markdown=md, files=["pusht.csv", "pusht_physics.csv",
+                                                                         "pusht_moving.csv"])
