@@ -166,7 +166,7 @@ def _effect_share(pf: object, reps: int = 7, block: int = 20) -> tuple[float, fl
     B = base[4]  # the copy of the rows the timed calls take
     saved = B.copy()
     frozen = B.copy()
-    frozen[:, K.COEFF] = 0.0
+    frozen[:, K.FRICTION_COEFF] = 0.0
     calls = (lambda: kernel(*base, rows, noise), lambda: kernel(*base, *NO_ACTIVE))
     stops = []
     for call in calls:
@@ -203,14 +203,14 @@ def _breakdown(pf: object, reps: int = 15, block: int = 20) -> dict[str, float]:
     base, rows, noise, kernel = _frozen_call(pf)
     got, cache, tables = base[0], base[3], base[7]
     B = base[4]  # the copy of the rows the timed calls take
-    disk = B[:, K.TKIND] == K.TABLE_CIRCLE
-    coeff = B[:, K.COEFF]
+    disk = B[:, K.TABLE_KIND] == K.TABLE_CIRCLE
+    coeff = B[:, K.FRICTION_COEFF]
     states = {"no friction": B.copy(), "disks": B.copy(), "L-shapes (table)": B.copy(), "L-shapes (exact)": B.copy()}
-    states["no friction"][:, K.COEFF] = 0.0
-    states["disks"][:, K.COEFF] = np.where(disk, coeff, 0.0)
+    states["no friction"][:, K.FRICTION_COEFF] = 0.0
+    states["disks"][:, K.FRICTION_COEFF] = np.where(disk, coeff, 0.0)
     for name in ("L-shapes (table)", "L-shapes (exact)"):
-        states[name][:, K.COEFF] = np.where(disk, 0.0, coeff)
-    states["L-shapes (exact)"][~disk, K.TKIND] = K.TABLE_NONE
+        states[name][:, K.FRICTION_COEFF] = np.where(disk, 0.0, coeff)
+    states["L-shapes (exact)"][~disk, K.TABLE_KIND] = K.TABLE_NONE
     saved = B.copy()
     calls = {name: (lambda st=st: (B.__setitem__(slice(None), st), kernel(*base, rows, noise)))
              for name, st in states.items()}
@@ -239,8 +239,8 @@ def _breakdown(pf: object, reps: int = 15, block: int = 20) -> dict[str, float]:
         sa, ca = sincos_reduced(got[i, 0] + got[i, 3] * DT)
         vbx, vby = ca * got[i, 1] + sa * got[i, 2], -sa * got[i, 1] + ca * got[i, 2]
         n_l += 1
-        handed += not table_covers(tables, int(B[j, K.TAB]), vbx, vby, got[i, 3],
-                                   B[j, K.VEPS])
+        handed += not table_covers(tables, int(B[j, K.TABLE_START]), vbx, vby, got[i, 3],
+                                   B[j, K.SLIP_EPS])
     res["handed over"] = handed / max(n_l, 1)
     return res
 

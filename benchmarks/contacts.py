@@ -104,7 +104,7 @@ def _scene(n: int, kind: str = "uniform", *, mu: float = MU, mu_static: float | 
                                                                                                       list[Any]]:
     """A space with ``n`` bodies on a grid, in the plugin: disks (or boxes), sliding and spinning
     (``moving``) or at rest; ``static_off`` adds them through the plugin's package-internal ``add_footprint`` with no
-    static friction (MUS 0)."""
+    static friction (STATIC_COEFF 0)."""
     import pymunk
 
     from rrbody.engine import PlaneFriction

@@ -109,15 +109,16 @@ def _boundary_points(shapes: np.ndarray, geo: np.ndarray, rng: np.random.Generat
     pts = []
     for row in shapes:
         if row[C.KIND] == C.POLYGON:
-            v = geo[int(row[C.V0]):int(row[C.V1]), :2]
+            v = geo[int(row[C.VERTEX_FIRST]):int(row[C.VERTEX_END]), :2]
             t = rng.uniform(0.0, 1.0, (n, 1))
             i = rng.integers(0, v.shape[0], n)
             pts += [v, v[i] + t * (np.roll(v, -1, axis=0)[i] - v[i])]
         elif row[C.KIND] == C.ELLIPSE:
             a = rng.uniform(0.0, 2.0 * math.pi, n)
-            pts.append(np.column_stack([row[C.CX] + row[C.RA] * np.cos(a), row[C.CY] + row[C.RB] * np.sin(a)]))
+            pts.append(np.column_stack([row[C.CENTRE_X] + row[C.RADIUS_A] * np.cos(a),
+                                        row[C.CENTRE_Y] + row[C.RADIUS_B] * np.sin(a)]))
         else:
-            pts.append(np.array([[row[C.CX], row[C.CY]]]))
+            pts.append(np.array([[row[C.CENTRE_X], row[C.CENTRE_Y]]]))
     return np.concatenate(pts)
 
 
@@ -184,7 +185,7 @@ def test_moved_copy_agrees(tables: dict) -> None:
     shapes, geo, T = tables["L"]
     th, d = 0.7, np.array([0.013, -0.021])
     rot = np.array([[math.cos(th), -math.sin(th)], [math.sin(th), math.cos(th)]])
-    polys = [geo[int(r[C.V0]):int(r[C.V1]), :2] @ rot.T + d for r in shapes]
+    polys = [geo[int(r[C.VERTEX_FIRST]):int(r[C.VERTEX_END]), :2] @ rot.T + d for r in shapes]
     s2, g2, *_ = combine([polygon_part(p) for p in polys])
     T2 = build_footprint_table(s2, g2, 0, s2.shape[0])
     R = table_reach(shapes, geo, 0, shapes.shape[0])

@@ -270,7 +270,7 @@ def test_a_load_static_friction_cannot_hold_is_refused_without_the_limit_set_tes
     space, pf, b = _plane(tilt=0.0, mu=0.3, mu_static=0.5)
     j = 0
     B = pf._bodies
-    m, mus = B[j, K.MASS], B[j, K.MUS]
+    m, mus = B[j, K.MASS], B[j, K.STATIC_COEFF]
     rng = np.random.default_rng(5)
     out = np.zeros((1, 3))
     refused = 0

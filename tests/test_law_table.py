@@ -66,7 +66,7 @@ def test_the_derived_tables_agree_with_the_law_table() -> None:
     assert (P.BODY_POINT, P.BODY_SAMPLED, P.BODY_ICR, P.BODY_TABLE, P.BODY_CONTACT) == (0, 1, 2, 3, 4)
     assert FRICTION_METHODS == ("auto", *L.AREA_METHODS[1:])
     # the law parameters' slots, on both paths, and the scene's flat parameters
-    assert P.SIZE == P.LAWP + L.N_LAW_PARAMS and columns.N_BODY >= columns.LAWP + L.N_LAW_PARAMS
+    assert P.SIZE == P.LAWP + L.N_LAW_PARAMS and columns.N_BODY >= columns.LAW_PARAMS + L.N_LAW_PARAMS
     assert set(L.LAW_PARAMS) <= set(SCENE_PARAMS) and set(L.LAW_PARAMS) <= set(NUMERIC_SCENE_PARAMS)
 
 

@@ -6,8 +6,9 @@
 friction's limit-set test: at rest, about to stop under a load static friction may hold, or on a held
 foot whose spin runs out. Stepping every body with ``_one`` instead is the reference: it must give the
 same forces, the same stop count and the same state, bit for bit. The only columns allowed to differ
-are the memo of the last limit-set test (HX, HY, HT, HA, HELD), which the reference fills for loads the
-sweep knows static friction cannot hold (:func:`rrbody.contact.rest.may_hold`) and so never tests.
+are the memo of the last limit-set test (HELD_LOAD_X, HELD_LOAD_Y, HELD_LOAD_TORQUE, HELD_ANGLE, HELD), which the
+reference fills for loads the sweep knows static friction cannot hold (:func:`rrbody.contact.rest.may_hold`) and so
+never tests.
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ from rrbody.plugin import Active, PlaneFriction  # noqa: E402
 FEET = ("points:0.06,0,0.3333333333333333;-0.03,0.05196152422706632,0.3333333333333333;"
         "-0.03,-0.05196152422706632,0.3333333333333334")
 #: the memo of the last limit-set test: a cache, not a result
-MEMO = [K.HX, K.HY, K.HT, K.HA, K.HELD]
+MEMO = [K.HELD_LOAD_X, K.HELD_LOAD_Y, K.HELD_LOAD_TORQUE, K.HELD_ANGLE, K.HELD]
 
 
 @njit(cache=True)
@@ -90,7 +91,7 @@ def test_the_lean_sweep_gives_the_bits_of_the_limit_set_step_for_every_body() ->
             seen["differ"].append(pf.t)
         seen["steps"] += 1
         seen["stops"] += n1 > 0
-        seen["pinned"] += bool((rows[:, K.PIN] > 0).any())
+        seen["pinned"] += bool((rows[:, K.PINNED_FOOT] > 0).any())
         seen["held at rest"] += bool(((got[:, 1] == 0.0) & (got[:, 2] == 0.0) & (got[:, 3] == 0.0)).any())
         return n1
 
@@ -108,4 +109,4 @@ def test_the_lean_sweep_gives_the_bits_of_the_limit_set_step_for_every_body() ->
     # rule, bodies turning on a held foot, bodies held exactly at rest
     assert seen["steps"] == 400 and seen["stops"] > 0 and seen["pinned"] > 0 and seen["held at rest"] > 0, seen
     # the boxes read their footprint table, whose blocks the sweep fetches ahead (kernel._fetch)
-    assert (pf._bodies[:, K.TKIND] == K.TABLE_FOOTPRINT).sum() == len(bodies) - 34
+    assert (pf._bodies[:, K.TABLE_KIND] == K.TABLE_FOOTPRINT).sum() == len(bodies) - 34

@@ -59,15 +59,15 @@ def centre_of_pressure(shapes: np.ndarray, geo: np.ndarray) -> tuple[float, np.n
     load, mom = 0.0, np.zeros(2)
     for row in shapes:
         if row[C.KIND] == C.POLYGON:
-            v = geo[int(row[C.V0]):int(row[C.V1]), :2]
+            v = geo[int(row[C.VERTEX_FIRST]):int(row[C.VERTEX_END]), :2]
             q = gauss_rule(v, 12)
-            p = row[C.WEIGHT] / row[C.AREA] * (1.0 + row[C.KX] * (q[:, 0] - row[C.CX]) + row[C.KY] * (q[:,
-                                                                                                        1] - row[C.CY]))
+            p = row[C.LOAD_SHARE] / row[C.AREA] * (1.0 + row[C.SLOPE_X] * (q[:, 0] - row[C.CENTRE_X])
+                                                   + row[C.SLOPE_Y] * (q[:, 1] - row[C.CENTRE_Y]))
             load += float(q[:, 2] @ p)
             mom += (q[:, 2] * p) @ q[:, :2]
         else:
-            load += row[C.WEIGHT]
-            mom += row[C.WEIGHT] * row[[C.CX, C.CY]]
+            load += row[C.LOAD_SHARE]
+            mom += row[C.LOAD_SHARE] * row[[C.CENTRE_X, C.CENTRE_Y]]
     return load, mom / load
 
 
@@ -137,9 +137,9 @@ def test_each_shape_presses_with_its_own_weight() -> None:
     shapes, geo, _, (gx, gy), _ = body_footprint(body)
     total = sum(s.mass for s in shapes3)
     # rows in the footprint's stable order: circle, segment, polygon (rrbody.engine.shapes)
-    assert shapes[:, C.WEIGHT] == pytest.approx([shapes3[1].mass / total, shapes3[2].mass / total,
+    assert shapes[:, C.LOAD_SHARE] == pytest.approx([shapes3[1].mass / total, shapes3[2].mass / total,
                                                  shapes3[0].mass / total], rel=1e-14)
-    assert not np.any(shapes[shapes[:, C.KIND] == C.POLYGON][:, [C.KX, C.KY]])  # no tilt: the CG is theirs
+    assert not np.any(shapes[shapes[:, C.KIND] == C.POLYGON][:, [C.SLOPE_X, C.SLOPE_Y]])  # no tilt: the CG is theirs
     # total load 1 (x m g) and its centre at the centre of gravity: the segment's polygonal stadium keeps
     # its centroid at the segment's middle, so to rounding
     load, P = centre_of_pressure(shapes, geo)
@@ -157,7 +157,7 @@ def test_one_density_keeps_the_area_shares_bit_for_bit() -> None:
     got = body_footprint(body)  # (space still alive: it holds the shapes' masses on the body)
     bare = body_parts(body)
     for p in bare:
-        p[0][C.WEIGHT] = 0.0  # no masses: the area shares of before
+        p[0][C.LOAD_SHARE] = 0.0  # no masses: the area shares of before
     old = combine(bare)
     assert np.array_equal(got[0], old[0]) and np.array_equal(got[1], old[1])
 
@@ -166,7 +166,7 @@ def test_a_pressure_profile_is_taken_as_given() -> None:
     """A ring (a stated load) ignores the shapes' masses and the centre of gravity: as before."""
     _space, body, _ = _mixed()
     got = body_footprint(body, ring(0.005))  # (the centre of gravity lies 1.2 cm inside the 2 cm segment)
-    assert got[0].shape[0] == 1 and got[0][0, C.KIND] == C.RING and got[0][0, C.WEIGHT] == 1.0
+    assert got[0].shape[0] == 1 and got[0][0, C.KIND] == C.RING and got[0][0, C.LOAD_SHARE] == 1.0
 
 
 def test_a_footprint_table_carries_the_mass_shares() -> None:
@@ -214,7 +214,7 @@ def test_a_centre_of_gravity_set_by_hand_gets_the_linear_pressure(e: float) -> N
     pure translation then has no torque."""
     space, body = _box_cg(e)
     shapes, geo, *_ = body_footprint(body)
-    assert shapes[0, C.KX] == pytest.approx(12.0 * e / W ** 2, rel=1e-12) and abs(shapes[0, C.KY]) < 1e-12
+    assert shapes[0, C.SLOPE_X] == pytest.approx(12.0 * e / W ** 2, rel=1e-12) and abs(shapes[0, C.SLOPE_Y]) < 1e-12
     load, P = centre_of_pressure(shapes, geo)
     assert load == pytest.approx(1.0, rel=1e-14) and np.hypot(*P) < 1e-15
     pf = PlaneFriction(space, g=G)
@@ -237,7 +237,7 @@ def test_a_centre_of_gravity_within_tolerance_is_left_alone() -> None:
     """An offset below CENTRE_TOL x reach (rounding of the sums that place it) changes nothing."""
     _, body = _box_cg(0.5 * CENTRE_TOL * math.hypot(W, H) / 2)  # half the tolerance x the reach
     shapes, *_ = body_footprint(body)
-    assert shapes[0, C.KX] == 0.0 and shapes[0, C.KY] == 0.0
+    assert shapes[0, C.SLOPE_X] == 0.0 and shapes[0, C.SLOPE_Y] == 0.0
 
 
 def test_a_tilted_circle_and_a_table_are_refused() -> None:
@@ -262,7 +262,7 @@ def test_planar_parts_with_masses_press_with_their_weight() -> None:
     the same boxes without masses share by area (the old rule) and turn."""
     a, b = planar.box(0.2, 0.1, (-0.15, 0.0), mass=1.0), planar.box(0.1, 0.1, (0.05, 0.0), mass=3.0)
     feet = planar.Footprints([[a, b], [planar.box(0.2, 0.1, (-0.15, 0.0)), planar.box(0.1, 0.1, (0.05, 0.0))]])
-    assert feet._shapes[:2, C.WEIGHT] == pytest.approx([0.25, 0.75], rel=1e-15)
+    assert feet._shapes[:2, C.LOAD_SHARE] == pytest.approx([0.25, 0.75], rel=1e-15)
     f, t = feet.wrench(0.0, [[0.0, 1.0], [0.0, 1.0]], 0.0, mu=MU, load=G)
     assert f[0] == pytest.approx([0.0, -MU * G], abs=1e-15) and abs(t[0]) < 1e-15
     px = 2 / 3 * -0.15 + 1 / 3 * 0.05  # the area shares' centre of pressure

@@ -45,7 +45,7 @@ def test_the_tee_is_pressed_under_its_centre_of_mass() -> None:
     com = d.xipos[1][:2]
     assert com == pytest.approx([0.0, 0.045], abs=1e-15)  # MuJoCo's: midway between the two 1 kg boxes
     # the shapes are loaded by area and tilted (a compiled model has no per-geom masses): slopes on both
-    assert np.all(f._shapes[:, C.KY] != 0.0)
+    assert np.all(f._shapes[:, C.SLOPE_Y] != 0.0)
     for v in ((1.0, 0.3), (0.0, -2.0)):
         # 1e-15 of the T's 0.12 m size: the rounding of the moment solve
         assert abs(_torque(f, v)) < 1e-15 * 0.12
@@ -63,8 +63,8 @@ def test_per_part_masses_given_by_hand() -> None:
     cy = d.xipos[1][1]
     feet = [planar.box(0.12, 0.03, (0.0, 0.015 - cy), mass=1.0), planar.box(0.03, 0.09, (0.0, 0.075 - cy), mass=1.0)]
     f = PlaneFriction(m, d, plane="floor", mu=MU, footprints={"tee": feet})
-    assert f._shapes[:, C.WEIGHT] == pytest.approx([0.5, 0.5], rel=1e-15)
-    assert not np.any(f._shapes[:, [C.KX, C.KY]])
+    assert f._shapes[:, C.LOAD_SHARE] == pytest.approx([0.5, 0.5], rel=1e-15)
+    assert not np.any(f._shapes[:, [C.SLOPE_X, C.SLOPE_Y]])
     assert abs(_torque(f, (0.6, -0.8))) < 1e-15 * 0.12
 
 

@@ -198,8 +198,8 @@ def test_footprints_come_from_boxes_and_cylinders() -> None:
     shapes = feet._shapes
     assert np.allclose(f._shapes, shapes, atol=1e-12)
     Ri = d.ximat[1].reshape(3, 3)  # MuJoCo's principal axes: the moment about z is (Ri I Ri^T)_zz
-    assert f._bodies[0, K.IPM] == pytest.approx((Ri @ np.diag(m.body_inertia[1]) @ Ri.T)[2, 2] / m.body_mass[1],
-                                                rel=1e-12)
+    assert f._bodies[0, K.INERTIA_PER_MASS] == pytest.approx((Ri @ np.diag(m.body_inertia[1]) @ Ri.T)[2, 2]
+                                                / m.body_mass[1], rel=1e-12)
 
 
 @pytest.mark.parametrize("kw, words", [

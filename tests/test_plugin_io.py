@@ -171,9 +171,9 @@ def test_disk_table_matches_the_exact_wrench(offset: tuple[float, float], pressu
     space.add(b, s)
     pf.add(b, mu=0.4, pressure=pressure)
     j = pf._slots[b]
-    assert pf._bodies[j, K.TKIND] == K.TABLE_CIRCLE
+    assert pf._bodies[j, K.TABLE_KIND] == K.TABLE_CIRCLE
     sh, geo = pf._k_shapes, pf._k_geo
-    s0, s1 = int(pf._bodies[j, K.S0]), int(pf._bodies[j, K.S1])
+    s0, s1 = int(pf._bodies[j, K.SHAPE_FIRST]), int(pf._bodies[j, K.SHAPE_END])
     rng = np.random.default_rng(5)
     scale = 0.4 * G * b.mass
     r = 0.1 + math.hypot(*offset)
@@ -218,9 +218,9 @@ def test_footprint_table_in_the_plugin() -> None:
     pf.add(b, mu=0.3, friction_method="table")
     pf.add(c, mu=0.3)  # "auto": exact
     ja, jb, jc = (pf._slots[x] for x in (a, b, c))
-    assert pf._bodies[ja, K.TKIND] == pf._bodies[jb, K.TKIND] == K.TABLE_FOOTPRINT
-    assert pf._bodies[ja, K.TAB] == pf._bodies[jb, K.TAB] and pf._feet.tables == 1
-    assert pf._bodies[jc, K.TKIND] == K.TABLE_NONE
+    assert pf._bodies[ja, K.TABLE_KIND] == pf._bodies[jb, K.TABLE_KIND] == K.TABLE_FOOTPRINT
+    assert pf._bodies[ja, K.TABLE_START] == pf._bodies[jb, K.TABLE_START] and pf._feet.tables == 1
+    assert pf._bodies[jc, K.TABLE_KIND] == K.TABLE_NONE
     rng = np.random.default_rng(8)
     scale = 0.3 * G * a.mass
     reach = pf._bodies[ja, K.REACH]

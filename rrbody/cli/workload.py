@@ -188,7 +188,8 @@ def _planar_workload() -> None:
     planar.Footprints([planar.circle(0.1), planar.box(0.2, 0.1)]).wrench(0.0, [[1.0, 0.0], [0.0, 1.0]], 2.0)
     shapes, geo, ranges = stack([apply_pressure([planar.box(0.2, 0.2)], uniform())[:2]])
     bodies = np.zeros((1, K.N_BODY))
-    bodies[0, [K.MASS, K.IPM, K.LAW, K.REACH, K.SNAP, K.S0, K.S1, K.STAG, K.HELD]] = \
+    bodies[0, [K.MASS, K.INERTIA_PER_MASS, K.LAW, K.REACH, K.REST_RULE, K.SHAPE_FIRST, K.SHAPE_END, K.STAGGERED,
+               K.HELD]] = \
         1.0, 0.0067, K.LAW_DRY, 0.15, 1.0, ranges[0, 0], ranges[0, 1], 1.0, -1.0
     i64 = np.zeros(1, dtype=np.int64)
     qpos, qvel = np.array([0.0, 0.0, 0.01, 1.0, 0.0, 0.0, 0.0]), np.array([1.0, 0.0, 0.0, 0.0, 0.0, 2.0])

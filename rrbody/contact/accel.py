@@ -9,21 +9,21 @@ import numpy as np
 from numba import njit
 
 from rrbody.contact.columns import (
-    COEFF,
-    IPM,
+    FRICTION_COEFF,
+    INERTIA_PER_MASS,
     LAW,
     LAW_DRY,
-    LAWP,
-    S0,
-    S1,
-    TAB,
+    LAW_PARAMS,
+    LOAD_MEAN_X,
+    LOAD_MEAN_Y,
+    LOAD_SPREAD,
+    SHAPE_END,
+    SHAPE_FIRST,
+    SLIP_EPS,
     TABLE_CIRCLE,
     TABLE_FOOTPRINT,
-    TKIND,
-    VEPS,
-    VGX,
-    VGY,
-    VJ,
+    TABLE_KIND,
+    TABLE_START,
 )
 from rrbody.contact.lean import NO_REFCOUNT
 from rrbody.physics import contact as C
@@ -52,7 +52,7 @@ def accel_at(j: int, ca: float, sa: float, vx: float, vy: float, w: float, bodie
            geo: np.ndarray, tables: np.ndarray) -> tuple[float, float, float]:
     """:func:`body_accel` at the angle whose cosine and sine are ``ca``, ``sa`` (the kernel's step has
     them already, for the active load). Inlined where it is called."""
-    c = bodies[j, COEFF]
+    c = bodies[j, FRICTION_COEFF]
     if c == 0.0:
         return 0.0, 0.0, 0.0
     vbx = ca * vx + sa * vy  # body frame
@@ -62,28 +62,29 @@ def accel_at(j: int, ca: float, sa: float, vx: float, vy: float, w: float, bodie
         # every other law: its own footprint form from the law table, as the ODE path's contact method takes it
         # (viscous: every element feels -gamma v(s), linear, so the footprint's mean position and spread
         # suffice), or the quadrature of its element force (rrbody.physics.footprint_quad); the law "none" has
-        # COEFF 0 (returned above)
-        fx, fy, tq = footprint_law_wrench(law, shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), bodies[j, VGX],
-                                   bodies[j, VGY], bodies[j, VJ], vbx, vby, w, c, bodies[j, VEPS],
-                                   law_params_at(bodies, j, LAWP))
-        return ca * fx - sa * fy, sa * fx + ca * fy, tq / bodies[j, IPM]
+        # FRICTION_COEFF 0 (returned above)
+        fx, fy, tq = footprint_law_wrench(law, shapes, geo, int(bodies[j, SHAPE_FIRST]), int(bodies[j, SHAPE_END]),
+                                   bodies[j, LOAD_MEAN_X], bodies[j, LOAD_MEAN_Y], bodies[j, LOAD_SPREAD], vbx, vby, w,
+                                   c, bodies[j, SLIP_EPS], law_params_at(bodies, j, LAW_PARAMS))
+        return ca * fx - sa * fy, sa * fx + ca * fy, tq / bodies[j, INERTIA_PER_MASS]
     # dry friction: the footprint kernel, or a wrench table of it
-    tk = bodies[j, TKIND]
+    tk = bodies[j, TABLE_KIND]
     if tk == TABLE_CIRCLE:
         fx, fy, tq = _circle(j, vbx, vby, w, bodies, shapes, tables)
     elif tk == TABLE_FOOTPRINT:
-        fx, fy, tq = footprint_table_wrench(tables, int(bodies[j, TAB]), shapes, geo, int(bodies[j, S0]),
-                                            int(bodies[j, S1]), vbx, vby, w, bodies[j, VEPS])
+        fx, fy, tq = footprint_table_wrench(tables, int(bodies[j, TABLE_START]), shapes, geo,
+                                            int(bodies[j, SHAPE_FIRST]), int(bodies[j, SHAPE_END]), vbx, vby, w,
+                                            bodies[j, SLIP_EPS])
     else:
-        fx, fy, tq = footprint_wrench(shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), vbx, vby, w,
-                                      bodies[j, VEPS])
-    return c * (ca * fx - sa * fy), c * (sa * fx + ca * fy), c * tq / bodies[j, IPM]
+        fx, fy, tq = footprint_wrench(shapes, geo, int(bodies[j, SHAPE_FIRST]), int(bodies[j, SHAPE_END]), vbx, vby, w,
+                                      bodies[j, SLIP_EPS])
+    return c * (ca * fx - sa * fy), c * (sa * fx + ca * fy), c * tq / bodies[j, INERTIA_PER_MASS]
 
 
 @njit(cache=True, inline="always")
 def reads_footprint_table(j: int, bodies: np.ndarray) -> bool:
     """Whether :func:`accel_at` reads body j's friction from its footprint's own table (dry, mu > 0)."""
-    return bodies[j, COEFF] != 0.0 and bodies[j, LAW] == LAW_DRY and bodies[j, TKIND] == TABLE_FOOTPRINT
+    return bodies[j, FRICTION_COEFF] != 0.0 and bodies[j, LAW] == LAW_DRY and bodies[j, TABLE_KIND] == TABLE_FOOTPRINT
 
 
 @njit(cache=True, inline="always")
@@ -91,7 +92,8 @@ def prefetch_at(j: int, ca: float, sa: float, vx: float, vy: float, w: float, bo
                 tables: np.ndarray) -> None:
     """Start bringing in the table block :func:`accel_at` with these arguments will read, for a body
     that :func:`reads_footprint_table` (the same body-frame twist, so the same block)."""
-    footprint_table_prefetch(tables, int(bodies[j, TAB]), ca * vx + sa * vy, -sa * vx + ca * vy, w, bodies[j, VEPS])
+    footprint_table_prefetch(tables, int(bodies[j, TABLE_START]), ca * vx + sa * vy, -sa * vx + ca * vy, w,
+                             bodies[j, SLIP_EPS])
 
 
 @njit(cache=True, inline="always")
@@ -101,14 +103,14 @@ def _circle(j: int, vbx: float, vby: float, w: float, bodies: np.ndarray, shapes
     footprint row: uniform, a ring or Hertz's), from that profile's disk table (within 1e-10 of the exact
     wrench, :mod:`rrbody.physics.icr_table`; no trigonometric call, one square root): velocity (m/s)
     body frame, the force dimensionless, the torque about the centre of gravity in m."""
-    k = int(bodies[j, S0])
-    ox = shapes[k, C.CX]
-    oy = shapes[k, C.CY]
-    r = shapes[k, C.RA]
+    k = int(bodies[j, SHAPE_FIRST])
+    ox = shapes[k, C.CENTRE_X]
+    oy = shapes[k, C.CENTRE_Y]
+    r = shapes[k, C.RADIUS_A]
     # the disk centre's velocity, the table's wrench about it, moved to the centre of gravity
-    fx, fy, tq = table_wrench_body(tables[int(bodies[j, TAB]):], r, r, vbx - w * oy, vby + w * ox, w, 1.0,
-                                   bodies[j, VEPS])
-    wt = shapes[k, C.WEIGHT]
+    fx, fy, tq = table_wrench_body(tables[int(bodies[j, TABLE_START]):], r, r, vbx - w * oy, vby + w * ox, w, 1.0,
+                                   bodies[j, SLIP_EPS])
+    wt = shapes[k, C.LOAD_SHARE]
     return wt * fx, wt * fy, wt * (tq + ox * fy - oy * fx)
 
 
@@ -132,7 +134,7 @@ def limited_at(ax: float, ay: float, aw: float, j: int, ca: float, sa: float, vx
                tables: np.ndarray, lx: float, ly: float, lw: float) -> tuple[float, float, float, float]:
     """:func:`limited` given its first evaluation, the friction (ax, ay, alpha_dot) at (ex, ey, ew)
     (:func:`accel_at`'s, which the kernel's step evaluates for all bodies before it limits any)."""
-    ipm = bodies[j, IPM]
+    ipm = bodies[j, INERTIA_PER_MASS]
     ux = vx + dt * lx
     uy = vy + dt * ly
     uw = w + dt * lw

@@ -92,7 +92,7 @@ class ActiveSet:
             if j is None:
                 continue
             row = pf.rows[j]
-            if law_coded(row[columns.LAW]).sticks and row[columns.SNAP] > 0.0 and body.angular_velocity == 0.0 \
+            if law_coded(row[columns.LAW]).sticks and row[columns.REST_RULE] > 0.0 and body.angular_velocity == 0.0 \
                     and body.velocity == (0.0, 0.0):
                 continue
             a = self.params[body]

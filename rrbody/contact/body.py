@@ -33,10 +33,11 @@ def extrapolated(i: int, j: int, got: np.ndarray, bodies: np.ndarray, dt: float)
     vx = got[i, 1]
     vy = got[i, 2]
     w = got[i, 3]
-    gap = bodies[j, GAP]
-    if gap > 0.0 and bodies[j, STAG] > 0.0:
+    gap = bodies[j, PREV_GAP]
+    if gap > 0.0 and bodies[j, STAGGERED] > 0.0:
         g = 0.5 * dt / gap
-        return vx + g * (vx - bodies[j, PVX]), vy + g * (vy - bodies[j, PVY]), w + g * (w - bodies[j, PW])
+        return (vx + g * (vx - bodies[j, PREV_VX]), vy + g * (vy - bodies[j, PREV_VY]),
+                w + g * (w - bodies[j, PREV_SPIN]))
     return vx, vy, w
 
 
@@ -47,14 +48,14 @@ def load(i, j, got, bodies, dt, out, active, noise):  # noqa: ANN001, ANN202
     evaluated at (rad), its cosine and sine, and the velocity friction and the drag act at
     (:func:`extrapolated`)."""
     # a tilted plane: gravity's in-plane part acts at the centre of gravity in every step
-    out[i, 0] += bodies[j, MASS] * bodies[j, GTX]
-    out[i, 1] += bodies[j, MASS] * bodies[j, GTY]
+    out[i, 0] += bodies[j, MASS] * bodies[j, TILT_GX]
+    out[i, 1] += bodies[j, MASS] * bodies[j, TILT_GY]
     # the angle friction and the active load are evaluated at (pymunk moves the pose first)
     alpha = got[i, 0] + got[i, 3] * dt
     sa, ca = sincos_reduced(alpha)  # (one range reduction for both: cheaper than the library's pair, to 2 ulp)
     ex, ey, ew = extrapolated(i, j, got, bodies, dt)  # the velocity friction and the drag act at
     if active.shape[0] > 0:  # self-propulsion, a medium's drag and noise: a load as well
-        fa, fb, fc = act.load(j, ca, sa, ex, ey, ew, bodies[j, MASS], bodies[j, IPM], dt, active, noise)
+        fa, fb, fc = act.load(j, ca, sa, ex, ey, ew, bodies[j, MASS], bodies[j, INERTIA_PER_MASS], dt, active, noise)
         out[i, 0] += fa
         out[i, 1] += fb
         out[i, 2] += fc
@@ -65,8 +66,8 @@ def load(i, j, got, bodies, dt, out, active, noise):  # noqa: ANN001, ANN202
 def settle(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_break, defer,  # noqa: ANN001, ANN202
             alpha, ca, sa, ex, ey, ew, have, ax, ay, aw):
     """Body j's friction on top of the loads in ``out[i]`` (:func:`friction`; with ``have``, its
-    evaluation at (ex, ey, ew) is (ax, ay, aw) already); the friction added is kept (FFX, FFY, FFT).
-    Returns 1 if the rest rule stops it, DEFER if it was deferred (nothing kept), else 0."""
+    evaluation at (ex, ey, ew) is (ax, ay, aw) already); the friction added is kept (FRICTION_FX, FRICTION_FY,
+    FRICTION_TORQUE). Returns 1 if the rest rule stops it, DEFER if it was deferred (nothing kept), else 0."""
     lx = out[i, 0]
     ly = out[i, 1]
     lt = out[i, 2]
@@ -75,12 +76,12 @@ def settle(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_bre
     if n == DEFER:
         return n
     # what friction added to the load is the friction this step applies
-    bodies[j, LDX] = lx
-    bodies[j, LDY] = ly
-    bodies[j, LDT] = lt
-    bodies[j, FFX] = out[i, 0] - lx
-    bodies[j, FFY] = out[i, 1] - ly
-    bodies[j, FFT] = out[i, 2] - lt
+    bodies[j, LOAD_FX] = lx
+    bodies[j, LOAD_FY] = ly
+    bodies[j, LOAD_TORQUE] = lt
+    bodies[j, FRICTION_FX] = out[i, 0] - lx
+    bodies[j, FRICTION_FY] = out[i, 1] - ly
+    bodies[j, FRICTION_TORQUE] = out[i, 2] - lt
     return n
 
 
@@ -89,8 +90,8 @@ def step_one(i, j, got, bodies, shapes, geo, tables, t, dt, out, active, noise):
     """One plugin body's whole step in the limit-set loop (row ``i`` of the read, row ``j`` of
     ``bodies``), ``out[i]`` holding its own force and torque: the tilt's pull and the active load are
     added, then friction, static friction's limit-set test included (:func:`~rrbody.contact.rest.held`,
-    :func:`~rrbody.contact.rest.hold_or_break`); the friction added is kept (FFX, FFY, FFT). Returns 1 if the rest rule
-    stops it."""
+    :func:`~rrbody.contact.rest.hold_or_break`); the friction added is kept (FRICTION_FX, FRICTION_FY, FRICTION_TORQUE).
+    Returns 1 if the rest rule stops it."""
     alpha, ca, sa, ex, ey, ew = load(i, j, got, bodies, dt, out, active, noise)
     return settle(i, j, got, bodies, shapes, geo, tables, t, dt, out, R.held, R.hold_or_break, False, alpha, ca, sa,
                    ex, ey, ew, False, 0.0, 0.0, 0.0)
@@ -137,14 +138,14 @@ def friction(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_b
         fex, fey, few = (vx, vy, w) if ew * w <= 0.0 else (ex, ey, ew)
         # (pymunk moves the pose with the velocity read, from got[i, 0] to alpha, then updates the
         # velocity, which moves the pose in the next step: its lever halfway through that one)
-        foot, fx, fy, tq = feet_step(shapes, int(bodies[j, S0]), int(bodies[j, S1]), alpha, alpha + 0.5 * w * dt,
-                                     got[i, 0] + 0.5 * w * dt, vx, vy, w, fex, fey, few, out[i, 0] / m0,
-                                     out[i, 1] / m0, out[i, 2] / m0,
-                                     bodies[j, COEFF], bodies[j, MUS], bodies[j, IPM], bodies[j, VEPS], dt,
-                                     bodies[j, REACH], int(bodies[j, PIN]) - 1)
+        foot, fx, fy, tq = feet_step(shapes, int(bodies[j, SHAPE_FIRST]), int(bodies[j, SHAPE_END]), alpha,
+                                     alpha + 0.5 * w * dt, got[i, 0] + 0.5 * w * dt, vx, vy, w, fex, fey, few,
+                                     out[i, 0] / m0, out[i, 1] / m0, out[i, 2] / m0,
+                                     bodies[j, FRICTION_COEFF], bodies[j, STATIC_COEFF], bodies[j, INERTIA_PER_MASS],
+                                     bodies[j, SLIP_EPS], dt, bodies[j, REACH], int(bodies[j, PINNED_FOOT]) - 1)
         # held, its spin runs out in this step: the whole body at rest where static friction holds its
         # load (the limit-set test), else, on a tilt, it swings back (the usual friction below)
-        runs_out = foot >= 0 and w * (w + dt * (out[i, 2] / m0 + tq) / bodies[j, IPM]) <= 0.0
+        runs_out = foot >= 0 and w * (w + dt * (out[i, 2] / m0 + tq) / bodies[j, INERTIA_PER_MASS]) <= 0.0
         if runs_out and defer:
             return DEFER
         if runs_out or foot == -1:
@@ -162,17 +163,17 @@ def friction(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_b
         return 0
     if feet:
         if runs_out:
-            bodies[j, PIN] = 0.0
+            bodies[j, PINNED_FOOT] = 0.0
             if held(i, j, got[i, 0], bodies, shapes, geo, out):
                 R.stop(i, j, was, static, vx, vy, w, dt, bodies, out)
                 return 1
         elif foot != -1:
-            bodies[j, PIN] = foot + 1.0 if foot >= 0 else 0.0
+            bodies[j, PINNED_FOOT] = foot + 1.0 if foot >= 0 else 0.0
             out[i, 0] += m0 * fx
             out[i, 1] += m0 * fy
             out[i, 2] += m0 * tq
             return 0
-        bodies[j, PIN] = 0.0
+        bodies[j, PINNED_FOOT] = 0.0
     if stop and (not static or held(i, j, got[i, 0], bodies, shapes, geo, out)):
         # every point slower than decel dt: friction stops the body within this step (if a load
         # acts, only where static friction then holds it; else it slides on)
@@ -181,7 +182,7 @@ def friction(i, j, got, bodies, shapes, geo, tables, t, dt, out, held, hold_or_b
     m = bodies[j, MASS] * s
     out[i, 0] += m * ax
     out[i, 1] += m * ay
-    out[i, 2] += m * bodies[j, IPM] * aw
+    out[i, 2] += m * bodies[j, INERTIA_PER_MASS] * aw
     return 0
 
 
@@ -197,11 +198,11 @@ def evaluate(i, j, ca, sa, vx, vy, w, ex, ey, ew, dt, was, bodies, shapes, geo, 
     m0 = bodies[j, MASS]
     if have:
         ax, ay, aw, s = limited_at(ax0, ay0, aw0, j, ca, sa, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo, tables,
-                                   out[i, 0] / m0, out[i, 1] / m0, out[i, 2] / (m0 * bodies[j, IPM]))
+                                   out[i, 0] / m0, out[i, 1] / m0, out[i, 2] / (m0 * bodies[j, INERTIA_PER_MASS]))
     else:
         ax, ay, aw, s = limited(j, ca, sa, vx, vy, w, ex, ey, ew, dt, bodies, shapes, geo, tables, out[i, 0] / m0,
-                                out[i, 1] / m0, out[i, 2] / (m0 * bodies[j, IPM]))
-    stop = (s < 1.0 or was == STOPPING) and bodies[j, SNAP] > 0.0 and R.law_sticks(bodies[j, LAW]) \
+                                out[i, 1] / m0, out[i, 2] / (m0 * bodies[j, INERTIA_PER_MASS]))
+    stop = (s < 1.0 or was == STOPPING) and bodies[j, REST_RULE] > 0.0 and R.law_sticks(bodies[j, LAW]) \
         and R.slow_enough(i, j, vx, vy, w, dt, bodies, out)
     return ax, ay, aw, s, stop
 
@@ -212,13 +213,13 @@ def commit(j: int, bodies: np.ndarray, vx: float, vy: float, w: float, alpha: fl
     """Body j's state for the next step: this step's velocity (the history the next extrapolates
     from), the angle and spin friction is evaluated at, and a driven body's driver."""
     bodies[j, STOP] = 0.0
-    bodies[j, PVX] = vx
-    bodies[j, PVY] = vy
-    bodies[j, PW] = w
-    bodies[j, GAP] = dt
-    bodies[j, EA] = alpha
-    bodies[j, EW] = ew
-    if bodies[j, DRV] > 0.0:
+    bodies[j, PREV_VX] = vx
+    bodies[j, PREV_VY] = vy
+    bodies[j, PREV_SPIN] = w
+    bodies[j, PREV_GAP] = dt
+    bodies[j, EVAL_ANGLE] = alpha
+    bodies[j, EVAL_SPIN] = ew
+    if bodies[j, DRIVEN] > 0.0:
         driver(j, bodies, t, dt)
 
 
@@ -228,25 +229,25 @@ def driver(j: int, bodies: np.ndarray, t: float, dt: float) -> None:
     update lands it exactly on P(t + dt) = d (cos, sin)(omega (t + dt)); its velocity, which the joint
     gives P, is P'(t + dt/2 + dt/2) plus the centripetal term w^2 dt/2 (P - CM) that pymunk's straight
     drift of a rotating body omits (staggered scheme), or P'(t + dt) (plain)."""
-    t1 = t - bodies[j, T0] + dt
-    w = bodies[j, OMG]
-    d = bodies[j, DD]
+    t1 = t - bodies[j, DRIVE_T0] + dt
+    w = bodies[j, DRIVE_OMEGA]
+    d = bodies[j, DRIVE_D]
     c1 = math.cos(w * t1)
     s1 = math.sin(w * t1)
-    if bodies[j, STAG] > 0.0:
+    if bodies[j, STAGGERED] > 0.0:
         th = w * (t1 + 0.5 * dt)
-        ca = math.cos(bodies[j, EA])
-        sa = math.sin(bodies[j, EA])
-        c = 0.5 * dt * bodies[j, EW] * bodies[j, EW]
-        vx = -d * w * math.sin(th) + c * (ca * bodies[j, ANX] - sa * bodies[j, ANY])
-        vy = d * w * math.cos(th) + c * (sa * bodies[j, ANX] + ca * bodies[j, ANY])
+        ca = math.cos(bodies[j, EVAL_ANGLE])
+        sa = math.sin(bodies[j, EVAL_ANGLE])
+        c = 0.5 * dt * bodies[j, EVAL_SPIN] * bodies[j, EVAL_SPIN]
+        vx = -d * w * math.sin(th) + c * (ca * bodies[j, ANCHOR_X] - sa * bodies[j, ANCHOR_Y])
+        vy = d * w * math.cos(th) + c * (sa * bodies[j, ANCHOR_X] + ca * bodies[j, ANCHOR_Y])
     else:
         vx = -d * w * s1
         vy = d * w * c1
-    bodies[j, DVX] = vx
-    bodies[j, DVY] = vy
-    bodies[j, DPX] = d * c1 - dt * vx
-    bodies[j, DPY] = d * s1 - dt * vy
+    bodies[j, DRIVE_VX] = vx
+    bodies[j, DRIVE_VY] = vy
+    bodies[j, DRIVE_PX] = d * c1 - dt * vx
+    bodies[j, DRIVE_PY] = d * s1 - dt * vy
 
 
 @njit(cache=True, inline="always")
@@ -266,21 +267,21 @@ def idle(i: int, j: int, got: np.ndarray, bodies: np.ndarray, dt: float) -> bool
     already there, bit for bit. The conditions are the branches step_one takes for such a body, written
     out; False wherever any of them does not hold."""
     static, was, resting, _ = R.modes(i, j, got, bodies)
-    if (not (static and resting) or not same_bits(was, 0.0) or bodies[j, DRV] > 0.0
-            or not same_bits(bodies[j, DEFR], 0.0)):
+    if (not (static and resting) or not same_bits(was, 0.0) or bodies[j, DRIVEN] > 0.0
+            or not same_bits(bodies[j, DEFERRED], 0.0)):
         return False
     m = bodies[j, MASS]
-    lx = got[i, 4] + m * bodies[j, GTX]  # the load as load() makes it (no active load)
-    ly = got[i, 5] + m * bodies[j, GTY]
+    lx = got[i, 4] + m * bodies[j, TILT_GX]  # the load as load() makes it (no active load)
+    ly = got[i, 5] + m * bodies[j, TILT_GY]
     lt = got[i, 6]
     # held(): its kept answer for this load at this angle (the test it would otherwise run writes the rows)
-    if not (R.may_hold(j, bodies, lx, ly) and lx / m == bodies[j, HX] and ly / m == bodies[j, HY]
-            and lt / m == bodies[j, HT] and got[i, 0] == bodies[j, HA] and bodies[j, HELD] > 0.0):
+    if not (R.may_hold(j, bodies, lx, ly) and lx / m == bodies[j, HELD_LOAD_X] and ly / m == bodies[j, HELD_LOAD_Y]
+            and lt / m == bodies[j, HELD_LOAD_TORQUE] and got[i, 0] == bodies[j, HELD_ANGLE] and bodies[j, HELD] > 0.0):
         return False
     _, _, ew = extrapolated(i, j, got, bodies, dt)
     # commit()'s history and settle()'s friction kept (held: out becomes 0, the friction minus the load)
-    return (same_bits(bodies[j, PVX], got[i, 1]) and same_bits(bodies[j, PVY], got[i, 2])
-            and same_bits(bodies[j, PW], got[i, 3]) and same_bits(bodies[j, GAP], dt)
-            and same_bits(bodies[j, EA], got[i, 0] + got[i, 3] * dt) and same_bits(bodies[j, EW], ew)
-            and same_bits(bodies[j, FFX], 0.0 - lx) and same_bits(bodies[j, FFY], 0.0 - ly)
-            and same_bits(bodies[j, FFT], 0.0 - lt))
+    return (same_bits(bodies[j, PREV_VX], got[i, 1]) and same_bits(bodies[j, PREV_VY], got[i, 2])
+            and same_bits(bodies[j, PREV_SPIN], got[i, 3]) and same_bits(bodies[j, PREV_GAP], dt)
+            and same_bits(bodies[j, EVAL_ANGLE], got[i, 0] + got[i, 3] * dt) and same_bits(bodies[j, EVAL_SPIN], ew)
+            and same_bits(bodies[j, FRICTION_FX], 0.0 - lx) and same_bits(bodies[j, FRICTION_FY], 0.0 - ly)
+            and same_bits(bodies[j, FRICTION_TORQUE], 0.0 - lt))

@@ -50,13 +50,26 @@ from numba import njit
 
 from rrbody.contact import rest as R
 from rrbody.contact.accel import accel_at
-from rrbody.contact.columns import COEFF, IPM, LAW, LAW_DRY, MUS, REACH, S0, S1, SNAP, VGX, VGY
+from rrbody.contact.columns import (
+    FRICTION_COEFF,
+    INERTIA_PER_MASS,
+    LAW,
+    LAW_DRY,
+    LOAD_MEAN_X,
+    LOAD_MEAN_Y,
+    REACH,
+    REST_RULE,
+    SHAPE_END,
+    SHAPE_FIRST,
+    STATIC_COEFF,
+)
 from rrbody.physics.contact import footprint_wrench
 from rrbody.physics.limit import at_rest
 
-__all__ = ["IB_ROW", "IB_M", "IB_RG", "IB_CA", "IB_SA", "IB_SX", "IB_SY", "IB_SW", "IB_VX", "IB_VY", "IB_VW",
-           "IB_REST", "IB_ISLAND", "IB_PX", "IB_PY", "IB_PW", "N_IB", "CN_A", "CN_B", "CN_NX", "CN_NY", "CN_R1X", "CN_R1Y", "CN_R2X", "CN_R2Y",
-           "CN_FRICTION", "CN_BOUNCE", "CN_VN0", "CN_VT0", "N_CN", "OUT_ITER", "OUT_SWEEPS", "OUT_RESIDUAL",
+__all__ = ["IB_ROW", "IB_MASS", "IB_GYRATION", "IB_COS", "IB_SIN", "IB_FREE_QX", "IB_FREE_QY", "IB_FREE_QW",
+           "IB_START_QX", "IB_START_QY", "IB_START_QW", "IB_REST", "IB_ISLAND", "IB_ENGINE_QX", "IB_ENGINE_QY",
+           "IB_ENGINE_QW", "N_IB", "CN_A", "CN_B", "CN_NX", "CN_NY", "CN_ARM_AX", "CN_ARM_AY", "CN_ARM_BX", "CN_ARM_BY",
+           "CN_FRICTION", "CN_BOUNCE", "CN_FIXED_VN", "CN_FIXED_VT", "N_CN", "OUT_ITER", "OUT_SWEEPS", "OUT_RESIDUAL",
            "OUT_WORST", "OUT_LEFT", "N_OUT", "MEMO_SET", "MEMO_QX", "MEMO_QY", "MEMO_QW", "MEMO_GXX", "MEMO_GXY",
            "MEMO_GXW", "MEMO_GYY", "MEMO_GYW", "MEMO_GWW", "MEMO_MOVED", "MEMO_DX", "MEMO_DY", "MEMO_DW", "N_MEMO",
            "couple"]
@@ -68,16 +81,17 @@ __all__ = ["IB_ROW", "IB_M", "IB_RG", "IB_CA", "IB_SA", "IB_SX", "IB_SY", "IB_SW
 #: (the same coordinates), 1.0 if it was exactly at rest then (static friction holds it), its island, and
 #: the velocity the engine's own contact solve gave it (q coordinates: where Newton starts a body that its
 #: contacts push out of rest)
-(IB_ROW, IB_M, IB_RG, IB_CA, IB_SA, IB_SX, IB_SY, IB_SW, IB_VX, IB_VY, IB_VW, IB_REST, IB_ISLAND, IB_PX, IB_PY,
- IB_PW) = range(16)
+(IB_ROW, IB_MASS, IB_GYRATION, IB_COS, IB_SIN, IB_FREE_QX, IB_FREE_QY, IB_FREE_QW, IB_START_QX, IB_START_QY,
+ IB_START_QW, IB_REST, IB_ISLAND, IB_ENGINE_QX, IB_ENGINE_QY, IB_ENGINE_QW) = range(16)
 N_IB = 16
 #: contact-point columns: the island bodies a and b (row of the island array; -1: a static or kinematic
-#: body, whose velocity is in CN_VN0, CN_VT0), the unit normal from a to b, the point's offsets from a's
+#: body, whose velocity is in CN_FIXED_VN, CN_FIXED_VT), the unit normal from a to b, the point's offsets from a's
 #: and b's centres of gravity (m, world), the contact's own friction coefficient, its bounce (the
 #: restitution times the normal relative velocity at the step's start, m/s: the separation speed asked
 #: is minus it), and the normal and tangential (t = z x n) relative velocity the fixed bodies and the
 #: surface velocity give (m/s)
-(CN_A, CN_B, CN_NX, CN_NY, CN_R1X, CN_R1Y, CN_R2X, CN_R2Y, CN_FRICTION, CN_BOUNCE, CN_VN0, CN_VT0) = range(12)
+(CN_A, CN_B, CN_NX, CN_NY, CN_ARM_AX, CN_ARM_AY, CN_ARM_BX, CN_ARM_BY, CN_FRICTION, CN_BOUNCE, CN_FIXED_VN,
+ CN_FIXED_VT) = range(12)
 N_CN = 12
 #: the per-island report: Newton iterations, contact sweeps in all, the last relative change, the island
 #: body whose change it was (-1: none), and where the island was left to the engine: 1.0 squeezed (SQUEEZE),
@@ -144,7 +158,7 @@ def _accel(j, ca, sa, qx, qy, qw, rg, bodies, shapes, geo, tables):  # noqa: ANN
 @njit(cache=True)
 def _sticky(j: int, bodies: np.ndarray) -> bool:
     """Whether body row j can stick: a law that sticks, dry friction acting, the rest rule governing it."""
-    return bodies[j, COEFF] > 0.0 and bodies[j, SNAP] > 0.0 and R.law_sticks(bodies[j, LAW])
+    return bodies[j, FRICTION_COEFF] > 0.0 and bodies[j, REST_RULE] > 0.0 and R.law_sticks(bodies[j, LAW])
 
 
 @njit(cache=True)
@@ -154,23 +168,24 @@ def _at_rest(i, isl, s, dt, bodies, shapes, geo):  # noqa: ANN001, ANN202
     cancel is (q* + s) / dt; static friction's coefficient for a body at rest at the step's start, the
     kinetic one otherwise (the proximal map of the friction alone)."""
     j = int(isl[i, IB_ROW])
-    rg = isl[i, IB_RG]
-    ca = isl[i, IB_CA]
-    sa = isl[i, IB_SA]
-    lx = (isl[i, IB_SX] + s[0]) / dt
-    ly = (isl[i, IB_SY] + s[1]) / dt
-    lt = (isl[i, IB_SW] + s[2]) / dt * rg  # torque per unit mass (m^2/s^2)
-    ck = bodies[j, COEFF]
-    cs = bodies[j, MUS] if (isl[i, IB_REST] > 0.0 and bodies[j, MUS] > 0.0) else ck
+    rg = isl[i, IB_GYRATION]
+    ca = isl[i, IB_COS]
+    sa = isl[i, IB_SIN]
+    lx = (isl[i, IB_FREE_QX] + s[0]) / dt
+    ly = (isl[i, IB_FREE_QY] + s[1]) / dt
+    lt = (isl[i, IB_FREE_QW] + s[2]) / dt * rg  # torque per unit mass (m^2/s^2)
+    ck = bodies[j, FRICTION_COEFF]
+    cs = bodies[j, STATIC_COEFF] if (isl[i, IB_REST] > 0.0 and bodies[j, STATIC_COEFF] > 0.0) else ck
     # where the load is centred on the centre of gravity, a load inside the double cone spanned by the unit
     # force disk (the pure translations' wrenches) and the pure spins' torques is inside the limit set
     # (convex): held, no search
-    if abs(bodies[j, VGX]) + abs(bodies[j, VGY]) <= 1e-12 * bodies[j, REACH]:
-        tmax = abs(footprint_wrench(shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), 0.0, 0.0, 1.0, 0.0)[2])
+    if abs(bodies[j, LOAD_MEAN_X]) + abs(bodies[j, LOAD_MEAN_Y]) <= 1e-12 * bodies[j, REACH]:
+        tmax = abs(footprint_wrench(shapes, geo, int(bodies[j, SHAPE_FIRST]), int(bodies[j, SHAPE_END]), 0.0, 0.0, 1.0,
+                                    0.0)[2])
         if tmax > 0.0 and math.sqrt(lx * lx + ly * ly) / cs + abs(lt) / (cs * tmax) <= 1.0 - 1e-12:
             return True, 0.0, 0.0, 0.0
-    ax, ay, aw, held = at_rest(shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), ca * lx + sa * ly,
-                               -sa * lx + ca * ly, lt, bodies[j, IPM], cs, ck)
+    ax, ay, aw, held = at_rest(shapes, geo, int(bodies[j, SHAPE_FIRST]), int(bodies[j, SHAPE_END]), ca * lx + sa * ly,
+                               -sa * lx + ca * ly, lt, bodies[j, INERTIA_PER_MASS], cs, ck)
     if held:
         return True, 0.0, 0.0, 0.0
     return False, dt * (ca * ax - sa * ay), dt * (sa * ax + ca * ay), dt * aw * rg
@@ -209,15 +224,15 @@ def _rows(con: np.ndarray, k: int, isl: np.ndarray, jac: np.ndarray) -> None:
     b = int(con[k, CN_B])
     jac[:, :] = 0.0
     if a >= 0:
-        rg = isl[a, IB_RG]
-        rx = con[k, CN_R1X]
-        ry = con[k, CN_R1Y]
+        rg = isl[a, IB_GYRATION]
+        rx = con[k, CN_ARM_AX]
+        ry = con[k, CN_ARM_AY]
         jac[0, 0], jac[0, 1], jac[0, 2] = -nx, -ny, -(rx * ny - ry * nx) / rg
         jac[1, 0], jac[1, 1], jac[1, 2] = -tx, -ty, -(rx * ty - ry * tx) / rg
     if b >= 0:
-        rg = isl[b, IB_RG]
-        rx = con[k, CN_R2X]
-        ry = con[k, CN_R2Y]
+        rg = isl[b, IB_GYRATION]
+        rx = con[k, CN_ARM_BX]
+        ry = con[k, CN_ARM_BY]
         jac[0, 3], jac[0, 4], jac[0, 5] = nx, ny, (rx * ny - ry * nx) / rg
         jac[1, 3], jac[1, 4], jac[1, 5] = tx, ty, (rx * ty - ry * tx) / rg
 
@@ -227,10 +242,11 @@ def _merit(i, isl, q, dt, bodies, shapes, geo, tables):  # noqa: ANN001, ANN202
     """Island body i's part of the objective per unit mass at q: |q - q*|^2 / 2 + dt D(q) / m (dry
     friction: D / m = -a(q) . q)."""
     j = int(isl[i, IB_ROW])
-    dx = q[0] - isl[i, IB_SX]
-    dy = q[1] - isl[i, IB_SY]
-    dw = q[2] - isl[i, IB_SW]
-    ax, ay, aw = _accel(j, isl[i, IB_CA], isl[i, IB_SA], q[0], q[1], q[2], isl[i, IB_RG], bodies, shapes, geo, tables)
+    dx = q[0] - isl[i, IB_FREE_QX]
+    dy = q[1] - isl[i, IB_FREE_QY]
+    dw = q[2] - isl[i, IB_FREE_QW]
+    ax, ay, aw = _accel(j, isl[i, IB_COS], isl[i, IB_SIN], q[0], q[1], q[2], isl[i, IB_GYRATION], bodies, shapes, geo,
+                        tables)
     return 0.5 * (dx * dx + dy * dy + dw * dw) - dt * (ax * q[0] + ay * q[1] + aw * q[2])
 
 
@@ -247,7 +263,7 @@ def _objective(b0, nb, k0, k1, isl, con, lam, q, qn, step, mode, dt, bodies, sha
         if u <= 0.0 or lam[k, 0] <= 0.0:
             continue
         _rows(con, k, isl, jac)
-        v = con[k, CN_VT0]
+        v = con[k, CN_FIXED_VT]
         for side in range(2):
             bi = int(con[k, CN_A]) if side == 0 else int(con[k, CN_B])
             if bi < 0:
@@ -262,14 +278,14 @@ def _objective(b0, nb, k0, k1, isl, con, lam, q, qn, step, mode, dt, bodies, sha
         for r in range(3):
             qt[r] = q[i, r] + step * (qn[ii, r] - q[i, r])
         if mode[ii] == 1 and step == 0.0:
-            total += isl[i, IB_M] * (0.5 * ((qt[0] - isl[i, IB_SX]) ** 2 + (qt[1] - isl[i, IB_SY]) ** 2
-                                            + (qt[2] - isl[i, IB_SW]) ** 2)
+            total += isl[i, IB_MASS] * (0.5 * ((qt[0] - isl[i, IB_FREE_QX]) ** 2 + (qt[1] - isl[i, IB_FREE_QY]) ** 2
+                                            + (qt[2] - isl[i, IB_FREE_QW]) ** 2)
                                      - dt * (a0s[ii, 0] * qt[0] + a0s[ii, 1] * qt[1] + a0s[ii, 2] * qt[2]))
         elif mode[ii] == 1:
-            total += isl[i, IB_M] * _merit(i, isl, qt, dt, bodies, shapes, geo, tables)
+            total += isl[i, IB_MASS] * _merit(i, isl, qt, dt, bodies, shapes, geo, tables)
         else:
-            total += 0.5 * isl[i, IB_M] * ((qt[0] - isl[i, IB_SX]) ** 2 + (qt[1] - isl[i, IB_SY]) ** 2
-                                          + (qt[2] - isl[i, IB_SW]) ** 2)
+            total += 0.5 * isl[i, IB_MASS] * ((qt[0] - isl[i, IB_FREE_QX]) ** 2 + (qt[1] - isl[i, IB_FREE_QY]) ** 2
+                                          + (qt[2] - isl[i, IB_FREE_QW]) ** 2)
     return total
 
 
@@ -315,7 +331,7 @@ def _pushed(i, b0, k0, k1, con, isl, qn, mode, jac, slack):  # noqa: ANN001, ANN
         other = b if a == i else a
         if other >= 0 and mode[other - b0] != 2:
             continue
-        v = con[k, CN_VN0] + con[k, CN_BOUNCE]  # both bodies at rest: what the fixed one and the bounce ask
+        v = con[k, CN_FIXED_VN] + con[k, CN_BOUNCE]  # both bodies at rest: what the fixed one and the bounce ask
         if v < -slack:
             return True
     return False
@@ -329,8 +345,9 @@ def _start(b0, b1, isl, bodies, shapes, geo, dt, q, s, mode, scale):  # noqa: AN
     for ii in range(b1 - b0):
         i = b0 + ii
         j = int(isl[i, IB_ROW])
-        c = bodies[j, COEFF]
-        scale[ii] = math.sqrt(isl[i, IB_SX] ** 2 + isl[i, IB_SY] ** 2 + isl[i, IB_SW] ** 2) + c * dt + 1e-300
+        c = bodies[j, FRICTION_COEFF]
+        scale[ii] = math.sqrt(isl[i, IB_FREE_QX] ** 2 + isl[i, IB_FREE_QY] ** 2
+                              + isl[i, IB_FREE_QW] ** 2) + c * dt + 1e-300
         vscale = max(vscale, scale[ii])
         if c == 0.0:
             mode[ii] = 0
@@ -349,7 +366,7 @@ def _start(b0, b1, isl, bodies, shapes, geo, dt, q, s, mode, scale):  # noqa: AN
                     else:
                         q[i, 0], q[i, 1], q[i, 2] = vx, vy, vw
                 else:
-                    q[i, 0], q[i, 1], q[i, 2] = isl[i, IB_SX], isl[i, IB_SY], isl[i, IB_SW]
+                    q[i, 0], q[i, 1], q[i, 2] = isl[i, IB_FREE_QX], isl[i, IB_FREE_QY], isl[i, IB_FREE_QW]
     return vscale
 
 
@@ -372,8 +389,8 @@ def _recall(i, isl, q, scale, memo, G):  # noqa: ANN001, ANN202
     j = int(isl[i, IB_ROW])
     if memo[j, MEMO_SET] == 0.0:
         return False
-    ca = isl[i, IB_CA]
-    sa = isl[i, IB_SA]
+    ca = isl[i, IB_COS]
+    sa = isl[i, IB_SIN]
     dx = ca * q[i, 0] + sa * q[i, 1] - memo[j, MEMO_QX]
     dy = -sa * q[i, 0] + ca * q[i, 1] - memo[j, MEMO_QY]
     dw = q[i, 2] - memo[j, MEMO_QW]
@@ -403,8 +420,8 @@ def _memo_column(k: int, m: int) -> int:
 def _remember(i, isl, q, G, memo):  # noqa: ANN001, ANN202
     """Keep island body i's Jacobian G (world frame), taken at q, in the memo (body frame)."""
     j = int(isl[i, IB_ROW])
-    ca = isl[i, IB_CA]
-    sa = isl[i, IB_SA]
+    ca = isl[i, IB_COS]
+    sa = isl[i, IB_SIN]
     memo[j, MEMO_QX] = ca * q[i, 0] + sa * q[i, 1]
     memo[j, MEMO_QY] = -sa * q[i, 0] + ca * q[i, 1]
     memo[j, MEMO_QW] = q[i, 2]
@@ -440,14 +457,14 @@ def _linearise(b0, b1, isl, bodies, shapes, geo, tables, dt, q, s, mode, scale, 
         if mode[ii] == 0:
             for r in range(3):
                 W[ii, r, r] = 1.0
-                f[ii, r] = isl[i, IB_SX + r]
+                f[ii, r] = isl[i, IB_FREE_QX + r]
             continue
-        rg = isl[i, IB_RG]
-        ca = isl[i, IB_CA]
-        sa = isl[i, IB_SA]
+        rg = isl[i, IB_GYRATION]
+        ca = isl[i, IB_COS]
+        sa = isl[i, IB_SIN]
         nq = math.sqrt(q[i, 0] ** 2 + q[i, 1] ** 2 + q[i, 2] ** 2)
         if nq <= PASS_REST * scale[ii] and frozen:
-            q[i, 0], q[i, 1], q[i, 2] = isl[i, IB_PX], isl[i, IB_PY], isl[i, IB_PW]
+            q[i, 0], q[i, 1], q[i, 2] = isl[i, IB_ENGINE_QX], isl[i, IB_ENGINE_QY], isl[i, IB_ENGINE_QW]
             nq = math.sqrt(q[i, 0] ** 2 + q[i, 1] ** 2 + q[i, 2] ** 2)
         if nq <= PASS_REST * scale[ii] and _sticky(j, bodies):
             # at rest to within rounding: no direction to linearise about; held, or its break-away twist
@@ -490,9 +507,9 @@ def _linearise(b0, b1, isl, bodies, shapes, geo, tables, dt, q, s, mode, scale, 
                     W[ii, r, c2] = 1.0 if r == c2 else 0.0
                     G[r, c2] = 0.0
             refresh[ii] = True
-        g0 = isl[i, IB_SX] + dt * (a0x - G[0, 0] * q[i, 0] - G[0, 1] * q[i, 1] - G[0, 2] * q[i, 2])
-        g1 = isl[i, IB_SY] + dt * (a0y - G[1, 0] * q[i, 0] - G[1, 1] * q[i, 1] - G[1, 2] * q[i, 2])
-        g2 = isl[i, IB_SW] + dt * (a0w - G[2, 0] * q[i, 0] - G[2, 1] * q[i, 1] - G[2, 2] * q[i, 2])
+        g0 = isl[i, IB_FREE_QX] + dt * (a0x - G[0, 0] * q[i, 0] - G[0, 1] * q[i, 1] - G[0, 2] * q[i, 2])
+        g1 = isl[i, IB_FREE_QY] + dt * (a0y - G[1, 0] * q[i, 0] - G[1, 1] * q[i, 1] - G[1, 2] * q[i, 2])
+        g2 = isl[i, IB_FREE_QW] + dt * (a0w - G[2, 0] * q[i, 0] - G[2, 1] * q[i, 1] - G[2, 2] * q[i, 2])
         for r in range(3):
             f[ii, r] = W[ii, r, 0] * g0 + W[ii, r, 1] * g1 + W[ii, r, 2] * g2
 
@@ -516,7 +533,7 @@ def _programme(b0, b1, k0, k1, isl, con, W, f, lam, s, qn, keff, jac, slack, max
                 bi = a if side == 0 else b
                 if bi < 0:
                     continue
-                m = isl[bi, IB_M]
+                m = isl[bi, IB_MASS]
                 for c1 in range(3):
                     for c2 in range(3):
                         kr += jac[r, 3 * side + c1] * W[bi - b0, c1, c2] * jac[r, 3 * side + c2] / m
@@ -536,7 +553,7 @@ def _programme(b0, b1, k0, k1, isl, con, W, f, lam, s, qn, keff, jac, slack, max
                 kr = keff[k - k0, r]
                 if kr <= 0.0:
                     continue
-                v = con[k, CN_VN0] if r == 0 else con[k, CN_VT0]
+                v = con[k, CN_FIXED_VN] if r == 0 else con[k, CN_FIXED_VT]
                 if a >= 0:
                     for c1 in range(3):
                         v += jac[r, c1] * qn[a - b0, c1]
@@ -558,7 +575,7 @@ def _programme(b0, b1, k0, k1, isl, con, W, f, lam, s, qn, keff, jac, slack, max
                     bi = a if side == 0 else b
                     if bi < 0:
                         continue
-                    m = isl[bi, IB_M]
+                    m = isl[bi, IB_MASS]
                     for c1 in range(3):
                         ds = jac[r, 3 * side + c1] * d / m
                         s[bi - b0, c1] += ds
@@ -573,7 +590,7 @@ def _programme(b0, b1, k0, k1, isl, con, W, f, lam, s, qn, keff, jac, slack, max
         _rows(con, k, isl, jac)
         a = int(con[k, CN_A])
         b = int(con[k, CN_B])
-        v = con[k, CN_VN0] + con[k, CN_BOUNCE]
+        v = con[k, CN_FIXED_VN] + con[k, CN_BOUNCE]
         if a >= 0:
             for c1 in range(3):
                 v += jac[0, c1] * qn[a - b0, c1]
@@ -646,7 +663,7 @@ def _newton(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s
             if mode[ii] == 2 and _pushed(i, b0, k0, k1, con, isl, qn, mode, jac, slack):
                 # something that cannot give way pushes into it: it moves, from where the engine's solve put it
                 mode[ii] = 1
-                q[i, 0], q[i, 1], q[i, 2] = isl[i, IB_PX], isl[i, IB_PY], isl[i, IB_PW]
+                q[i, 0], q[i, 1], q[i, 2] = isl[i, IB_ENGINE_QX], isl[i, IB_ENGINE_QY], isl[i, IB_ENGINE_QW]
                 flips[ii] += 1
                 changed = True
             elif mode[ii] == 2:
@@ -856,7 +873,7 @@ def _solve_island(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, 
         i = b0 + ii
         held = q[i, 0] == 0.0 and q[i, 1] == 0.0 and q[i, 2] == 0.0 and _sticky(int(isl[i, IB_ROW]), bodies)
         for r in range(3):
-            fric[i, r] = (q[i, r] - isl[i, IB_SX + r] - s[ii, r]) / dt
+            fric[i, r] = (q[i, r] - isl[i, IB_FREE_QX + r] - s[ii, r]) / dt
         pinned[i] = 1 if held else 0
     out[OUT_ITER] = it
     out[OUT_SWEEPS] = sweeps
@@ -871,10 +888,10 @@ def _prox_newton(i, isl, u, dt, bodies, shapes, geo, tables, qv, iters):  # noqa
     met the equation (to 1e-14 of its scale) without passing through rest (a sliding answer: the proximal map
     is unique, so that is it)."""
     j = int(isl[i, IB_ROW])
-    rg = isl[i, IB_RG]
-    ca = isl[i, IB_CA]
-    sa = isl[i, IB_SA]
-    scale = math.sqrt(u[0] ** 2 + u[1] ** 2 + u[2] ** 2) + dt * bodies[j, COEFF] + 1e-300
+    rg = isl[i, IB_GYRATION]
+    ca = isl[i, IB_COS]
+    sa = isl[i, IB_SIN]
+    scale = math.sqrt(u[0] ** 2 + u[1] ** 2 + u[2] ** 2) + dt * bodies[j, FRICTION_COEFF] + 1e-300
     G = np.zeros((3, 3))
     W = np.zeros((3, 3))
     qt = np.zeros(3)
@@ -921,7 +938,7 @@ def _prox(i, isl, u, dt, bodies, shapes, geo, tables, guess):  # noqa: ANN001, A
     else the maximum-dissipation twist (:func:`rrbody.physics.limit.at_rest`); another law that sticks starts
     Newton from that twist."""
     j = int(isl[i, IB_ROW])
-    scale = math.sqrt(u[0] ** 2 + u[1] ** 2 + u[2] ** 2) + dt * bodies[j, COEFF] + 1e-300
+    scale = math.sqrt(u[0] ** 2 + u[1] ** 2 + u[2] ** 2) + dt * bodies[j, FRICTION_COEFF] + 1e-300
     qv = guess.copy()
     if math.sqrt(qv[0] ** 2 + qv[1] ** 2 + qv[2] ** 2) > PASS_REST * scale:
         if _prox_newton(i, isl, u, dt, bodies, shapes, geo, tables, qv, 8) and (
@@ -929,7 +946,7 @@ def _prox(i, isl, u, dt, bodies, shapes, geo, tables, guess):  # noqa: ANN001, A
             return qv[0], qv[1], qv[2]
         qv[:] = guess  # (a slide this slow may be a rest the Newton iteration only approaches: the test decides)
     if _sticky(j, bodies):
-        s = np.array([u[0] - isl[i, IB_SX], u[1] - isl[i, IB_SY], u[2] - isl[i, IB_SW]])
+        s = np.array([u[0] - isl[i, IB_FREE_QX], u[1] - isl[i, IB_FREE_QY], u[2] - isl[i, IB_FREE_QW]])
         held, vx, vy, vw = _at_rest(i, isl, s, dt, bodies, shapes, geo)
         if held:
             return 0.0, 0.0, 0.0
@@ -955,7 +972,7 @@ def _nsgs(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s, 
     for ii in range(nb):
         i = b0 + ii
         for r in range(3):
-            pt[ii, r] = q[i, r] - isl[i, IB_SX + r] - s[ii, r]
+            pt[ii, r] = q[i, r] - isl[i, IB_FREE_QX + r] - s[ii, r]
     u = np.zeros(3)
     last_u = np.full((nb, 3), np.nan)
     change = math.inf
@@ -970,13 +987,13 @@ def _nsgs(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s, 
             b = int(con[k, CN_B])
             for r in range(2):
                 kr = 0.0
-                v = con[k, CN_VN0] if r == 0 else con[k, CN_VT0]
+                v = con[k, CN_FIXED_VN] if r == 0 else con[k, CN_FIXED_VT]
                 for side in range(2):
                     bi = a if side == 0 else b
                     if bi < 0:
                         continue
                     for c1 in range(3):
-                        kr += jac[r, 3 * side + c1] ** 2 / isl[bi, IB_M]
+                        kr += jac[r, 3 * side + c1] ** 2 / isl[bi, IB_MASS]
                         v += jac[r, 3 * side + c1] * q[bi, c1]
                 if kr <= 0.0:
                     continue
@@ -995,12 +1012,12 @@ def _nsgs(b0, b1, k0, k1, isl, con, bodies, shapes, geo, tables, dt, q, lam, s, 
                     if bi < 0:
                         continue
                     for c1 in range(3):
-                        dv = jac[r, 3 * side + c1] * d / isl[bi, IB_M]
+                        dv = jac[r, 3 * side + c1] * d / isl[bi, IB_MASS]
                         q[bi, c1] += dv
                         s[bi - b0, c1] += dv
         for ii in range(nb):
             i = b0 + ii
-            if bodies[int(isl[i, IB_ROW]), COEFF] == 0.0:
+            if bodies[int(isl[i, IB_ROW]), FRICTION_COEFF] == 0.0:
                 continue
             for r in range(3):
                 u[r] = q[i, r] - pt[ii, r]

@@ -87,8 +87,8 @@ def breakaway(bx: float, by: float, tx: float, ty: float, j: float, cw: float, d
 def feet_step(shapes: np.ndarray, s0: int, s1: int, alpha_e: float, alpha_m: float, alpha_u: float, vx: float,
               vy: float, w: float, ex: float, ey: float, ew: float, lx: float, ly: float, lt: float, ck: float,
               cs: float, j: float, v_eps: float, dt: float, reach: float, held: int) -> tuple[int, float, float, float]:
-    """One step of friction on a body on the feet ``shapes[s0:s1]`` (POINT rows: CX, CY body frame from
-    the centre of gravity, m; WEIGHT the shares), with a foot held or arriving at rest.
+    """One step of friction on a body on the feet ``shapes[s0:s1]`` (POINT rows: CENTRE_X, CENTRE_Y body frame from
+    the centre of gravity, m; LOAD_SHARE the shares), with a foot held or arriving at rest.
 
     Body angle ``alpha_e`` and velocity (ex, ey, ew) (m/s world, rad/s) are where the kernel evaluates
     the sliding feet's friction; ``alpha_m`` the mid-update angle and (vx, vy, w) the velocity the step
@@ -111,8 +111,8 @@ def feet_step(shapes: np.ndarray, s0: int, s1: int, alpha_e: float, alpha_m: flo
     if held < 0:
         slow = False
         for k in range(s0, s1):
-            px = shapes[k, C.CX]
-            py = shapes[k, C.CY]
+            px = shapes[k, C.CENTRE_X]
+            py = shapes[k, C.CENTRE_Y]
             if math.hypot(vx - w * (sm * px + cm * py), vy + w * (cm * px - sm * py)) <= bound:
                 slow = True
                 break
@@ -125,11 +125,11 @@ def feet_step(shapes: np.ndarray, s0: int, s1: int, alpha_e: float, alpha_m: flo
     fy = 0.0
     tq = 0.0
     for k in range(s0, s1):
-        px = shapes[k, C.CX]
-        py = shapes[k, C.CY]
+        px = shapes[k, C.CENTRE_X]
+        py = shapes[k, C.CENTRE_Y]
         rx = ce * px - se * py
         ry = se * px + ce * py
-        gx, gy = law_dry.force(ex - ew * ry, ey + ew * rx, ck * shapes[k, C.WEIGHT], v_eps)
+        gx, gy = law_dry.force(ex - ew * ry, ey + ew * rx, ck * shapes[k, C.LOAD_SHARE], v_eps)
         fx += gx
         fy += gy
         tq += rx * gy - ry * gx
@@ -141,9 +141,9 @@ def feet_step(shapes: np.ndarray, s0: int, s1: int, alpha_e: float, alpha_m: flo
     for k in range(s0, s1):
         if held >= 0 and k - s0 != held:
             continue  # a held foot is the only one tested
-        px = shapes[k, C.CX]
-        py = shapes[k, C.CY]
-        wk = shapes[k, C.WEIGHT]
+        px = shapes[k, C.CENTRE_X]
+        py = shapes[k, C.CENTRE_Y]
+        wk = shapes[k, C.LOAD_SHARE]
         # the lever at the mid-update angle, t = z x r
         rx = cm * px - sm * py
         ry = sm * px + cm * py

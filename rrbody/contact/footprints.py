@@ -70,12 +70,12 @@ class Footprints:
         return len(self._table_at)
 
     def friction_table(self, shapes: np.ndarray, geo: np.ndarray, tabulate: bool) -> tuple[float, float]:
-        """(TKIND, TAB) of a dry body with this footprint: one uniformly loaded disk takes the disk's
+        """(TABLE_KIND, TABLE_START) of a dry body with this footprint: one uniformly loaded disk takes the disk's
         table (as exact as its quadrature, within 1e-10, and ~6x cheaper), one ring or Hertz patch its
         profile's disk table (within 1e-10 of its closed forms); with ``tabulate`` any other
         its own table (one per distinct footprint: its rows and geometry, ranges local to it); else
         the exact wrench every step."""
-        if shapes.shape[0] == 1 and shapes[0, C.KIND] == C.ELLIPSE and shapes[0, C.RA] == shapes[0, C.RB]:
+        if shapes.shape[0] == 1 and shapes[0, C.KIND] == C.ELLIPSE and shapes[0, C.RADIUS_A] == shapes[0, C.RADIUS_B]:
             return columns.TABLE_CIRCLE, self._table("disk", lambda: build_table(1.0, 1.0))
         if shapes.shape[0] == 1 and shapes[0, C.KIND] in (C.RING, C.HERTZ):  # radial profiles: their own disk tables
             profile = "ring" if shapes[0, C.KIND] == C.RING else "hertz"
@@ -100,7 +100,7 @@ class Footprints:
 
     def place(self, j: int, bodies: np.ndarray) -> None:
         """Append body row j's footprint to ``shapes`` and ``geo``, its polygon and sample ranges shifted
-        to where its geo block lands, and point the row's S0, S1 (in ``bodies``) at it."""
+        to where its geo block lands, and point the row's SHAPE_FIRST, SHAPE_END (in ``bodies``) at it."""
         sh, geo = self.rows[j]
         s0 = self._shapes.append(sh)
         if geo.shape[0]:  # polygons and samples: their vertex and rule ranges move with the block
@@ -108,10 +108,11 @@ class Footprints:
             if ng:
                 rows = self._shapes.buf[s0:s0 + sh.shape[0]]
                 kind = rows[:, C.KIND]
-                rows[kind == C.POLYGON, C.V0:C.Q1 + 1] += ng  # V0, V1, Q0, Q1: consecutive columns
-                rows[kind == C.SAMPLED, C.Q0:C.Q1 + 1] += ng
-        bodies[j, columns.S0] = s0
-        bodies[j, columns.S1] = s0 + sh.shape[0]
+                # VERTEX_FIRST, VERTEX_END, QUAD_FIRST, QUAD_END: consecutive columns
+                rows[kind == C.POLYGON, C.VERTEX_FIRST:C.QUAD_END + 1] += ng
+                rows[kind == C.SAMPLED, C.QUAD_FIRST:C.QUAD_END + 1] += ng
+        bodies[j, columns.SHAPE_FIRST] = s0
+        bodies[j, columns.SHAPE_END] = s0 + sh.shape[0]
 
     def drop(self, j: int) -> None:
         """Body row j's placed rows are garbage now (the caller compacts once the rows are consistent)."""

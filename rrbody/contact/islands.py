@@ -23,25 +23,41 @@ from numba import njit
 
 from rrbody.contact import coupled as CP
 from rrbody.contact import rest as R
-from rrbody.contact.columns import COEFF, FFT, FFX, FFY, IPM, LAW, LDT, LDX, LDY, MASS, PVX, PVY, PW, STOP
+from rrbody.contact.columns import (
+    FRICTION_COEFF,
+    FRICTION_FX,
+    FRICTION_FY,
+    FRICTION_TORQUE,
+    INERTIA_PER_MASS,
+    LAW,
+    LOAD_FX,
+    LOAD_FY,
+    LOAD_TORQUE,
+    MASS,
+    PREV_SPIN,
+    PREV_VX,
+    PREV_VY,
+    STOP,
+)
 
-__all__ = ["RP_A", "RP_B", "RP_KIND", "RP_NX", "RP_NY", "RP_PAX", "RP_PAY", "RP_PBX", "RP_PBY", "RP_FRICTION",
-           "RP_RESTITUTION", "RP_SVX", "RP_SVY", "RP_BVX", "RP_BVY", "RP_BW", "RP_BCX", "RP_BCY", "N_RP", "KIND_PLANE",
-           "KIND_STATIC", "KIND_KINEMATIC", "KIND_OFF", "RB_CX", "RB_CY", "RB_ANGLE", "RB_VX", "RB_VY", "RB_W",
-           "RB_JOINT", "RB_SEEN", "N_RB", "assemble", "couple_islands"]
+__all__ = ["RP_A", "RP_B", "RP_KIND", "RP_NX", "RP_NY", "RP_POINT_AX", "RP_POINT_AY", "RP_POINT_BX", "RP_POINT_BY",
+           "RP_FRICTION", "RP_RESTITUTION", "RP_SURFACE_VX", "RP_SURFACE_VY", "RP_B_VX", "RP_B_VY", "RP_B_SPIN",
+           "RP_B_CGX", "RP_B_CGY", "N_RP", "KIND_PLANE", "KIND_STATIC", "KIND_KINEMATIC", "KIND_OFF", "RB_CGX",
+           "RB_CGY", "RB_ANGLE", "RB_VX", "RB_VY", "RB_SPIN", "RB_JOINT", "RB_SEEN", "N_RB", "assemble",
+           "couple_islands"]
 
 #: raw point columns: the plane rows of body a and body b (-1: b is not on the plane), b's kind, the unit
 #: normal from a to b, the point on a's surface and on b's (m), the contact's friction coefficient and
 #: restitution, the surface velocity (m/s, as the engine adds it to b's velocity relative to a's), and for a
 #: b not on the plane its velocity (m/s, rad/s) and centre of gravity (m)
-(RP_A, RP_B, RP_KIND, RP_NX, RP_NY, RP_PAX, RP_PAY, RP_PBX, RP_PBY, RP_FRICTION, RP_RESTITUTION, RP_SVX, RP_SVY,
- RP_BVX, RP_BVY, RP_BW, RP_BCX, RP_BCY) = range(18)
+(RP_A, RP_B, RP_KIND, RP_NX, RP_NY, RP_POINT_AX, RP_POINT_AY, RP_POINT_BX, RP_POINT_BY, RP_FRICTION, RP_RESTITUTION,
+ RP_SURFACE_VX, RP_SURFACE_VY, RP_B_VX, RP_B_VY, RP_B_SPIN, RP_B_CGX, RP_B_CGY) = range(18)
 N_RP = 18
 #: what body b is: on the plane (a row of ``bodies``), static, kinematic, or dynamic off the plane
 KIND_PLANE, KIND_STATIC, KIND_KINEMATIC, KIND_OFF = 0.0, 1.0, 2.0, 3.0
 #: raw body columns (a row per plane row): its centre of gravity (m) and angle (rad) after the engine's step,
 #: the velocity the engine gave it (m/s, rad/s), 1.0 if a joint holds it, 1.0 if it touched something
-(RB_CX, RB_CY, RB_ANGLE, RB_VX, RB_VY, RB_W, RB_JOINT, RB_SEEN) = range(8)
+(RB_CGX, RB_CGY, RB_ANGLE, RB_VX, RB_VY, RB_SPIN, RB_JOINT, RB_SEEN) = range(8)
 N_RB = 8
 
 
@@ -63,7 +79,7 @@ def _root(parent: np.ndarray, k: int) -> int:
 def _decel(j: int, bodies: np.ndarray) -> float:
     """The deceleration the plane's friction gives body row j at any speed (m/s^2): mu g cos(tilt) for a law
     that sticks (dry, Stribeck), none for one whose force vanishes at rest (viscous)."""
-    return bodies[j, COEFF] if R.law_sticks(bodies[j, LAW]) else 0.0
+    return bodies[j, FRICTION_COEFF] if R.law_sticks(bodies[j, LAW]) else 0.0
 
 
 @njit(cache=True)
@@ -78,7 +94,7 @@ def _before(raw: np.ndarray, where: np.ndarray, k: int, m: int) -> bool:
     mb = where[int(raw[m, RP_B])] if raw[m, RP_KIND] == KIND_PLANE else -1
     if kb != mb:
         return kb < mb
-    for col in (RP_PAX, RP_PAY, RP_PBX, RP_PBY):
+    for col in (RP_POINT_AX, RP_POINT_AY, RP_POINT_BX, RP_POINT_BY):
         if raw[k, col] != raw[m, col]:
             return raw[k, col] < raw[m, col]
     return k < m
@@ -128,8 +144,8 @@ def assemble(raw: np.ndarray, n_raw: int, body: np.ndarray, bodies: np.ndarray, 
     RB_SEEN marks the bodies that touched something): (isl, con, the plane row of each island body).
 
     Each body's free velocity is the engine's velocity update without friction or contacts, from its
-    velocity at the step's start (PVX, PVY, PW: the plane step's history) and the loads the plane step
-    applied besides friction (LDX, LDY, LDT), with the engine's gravity (gx, gy, m/s^2) and its damping
+    velocity at the step's start (PREV_VX, PREV_VY, PREV_SPIN: the plane step's history) and the loads the plane step
+    applied besides friction (LOAD_FX, LOAD_FY, LOAD_TORQUE), with the engine's gravity (gx, gy, m/s^2) and its damping
     factor over the step (``damp``). A contact's bounce is the restitution times its normal relative
     velocity at the step's start (as the engine asks), none where the two bodies' plane friction takes it
     away within the step (the separation the step would ask for cannot last to its end)."""
@@ -177,24 +193,24 @@ def assemble(raw: np.ndarray, n_raw: int, body: np.ndarray, bodies: np.ndarray, 
             label += 1
             last = r
         m = bodies[j, MASS]
-        rg = math.sqrt(bodies[j, IPM])
-        vx, vy, w = bodies[j, PVX], bodies[j, PVY], bodies[j, PW]  # the velocity the step started from
+        rg = math.sqrt(bodies[j, INERTIA_PER_MASS])
+        vx, vy, w = bodies[j, PREV_VX], bodies[j, PREV_VY], bodies[j, PREV_SPIN]  # the velocity the step started from
         isl[i, CP.IB_ROW] = j
-        isl[i, CP.IB_M] = m
-        isl[i, CP.IB_RG] = rg
-        isl[i, CP.IB_CA] = math.cos(body[j, RB_ANGLE])
-        isl[i, CP.IB_SA] = math.sin(body[j, RB_ANGLE])
-        isl[i, CP.IB_SX] = vx * damp + dt * (gx + bodies[j, LDX] / m)
-        isl[i, CP.IB_SY] = vy * damp + dt * (gy + bodies[j, LDY] / m)
-        isl[i, CP.IB_SW] = rg * (w * damp + dt * bodies[j, LDT] / (m * bodies[j, IPM]))
-        isl[i, CP.IB_VX] = vx
-        isl[i, CP.IB_VY] = vy
-        isl[i, CP.IB_VW] = rg * w
+        isl[i, CP.IB_MASS] = m
+        isl[i, CP.IB_GYRATION] = rg
+        isl[i, CP.IB_COS] = math.cos(body[j, RB_ANGLE])
+        isl[i, CP.IB_SIN] = math.sin(body[j, RB_ANGLE])
+        isl[i, CP.IB_FREE_QX] = vx * damp + dt * (gx + bodies[j, LOAD_FX] / m)
+        isl[i, CP.IB_FREE_QY] = vy * damp + dt * (gy + bodies[j, LOAD_FY] / m)
+        isl[i, CP.IB_FREE_QW] = rg * (w * damp + dt * bodies[j, LOAD_TORQUE] / (m * bodies[j, INERTIA_PER_MASS]))
+        isl[i, CP.IB_START_QX] = vx
+        isl[i, CP.IB_START_QY] = vy
+        isl[i, CP.IB_START_QW] = rg * w
         isl[i, CP.IB_REST] = 1.0 if (vx == 0.0 and vy == 0.0 and w == 0.0) else 0.0
         isl[i, CP.IB_ISLAND] = label
-        isl[i, CP.IB_PX] = body[j, RB_VX]
-        isl[i, CP.IB_PY] = body[j, RB_VY]
-        isl[i, CP.IB_PW] = rg * body[j, RB_W]
+        isl[i, CP.IB_ENGINE_QX] = body[j, RB_VX]
+        isl[i, CP.IB_ENGINE_QY] = body[j, RB_VY]
+        isl[i, CP.IB_ENGINE_QW] = rg * body[j, RB_SPIN]
     # the points of the islands kept, in canonical order: island (its first body), a, b, the point
     pick = np.empty(n_raw, dtype=np.int64)
     nk = 0
@@ -213,48 +229,48 @@ def assemble(raw: np.ndarray, n_raw: int, body: np.ndarray, bodies: np.ndarray, 
         ny = raw[k, RP_NY]
         tx = -ny
         ty = nx
-        r1x = raw[k, RP_PAX] - body[ja, RB_CX]
-        r1y = raw[k, RP_PAY] - body[ja, RB_CY]
-        wa = bodies[ja, PW]
-        va0x = bodies[ja, PVX] - wa * r1y
-        va0y = bodies[ja, PVY] + wa * r1x
+        r1x = raw[k, RP_POINT_AX] - body[ja, RB_CGX]
+        r1y = raw[k, RP_POINT_AY] - body[ja, RB_CGY]
+        wa = bodies[ja, PREV_SPIN]
+        va0x = bodies[ja, PREV_VX] - wa * r1y
+        va0y = bodies[ja, PREV_VY] + wa * r1x
         stop = _decel(ja, bodies)
         if raw[k, RP_KIND] == KIND_PLANE:
             jb = int(raw[k, RP_B])
             ib = where[jb]
-            r2x = raw[k, RP_PBX] - body[jb, RB_CX]
-            r2y = raw[k, RP_PBY] - body[jb, RB_CY]
-            wb = bodies[jb, PW]
-            vb0x = bodies[jb, PVX] - wb * r2y
-            vb0y = bodies[jb, PVY] + wb * r2x
+            r2x = raw[k, RP_POINT_BX] - body[jb, RB_CGX]
+            r2y = raw[k, RP_POINT_BY] - body[jb, RB_CGY]
+            wb = bodies[jb, PREV_SPIN]
+            vb0x = bodies[jb, PREV_VX] - wb * r2y
+            vb0y = bodies[jb, PREV_VY] + wb * r2x
             fixx = 0.0
             fixy = 0.0
             stop += _decel(jb, bodies)
         else:
             ib = -1
-            r2x = raw[k, RP_PBX] - raw[k, RP_BCX]
-            r2y = raw[k, RP_PBY] - raw[k, RP_BCY]
-            fixx = raw[k, RP_BVX] - raw[k, RP_BW] * r2y
-            fixy = raw[k, RP_BVY] + raw[k, RP_BW] * r2x
+            r2x = raw[k, RP_POINT_BX] - raw[k, RP_B_CGX]
+            r2y = raw[k, RP_POINT_BY] - raw[k, RP_B_CGY]
+            fixx = raw[k, RP_B_VX] - raw[k, RP_B_SPIN] * r2y
+            fixy = raw[k, RP_B_VY] + raw[k, RP_B_SPIN] * r2x
             vb0x = fixx
             vb0y = fixy
         bounce = raw[k, RP_RESTITUTION] * ((vb0x - va0x) * nx + (vb0y - va0y) * ny)
         if -bounce <= stop * dt:
             bounce = 0.0
-        sx = fixx + raw[k, RP_SVX]
-        sy = fixy + raw[k, RP_SVY]
+        sx = fixx + raw[k, RP_SURFACE_VX]
+        sy = fixy + raw[k, RP_SURFACE_VY]
         con[p, CP.CN_A] = ia
         con[p, CP.CN_B] = ib
         con[p, CP.CN_NX] = nx
         con[p, CP.CN_NY] = ny
-        con[p, CP.CN_R1X] = r1x
-        con[p, CP.CN_R1Y] = r1y
-        con[p, CP.CN_R2X] = r2x
-        con[p, CP.CN_R2Y] = r2y
+        con[p, CP.CN_ARM_AX] = r1x
+        con[p, CP.CN_ARM_AY] = r1y
+        con[p, CP.CN_ARM_BX] = r2x
+        con[p, CP.CN_ARM_BY] = r2y
         con[p, CP.CN_FRICTION] = raw[k, RP_FRICTION]
         con[p, CP.CN_BOUNCE] = bounce
-        con[p, CP.CN_VN0] = sx * nx + sy * ny
-        con[p, CP.CN_VT0] = sx * tx + sy * ty
+        con[p, CP.CN_FIXED_VN] = sx * nx + sy * ny
+        con[p, CP.CN_FIXED_VT] = sx * tx + sy * ty
     return isl, con, order
 
 
@@ -265,14 +281,14 @@ def couple_islands(raw: np.ndarray, n_raw: int, body: np.ndarray, bodies: np.nda
                    report: np.ndarray, memo: np.ndarray) -> tuple[int, int, int, int, int]:
     """The coupled step of every island (:func:`assemble`, then :func:`rrbody.contact.coupled.couple`, each body
     starting from its velocity at the step's start, or from the engine's where it was at rest, or, sliding steadily,
-    from its velocity plus the last step's change: ``memo``). Writes each island body's friction (FFX, FFY, FFT: N,
-    N m) and clears its rest-rule flag (STOP) in ``bodies``; into the caller's arrays (a row per plane row at least)
-    the plane rows solved (``order``), their velocities (``vel``: m/s, rad/s), the plane rows of the bodies it
-    brought to rest in this step (``stopped``: held now, moving at the step's start) and each island's report
-    (``report``: a row of :data:`rrbody.contact.coupled.N_OUT`, its worst body as a plane row); ``memo``: the
-    solver's memo (each body's Jacobian and last change), a row per plane row, kept by the caller from step to step
-    (:data:`rrbody.contact.coupled.N_MEMO` columns; zeros: none). Returns (the bodies whose velocity it set, the
-    bodies stopped, the islands, how many islands did not converge, how many were left to the engine for their
+    from its velocity plus the last step's change: ``memo``). Writes each island body's friction (FRICTION_FX,
+    FRICTION_FY, FRICTION_TORQUE: N, N m) and clears its rest-rule flag (STOP) in ``bodies``; into the caller's arrays
+    (a row per plane row at least) the plane rows solved (``order``), their velocities (``vel``: m/s, rad/s), the plane
+    rows of the bodies it brought to rest in this step (``stopped``: held now, moving at the step's start) and each
+    island's report (``report``: a row of :data:`rrbody.contact.coupled.N_OUT`, its worst body as a plane row);
+    ``memo``: the solver's memo (each body's Jacobian and last change), a row per plane row, kept by the caller from
+    step to step (:data:`rrbody.contact.coupled.N_MEMO` columns; zeros: none). Returns (the bodies whose velocity it
+    set, the bodies stopped, the islands, how many islands did not converge, how many were left to the engine for their
     size). An island squeezed between bodies that cannot give way (:data:`rrbody.contact.coupled.SQUEEZE`) keeps the
     engine's velocities and the plane step's friction: none of its bodies is among those set."""
     isl, con, rows = assemble(raw, n_raw, body, bodies, dt, damp, gx, gy)
@@ -282,9 +298,9 @@ def couple_islands(raw: np.ndarray, n_raw: int, body: np.ndarray, bodies: np.nda
     for i in range(nb):
         j = rows[i]
         if isl[i, CP.IB_REST] > 0.0:
-            q[i, 0], q[i, 1], q[i, 2] = isl[i, CP.IB_PX], isl[i, CP.IB_PY], isl[i, CP.IB_PW]
+            q[i, 0], q[i, 1], q[i, 2] = isl[i, CP.IB_ENGINE_QX], isl[i, CP.IB_ENGINE_QY], isl[i, CP.IB_ENGINE_QW]
         else:
-            q[i, 0], q[i, 1], q[i, 2] = isl[i, CP.IB_VX], isl[i, CP.IB_VY], isl[i, CP.IB_VW]
+            q[i, 0], q[i, 1], q[i, 2] = isl[i, CP.IB_START_QX], isl[i, CP.IB_START_QY], isl[i, CP.IB_START_QW]
             if memo[j, CP.MEMO_MOVED] > 0.0:
                 # a body sliding steadily: its last step's change once more (only where that change is small
                 # against its velocity, so that the guess stays on the same side of rest)
@@ -306,22 +322,22 @@ def couple_islands(raw: np.ndarray, n_raw: int, body: np.ndarray, bodies: np.nda
         if pinned[i] < 0:
             continue  # left to the engine: its velocity, and the friction the plane step applied before it
         j = rows[i]
-        rg = isl[i, CP.IB_RG]
-        m = isl[i, CP.IB_M]
+        rg = isl[i, CP.IB_GYRATION]
+        m = isl[i, CP.IB_MASS]
         order[n_set] = j
         vel[n_set, 0] = q[i, 0]
         vel[n_set, 1] = q[i, 1]
         vel[n_set, 2] = q[i, 2] / rg
         n_set += 1
-        bodies[j, FFX] = m * fric[i, 0]
-        bodies[j, FFY] = m * fric[i, 1]
-        bodies[j, FFT] = m * rg * fric[i, 2]
+        bodies[j, FRICTION_FX] = m * fric[i, 0]
+        bodies[j, FRICTION_FY] = m * fric[i, 1]
+        bodies[j, FRICTION_TORQUE] = m * rg * fric[i, 2]
         bodies[j, STOP] = 0.0  # (the plane step's rest rule does not act on a body the coupled step solved)
         if pinned[i] == 0 and isl[i, CP.IB_REST] == 0.0:
             memo[j, CP.MEMO_MOVED] = 1.0
-            memo[j, CP.MEMO_DX] = q[i, 0] - isl[i, CP.IB_VX]
-            memo[j, CP.MEMO_DY] = q[i, 1] - isl[i, CP.IB_VY]
-            memo[j, CP.MEMO_DW] = q[i, 2] - isl[i, CP.IB_VW]
+            memo[j, CP.MEMO_DX] = q[i, 0] - isl[i, CP.IB_START_QX]
+            memo[j, CP.MEMO_DY] = q[i, 1] - isl[i, CP.IB_START_QY]
+            memo[j, CP.MEMO_DW] = q[i, 2] - isl[i, CP.IB_START_QW]
         if pinned[i] > 0 and isl[i, CP.IB_REST] == 0.0:
             stopped[n_ev] = j
             n_ev += 1

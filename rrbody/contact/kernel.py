@@ -110,8 +110,8 @@ def plane_step(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.n
     if n_defer:
         for i in range(got.shape[0]):
             j = rowmap[i]
-            if j >= 0 and bodies[j, DEFR] > 0.0:
-                bodies[j, DEFR] = 0.0
+            if j >= 0 and bodies[j, DEFERRED] > 0.0:
+                bodies[j, DEFERRED] = 0.0
                 out[i, 0] = got[i, 4]
                 out[i, 1] = got[i, 5]
                 out[i, 2] = got[i, 6]
@@ -157,7 +157,7 @@ def plane_idle(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.n
 #: columns of :func:`_sweep`'s work array (a row per row of the read): the angle friction is evaluated at
 #: (rad), its cosine and sine, the velocity (m/s, world) and spin (rad/s) it is evaluated at, and the
 #: friction there (per unit mass, world: :func:`rrbody.contact.accel.accel_at`)
-_W_ALPHA, _W_CA, _W_SA, _W_EX, _W_EY, _W_EW, _W_AX, _W_AY, _W_AW = range(9)
+_W_ALPHA, _W_COS, _W_SIN, _W_EVAL_VX, _W_EVAL_VY, _W_EVAL_SPIN, _W_ACCEL_X, _W_ACCEL_Y, _W_ACCEL_SPIN = range(9)
 #: footprint-table bodies whose coefficients the friction pass asks for ahead of their evaluation
 AHEAD = 4
 
@@ -176,8 +176,8 @@ def _next_tabled(k: int, n: int, rowmap: np.ndarray, got: np.ndarray, bodies: np
 @njit(cache=True, inline="always")
 def _fetch(k: int, rowmap: np.ndarray, bodies: np.ndarray, tables: np.ndarray, work: np.ndarray) -> None:
     """Start bringing in the table block body k's evaluation (accel_at, from ``work``) will read."""
-    prefetch_at(rowmap[k], work[k, _W_CA], work[k, _W_SA], work[k, _W_EX], work[k, _W_EY], work[k, _W_EW], bodies,
-                tables)
+    prefetch_at(rowmap[k], work[k, _W_COS], work[k, _W_SIN], work[k, _W_EVAL_VX], work[k, _W_EVAL_VY],
+                work[k, _W_EVAL_SPIN], bodies, tables)
 _N_WORK = 9
 
 
@@ -187,7 +187,7 @@ def _sweep(got: np.ndarray, rowmap: np.ndarray, bodies: np.ndarray, shapes: np.n
            work: np.ndarray) -> tuple[int, int]:
     """:func:`plane_step`'s loop over the space's bodies: ``out`` starts from each body's own force and
     torque, and every plugin body gets its step (what :func:`~rrbody.contact.body.step_one` does, in passes) unless it
-    needs the limit-set test (marked DEFR). Returns the bodies the rest rule stopped and the bodies deferred.
+    needs the limit-set test (marked DEFERRED). Returns the bodies the rest rule stopped and the bodies deferred.
 
     Three passes over the bodies, each body's numbers kept in ``work``: the loads (:func:`~rrbody.contact.body.load`; a
     body at rest under static friction is left to the limit-set loop at once),
@@ -211,17 +211,17 @@ def _sweep(got: np.ndarray, rowmap: np.ndarray, bodies: np.ndarray, shapes: np.n
         if static and resting:
             # at rest under static friction: the limit-set loop steps it from the start (the test of its
             # load, whose small linear solves allocate)
-            bodies[j, DEFR] = 1.0
+            bodies[j, DEFERRED] = 1.0
             n_defer += 1
             continue
-        (work[i, _W_ALPHA], work[i, _W_CA], work[i, _W_SA], work[i, _W_EX], work[i, _W_EY],
-         work[i, _W_EW]) = B.load(i, j, got, bodies, dt, out, active, noise)
+        (work[i, _W_ALPHA], work[i, _W_COS], work[i, _W_SIN], work[i, _W_EVAL_VX], work[i, _W_EVAL_VY],
+         work[i, _W_EVAL_SPIN]) = B.load(i, j, got, bodies, dt, out, active, noise)
     for disks in (True, False):
         p = 0  # where the search for the next footprint-table body to fetch for resumes
         fetched = 0  # footprint-table bodies fetched and not yet evaluated
         for i in range(n):
             j = rowmap[i]
-            if j < 0 or (bodies[j, TKIND] == TABLE_CIRCLE) != disks or not R.evaluated(i, j, got, bodies):
+            if j < 0 or (bodies[j, TABLE_KIND] == TABLE_CIRCLE) != disks or not R.evaluated(i, j, got, bodies):
                 continue
             if reads_footprint_table(j, bodies):
                 # this body's block and those of the AHEAD such bodies after it on their way (one call
@@ -234,18 +234,18 @@ def _sweep(got: np.ndarray, rowmap: np.ndarray, bodies: np.ndarray, shapes: np.n
                     p += 1
                     fetched += 1
                 fetched -= 1
-            work[i, _W_AX], work[i, _W_AY], work[i, _W_AW] = accel_at(
-                j, work[i, _W_CA], work[i, _W_SA], work[i, _W_EX], work[i, _W_EY], work[i, _W_EW], bodies, shapes,
-                geo, tables)
+            work[i, _W_ACCEL_X], work[i, _W_ACCEL_Y], work[i, _W_ACCEL_SPIN] = accel_at(
+                j, work[i, _W_COS], work[i, _W_SIN], work[i, _W_EVAL_VX], work[i, _W_EVAL_VY], work[i, _W_EVAL_SPIN],
+                bodies, shapes, geo, tables)
     for i in range(n):
         j = rowmap[i]
-        if j < 0 or bodies[j, DEFR] > 0.0:
+        if j < 0 or bodies[j, DEFERRED] > 0.0:
             continue
         r = B.settle(i, j, got, bodies, shapes, geo, tables, t, dt, out, R.no_held, R.no_break, True, work[i, _W_ALPHA],
-                    work[i, _W_CA], work[i, _W_SA], work[i, _W_EX], work[i, _W_EY], work[i, _W_EW], True,
-                    work[i, _W_AX], work[i, _W_AY], work[i, _W_AW])
+                    work[i, _W_COS], work[i, _W_SIN], work[i, _W_EVAL_VX], work[i, _W_EVAL_VY], work[i, _W_EVAL_SPIN],
+                    True, work[i, _W_ACCEL_X], work[i, _W_ACCEL_Y], work[i, _W_ACCEL_SPIN])
         if r == DEFER:
-            bodies[j, DEFR] = 1.0
+            bodies[j, DEFERRED] = 1.0
             n_defer += 1
         else:
             n_stop += r

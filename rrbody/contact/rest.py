@@ -33,7 +33,7 @@ law_sticks = one_of(tuple(LAW_CODE[law.name] for law in LAW_TABLE if law.sticks)
 def is_static(j: int, bodies: np.ndarray) -> bool:
     """Whether static friction acts on body j: a law that sticks (dry), and governed by the rest rule
     (not a driven body: its joint holds it)."""
-    return bodies[j, MUS] > 0.0 and bodies[j, SNAP] > 0.0 and law_sticks(bodies[j, LAW])
+    return bodies[j, STATIC_COEFF] > 0.0 and bodies[j, REST_RULE] > 0.0 and law_sticks(bodies[j, LAW])
 
 
 @njit(cache=True, inline="always")
@@ -60,7 +60,7 @@ def evaluated(i: int, j: int, got: np.ndarray, bodies: np.ndarray) -> bool:
 @njit(cache=True, inline="always")
 def may_hold(j: int, bodies: np.ndarray, fx: float, fy: float) -> bool:
     """False if static friction cannot hold the load force (fx, fy) (N, world) on dry body j: its
-    magnitude per unit mass is above mu_s g cos(tilt) (MUS), the largest force static friction gives
+    magnitude per unit mass is above mu_s g cos(tilt) (STATIC_COEFF), the largest force static friction gives
     (:func:`rrbody.physics.limit.at_rest` tests the same before its limit-set test, on the body-frame
     components). The margin 1e-12 covers the rotation's rounding (a few ulps), so a False here is a
     False there: the test is skipped, with its deferral, only where its answer is known. Active bodies
@@ -69,7 +69,7 @@ def may_hold(j: int, bodies: np.ndarray, fx: float, fy: float) -> bool:
     m = bodies[j, MASS]
     lx = fx / m
     ly = fy / m
-    mus = bodies[j, MUS]
+    mus = bodies[j, STATIC_COEFF]
     return lx * lx + ly * ly <= mus * mus * (1.0 + 1e-12)
 
 
@@ -80,7 +80,7 @@ def slow_enough(i: int, j: int, vx: float, vy: float, w: float, dt: float, bodie
     the motion (mu g, less the pull of the other forces in ``out[i]`` along it: a tilt's, the user's)
     times dt. Evaluated only where the limiter already cut the friction impulse."""
     speed = math.hypot(vx, vy)
-    decel = bodies[j, COEFF]
+    decel = bodies[j, FRICTION_COEFF]
     if speed > 0.0:  # (the direction first: m * speed underflows to 0 for a subnormal speed)
         decel -= (out[i, 0] * (vx / speed) + out[i, 1] * (vy / speed)) / bodies[j, MASS]
     return speed + abs(w) * bodies[j, REACH] <= decel * dt
@@ -98,14 +98,14 @@ def stop(i: int, j: int, was: float, static: bool, vx: float, vy: float, w: floa
         out[i, 2] = 0.0
     if was > 0.0:
         bodies[j, STOP] = ZEROED
-        bodies[j, PVX] = 0.0
-        bodies[j, PVY] = 0.0
-        bodies[j, PW] = 0.0
+        bodies[j, PREV_VX] = 0.0
+        bodies[j, PREV_VY] = 0.0
+        bodies[j, PREV_SPIN] = 0.0
         return
     bodies[j, STOP] = STOPPING
     out[i, 0] -= bodies[j, MASS] * vx / dt
     out[i, 1] -= bodies[j, MASS] * vy / dt
-    out[i, 2] -= bodies[j, MASS] * bodies[j, IPM] * w / dt
+    out[i, 2] -= bodies[j, MASS] * bodies[j, INERTIA_PER_MASS] * w / dt
 
 
 @njit(cache=True)
@@ -119,18 +119,19 @@ def held(i: int, j: int, alpha: float, bodies: np.ndarray, shapes: np.ndarray, g
     lx = out[i, 0] / m
     ly = out[i, 1] / m
     lt = out[i, 2] / m
-    if lx == bodies[j, HX] and ly == bodies[j, HY] and lt == bodies[j, HT] and alpha == bodies[j, HA] \
+    if lx == bodies[j, HELD_LOAD_X] and ly == bodies[j, HELD_LOAD_Y] and lt == bodies[j, HELD_LOAD_TORQUE] \
+            and alpha == bodies[j, HELD_ANGLE] \
             and bodies[j, HELD] >= 0.0:
         return bodies[j, HELD] > 0.0
     ca = math.cos(alpha)
     sa = math.sin(alpha)
-    _, _, _, held = at_rest(shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), ca * lx + sa * ly,
-                            -sa * lx + ca * ly, lt, bodies[j, IPM], bodies[j, MUS], 0.0)
+    _, _, _, held = at_rest(shapes, geo, int(bodies[j, SHAPE_FIRST]), int(bodies[j, SHAPE_END]), ca * lx + sa * ly,
+                            -sa * lx + ca * ly, lt, bodies[j, INERTIA_PER_MASS], bodies[j, STATIC_COEFF], 0.0)
     bodies[j, HELD] = 1.0 if held else 0.0
-    bodies[j, HX] = lx
-    bodies[j, HY] = ly
-    bodies[j, HT] = lt
-    bodies[j, HA] = alpha
+    bodies[j, HELD_LOAD_X] = lx
+    bodies[j, HELD_LOAD_Y] = ly
+    bodies[j, HELD_LOAD_TORQUE] = lt
+    bodies[j, HELD_ANGLE] = alpha
     return held
 
 
@@ -152,11 +153,12 @@ def hold_or_break(i: int, j: int, alpha: float, bodies: np.ndarray, shapes: np.n
     sa = math.sin(alpha)
     lx = out[i, 0] / m
     ly = out[i, 1] / m
-    ax, ay, aw, _ = at_rest(shapes, geo, int(bodies[j, S0]), int(bodies[j, S1]), ca * lx + sa * ly,
-                            -sa * lx + ca * ly, out[i, 2] / m, bodies[j, IPM], 0.0, bodies[j, COEFF])
+    ax, ay, aw, _ = at_rest(shapes, geo, int(bodies[j, SHAPE_FIRST]), int(bodies[j, SHAPE_END]), ca * lx + sa * ly,
+                            -sa * lx + ca * ly, out[i, 2] / m, bodies[j, INERTIA_PER_MASS], 0.0,
+                            bodies[j, FRICTION_COEFF])
     out[i, 0] = m * (ca * ax - sa * ay)
     out[i, 1] = m * (sa * ax + ca * ay)
-    out[i, 2] = m * bodies[j, IPM] * aw
+    out[i, 2] = m * bodies[j, INERTIA_PER_MASS] * aw
 
 
 @njit(cache=True, **NO_REFCOUNT)

@@ -105,7 +105,7 @@ def body_row(body: Any, *, law: float, coeff: float, footprint: Footprint, snap:
              static: float | None, g_plane: tuple[float, float], feet: Footprints, tabulate: bool,
              params: tuple[float, ...] = ()) -> np.ndarray:
     """The kernel's row (:mod:`rrbody.contact.columns`) of ``body`` with this friction law and footprint,
-    before its footprint is placed (:meth:`Footprints.place` fills S0, S1). ``law``: a code of the law
+    before its footprint is placed (:meth:`Footprints.place` fills SHAPE_FIRST, SHAPE_END). ``law``: a code of the law
     table (:data:`K.LAW_CODE`), checked (:func:`check_law`: a ValueError, before any kernel runs);
     ``coeff``: mu g cos(tilt) for dry friction or gamma (1/s) for viscous; ``params``: the law's further
     parameters per unit mass (:func:`rrbody.model.laws.bound_params`); ``static``: mu_static g cos(tilt)
@@ -117,19 +117,21 @@ def body_row(body: Any, *, law: float, coeff: float, footprint: Footprint, snap:
     shapes, geo, reach, (gx, gy), jj = footprint
     m, moment = float(body.mass), float(body.moment)
     row = np.zeros(K.N_BODY)
-    row[[K.MASS, K.IPM, K.LAW, K.COEFF, K.REACH, K.SNAP, K.VEPS, K.VGX, K.VGY, K.VJ, K.STAG]] = \
+    row[[K.MASS, K.INERTIA_PER_MASS, K.LAW, K.FRICTION_COEFF, K.REACH, K.REST_RULE, K.SLIP_EPS, K.LOAD_MEAN_X,
+         K.LOAD_MEAN_Y, K.LOAD_SPREAD, K.STAGGERED]] = \
         m, moment / m, law, coeff, reach, 1.0 if snap else 0.0, v_eps, gx, gy, jj, 1.0 if staggered else 0.0
-    row[[K.MUS, K.GTX, K.GTY]] = (coeff if spec.sticks else 0.0) if static is None else static, *g_plane
-    row[K.LAWP:K.LAWP + len(params)] = params
+    row[[K.STATIC_COEFF, K.TILT_GX, K.TILT_GY]] = ((coeff if spec.sticks else 0.0) if static is None else static,
+                                                   *g_plane)
+    row[K.LAW_PARAMS:K.LAW_PARAMS + len(params)] = params
     row[K.HELD] = -1.0  # no load tested yet
     # two or more point feet: a foot at rest is held by static friction (rrbody.contact.feet)
     # (dry friction only: the other feet slide under dry friction's own kernel while one is held)
     row[K.FEET] = 1.0 if law == K.LAW_DRY and shapes.shape[0] > 1 and bool(np.all(shapes[:, C.KIND] == C.POINT)) \
         else 0.0
     if law == K.LAW_DRY:  # dry friction's wrench tables (the viscous law is linear: exact and cheap without one)
-        row[K.TKIND], row[K.TAB] = feet.friction_table(shapes, geo, tabulate)
+        row[K.TABLE_KIND], row[K.TABLE_START] = feet.friction_table(shapes, geo, tabulate)
     if history is not None:
-        row[[K.PVX, K.PVY, K.PW, K.GAP]] = history
+        row[[K.PREV_VX, K.PREV_VY, K.PREV_SPIN, K.PREV_GAP]] = history
     return row
 
 
@@ -145,19 +147,19 @@ def half_kick(body: Any, j: int, dt: float, g_plane: tuple[float, float], bodies
         row = bodies[j]
         alpha = float(body.angle)
         foot = -1
-        if row[K.FEET] > 0.0 and row[K.MUS] > 0.0 and row[K.SNAP] > 0.0 and law_coded(row[K.LAW]).sticks:
+        if row[K.FEET] > 0.0 and row[K.STATIC_COEFF] > 0.0 and row[K.REST_RULE] > 0.0 and law_coded(row[K.LAW]).sticks:
             # on feet, launched with a foot at rest (or arriving there in the half step): held
             # (the kicked velocity moves the pose in the first step: its lever halfway through it)
-            foot, ax, ay, tq = feet_step(shapes, int(row[K.S0]), int(row[K.S1]), alpha,
+            foot, ax, ay, tq = feet_step(shapes, int(row[K.SHAPE_FIRST]), int(row[K.SHAPE_END]), alpha,
                                          alpha + 0.5 * w * dt, alpha, vx, vy, w, vx, vy, w, gx, gy, 0.0,
-                                         row[K.COEFF], row[K.MUS], row[K.IPM], row[K.VEPS], 0.5 * dt,
-                                         row[K.REACH], -1)
-            aw, s = tq / row[K.IPM], 1.0
-            row[K.PIN] = foot + 1.0 if foot >= 0 else 0.0
+                                         row[K.FRICTION_COEFF], row[K.STATIC_COEFF], row[K.INERTIA_PER_MASS],
+                                         row[K.SLIP_EPS], 0.5 * dt, row[K.REACH], -1)
+            aw, s = tq / row[K.INERTIA_PER_MASS], 1.0
+            row[K.PINNED_FOOT] = foot + 1.0 if foot >= 0 else 0.0
         if foot == -1:
             ax, ay, aw, s = K.limited(j, math.cos(alpha), math.sin(alpha), vx, vy, w, vx, vy, w, 0.5 * dt,
                                       bodies, shapes, geo, tables, gx, gy, 0.0)
         h = 0.5 * dt * s
         body.velocity = (vx + h * ax + 0.5 * dt * gx, vy + h * ay + 0.5 * dt * gy)
         body.angular_velocity = w + h * aw
-    bodies[j, [K.PVX, K.PVY, K.PW, K.GAP]] = vx, vy, w, 0.5 * dt
+    bodies[j, [K.PREV_VX, K.PREV_VY, K.PREV_SPIN, K.PREV_GAP]] = vx, vy, w, 0.5 * dt

@@ -228,17 +228,17 @@ def _on_constraint(body: Any, constraint: Any, data: Any) -> None:
 
 @njit(cache=True)
 def _body_state(api: np.ndarray, b: int, out: np.ndarray) -> None:
-    """A body's centre of gravity (world, m), angle, velocity and spin into ``out`` (RB_CX .. RB_W)."""
+    """A body's centre of gravity (world, m), angle, velocity and spin into ``out`` (RB_CGX .. RB_SPIN)."""
     px, py = _vec_i(api[BODY_POSITION], b)
     cx, cy = _vec_i(api[BODY_COG], b)
     a = _d_i(api[BODY_ANGLE], b)
     c = math.cos(a)
     s = math.sin(a)
-    out[I.RB_CX] = px + c * cx - s * cy
-    out[I.RB_CY] = py + s * cx + c * cy
+    out[I.RB_CGX] = px + c * cx - s * cy
+    out[I.RB_CGY] = py + s * cx + c * cy
     out[I.RB_ANGLE] = a
     out[I.RB_VX], out[I.RB_VY] = _vec_i(api[BODY_V], b)
-    out[I.RB_W] = _d_i(api[BODY_W], b)
+    out[I.RB_SPIN] = _d_i(api[BODY_W], b)
 
 
 @cfunc(types.void(types.voidptr, types.voidptr, types.voidptr), cache=True)
@@ -333,19 +333,19 @@ def read_compiled(api: np.ndarray, addrs: np.ndarray, lookup: np.ndarray, rec: n
             row[I.RP_KIND] = kind
             row[I.RP_NX] = nx
             row[I.RP_NY] = ny
-            row[I.RP_PAX] = p1x if x_first else p2x
-            row[I.RP_PAY] = p1y if x_first else p2y
-            row[I.RP_PBX] = p2x if x_first else p1x
-            row[I.RP_PBY] = p2y if x_first else p1y
+            row[I.RP_POINT_AX] = p1x if x_first else p2x
+            row[I.RP_POINT_AY] = p1y if x_first else p2y
+            row[I.RP_POINT_BX] = p2x if x_first else p1x
+            row[I.RP_POINT_BY] = p2y if x_first else p1y
             row[I.RP_FRICTION] = _d_i(api[GET_FRICTION], arb)
             row[I.RP_RESTITUTION] = _d_i(api[GET_RESTITUTION], arb)
-            row[I.RP_SVX] = _float(rec[base + 4])
-            row[I.RP_SVY] = _float(rec[base + 5])
-            row[I.RP_BVX] = fixed[I.RB_VX] if jo < 0 else 0.0
-            row[I.RP_BVY] = fixed[I.RB_VY] if jo < 0 else 0.0
-            row[I.RP_BW] = fixed[I.RB_W] if jo < 0 else 0.0
-            row[I.RP_BCX] = fixed[I.RB_CX] if jo < 0 else 0.0
-            row[I.RP_BCY] = fixed[I.RB_CY] if jo < 0 else 0.0
+            row[I.RP_SURFACE_VX] = _float(rec[base + 4])
+            row[I.RP_SURFACE_VY] = _float(rec[base + 5])
+            row[I.RP_B_VX] = fixed[I.RB_VX] if jo < 0 else 0.0
+            row[I.RP_B_VY] = fixed[I.RB_VY] if jo < 0 else 0.0
+            row[I.RP_B_SPIN] = fixed[I.RB_SPIN] if jo < 0 else 0.0
+            row[I.RP_B_CGX] = fixed[I.RB_CGX] if jo < 0 else 0.0
+            row[I.RP_B_CGY] = fixed[I.RB_CGY] if jo < 0 else 0.0
             n_raw += 1
     return n_raw
 
@@ -430,8 +430,8 @@ def read_public(space: Any, bodies: list[Any], slots: dict[Any, int], raw: np.nd
             _public_state(other, fixed)
         for p in cps.points:
             raw[n_raw] = (jx, jo, kind, cps.normal.x, cps.normal.y, p.point_a.x, p.point_a.y, p.point_b.x, p.point_b.y,
-                          friction, restitution, sv.x, sv.y, *((fixed[I.RB_VX], fixed[I.RB_VY], fixed[I.RB_W],
-                                                               fixed[I.RB_CX], fixed[I.RB_CY]) if jo < 0 else
+                          friction, restitution, sv.x, sv.y, *((fixed[I.RB_VX], fixed[I.RB_VY], fixed[I.RB_SPIN],
+                                                               fixed[I.RB_CGX], fixed[I.RB_CGY]) if jo < 0 else
                                                               (0.0, 0.0, 0.0, 0.0, 0.0)))
             n_raw += 1
     return n_raw
@@ -442,12 +442,12 @@ def _public_state(b: Any, out: np.ndarray) -> None:
     p, c, a = b.position, b.center_of_gravity, b.angle
     ca, sa = math.cos(a), math.sin(a)
     v = b.velocity
-    out[I.RB_CX] = p.x + ca * c.x - sa * c.y
-    out[I.RB_CY] = p.y + sa * c.x + ca * c.y
+    out[I.RB_CGX] = p.x + ca * c.x - sa * c.y
+    out[I.RB_CGY] = p.y + sa * c.x + ca * c.y
     out[I.RB_ANGLE] = a
     out[I.RB_VX] = v.x
     out[I.RB_VY] = v.y
-    out[I.RB_W] = b.angular_velocity
+    out[I.RB_SPIN] = b.angular_velocity
 
 
 def write_public(bodies: list[Any], order: np.ndarray, vel: np.ndarray) -> None:

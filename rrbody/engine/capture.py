@@ -21,7 +21,17 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from rrbody.contact.kernel import FFT, FFX, FFY, GAP, PVX, PVY, PW, STAG, STOP
+from rrbody.contact.kernel import (
+    FRICTION_FX,
+    FRICTION_FY,
+    FRICTION_TORQUE,
+    PREV_GAP,
+    PREV_SPIN,
+    PREV_VX,
+    PREV_VY,
+    STAGGERED,
+    STOP,
+)
 from rrbody.contact.lean import NO_REFCOUNT
 from rrbody.engine.bodymem import ANGLE, SPACE, SPIN, VX, VY, X, Y, f64_at, i64_at, layout
 
@@ -35,15 +45,15 @@ def _motion(out: np.ndarray, k: int, vx: float, vy: float, w: float, bodies: np.
     if j >= 0:
         if bodies[j, STOP] > 0.0 and vx == 0.0 and vy == 0.0 and w == 0.0:
             pass  # stopped by the rest rule within the last step, nothing left: at rest (PlaneFriction.velocity)
-        elif bodies[j, GAP] > 0.0 and bodies[j, STAG] > 0.0:
+        elif bodies[j, PREV_GAP] > 0.0 and bodies[j, STAGGERED] > 0.0:
             # the staggered scheme's velocity after a step belongs to half a step later: the mean
             # with the one before is the velocity at the plugin's time (PlaneFriction.velocity)
-            vx = 0.5 * (bodies[j, PVX] + vx)
-            vy = 0.5 * (bodies[j, PVY] + vy)
-            w = 0.5 * (bodies[j, PW] + w)
-        out[k, 6] = bodies[j, FFX]
-        out[k, 7] = bodies[j, FFY]
-        out[k, 8] = bodies[j, FFT]
+            vx = 0.5 * (bodies[j, PREV_VX] + vx)
+            vy = 0.5 * (bodies[j, PREV_VY] + vy)
+            w = 0.5 * (bodies[j, PREV_SPIN] + w)
+        out[k, 6] = bodies[j, FRICTION_FX]
+        out[k, 7] = bodies[j, FRICTION_FY]
+        out[k, 8] = bodies[j, FRICTION_TORQUE]
     else:
         out[k, 6] = 0.0
         out[k, 7] = 0.0

@@ -123,15 +123,16 @@ class PlaneRows:
         """Mark plugin body ``body`` as held at its point P (``anchor``, body frame, m) by rrbody's circular
         driver (P on the circle of radius ``d``, m, about the origin at ``omega`` rad/s, from the plugin's
         time ``t0``, s): the compiled step then computes the driver's state with the friction (columns
-        DPX..DVY, :meth:`drive_target`). For rrbody's builder; a user's joints need none."""
-        self._bodies[self._slots[body], [K.DRV, K.OMG, K.DD, K.ANX, K.ANY, K.T0]] = 1.0, omega, d, *anchor, t0
+        DRIVE_PX..DRIVE_VY, :meth:`drive_target`). For rrbody's builder; a user's joints need none."""
+        self._bodies[self._slots[body], [K.DRIVEN, K.DRIVE_OMEGA, K.DRIVE_D, K.ANCHOR_X, K.ANCHOR_Y,
+                                         K.DRIVE_T0]] = 1.0, omega, d, *anchor, t0
         self._unplan()  # a row written outside a step: the record of the last idle step no longer holds
 
     def drive_target(self, body: Any) -> list[float]:
         """Where the step just computed that the driver of a driven ``body`` (:meth:`drive`) must go: [x, y,
         vx, vy] of P at the step's end (m, m/s, world frame), a copy. Read before each ``space.step`` by
         rrbody's builder (one index into the rows, no view: it runs every step)."""
-        return self._bodies[self._slots[body], K.DPX:K.DVY + 1].tolist()
+        return self._bodies[self._slots[body], K.DRIVE_PX:K.DRIVE_VY + 1].tolist()
 
     def step_arrays(self) -> tuple[np.ndarray, ...]:
         """Copies of the compiled step's own arrays (id lookup, row cache, rows, shapes, geo, tables), in
@@ -147,7 +148,7 @@ class PlaneRows:
         """For a body on point feet (``pressure=rrbody.pressure.points(...)``, two or more): the index of
         the foot static friction held at rest in the last step, the body turning about it (docs:
         Contacts, "Pivoting on a foot"); None while every foot slides, or at rest."""
-        pin = int(self._bodies[self._slots[body], K.PIN])
+        pin = int(self._bodies[self._slots[body], K.PINNED_FOOT])
         return pin - 1 if pin > 0 else None
 
     def velocity(self, body: Any) -> tuple[float, float, float]:
@@ -159,20 +160,20 @@ class PlaneRows:
         v = body.velocity
         w = body.angular_velocity
         p = self._bodies[j]
-        if p[K.GAP] <= 0.0 or p[K.STAG] == 0.0:
+        if p[K.PREV_GAP] <= 0.0 or p[K.STAGGERED] == 0.0:
             return float(v.x), float(v.y), float(w)
         if p[K.STOP] > 0.0 and v.x == 0.0 and v.y == 0.0 and w == 0.0:
             # the rest rule stopped it within the last step and nothing is left: at rest at t (the mean
             # below would still hold half the velocity read at that step's start)
             return 0.0, 0.0, 0.0
-        return 0.5 * (p[K.PVX] + v.x), 0.5 * (p[K.PVY] + v.y), 0.5 * (p[K.PW] + w)
+        return 0.5 * (p[K.PREV_VX] + v.x), 0.5 * (p[K.PREV_VY] + v.y), 0.5 * (p[K.PREV_SPIN] + w)
 
     def friction(self, body: Any) -> tuple[float, float, float]:
         """The friction the last ``step`` applied to ``body``: force (N, world frame) at its centre of
         gravity and torque about it (N m), static friction and the rest rule's stopping impulse
         included (zeros before the first step). Its product with the velocity is the friction power."""
         p = self._bodies[self._slots[body]]
-        return float(p[K.FFX]), float(p[K.FFY]), float(p[K.FFT])
+        return float(p[K.FRICTION_FX]), float(p[K.FRICTION_FY]), float(p[K.FRICTION_TORQUE])
 
     def wrench(self, body: Any, velocity: tuple[float, float, float] | None = None,
                angle: float | None = None) -> tuple[float, float, float]:
@@ -184,4 +185,4 @@ class PlaneRows:
         a = float(body.angle) if angle is None else float(angle)
         ax, ay, aw = K.body_accel(j, a, vx, vy, w, self._bodies, self._k_shapes, self._k_geo, self._k_tables)
         m = self._bodies[j, K.MASS]
-        return m * ax, m * ay, m * self._bodies[j, K.IPM] * aw
+        return m * ax, m * ay, m * self._bodies[j, K.INERTIA_PER_MASS] * aw

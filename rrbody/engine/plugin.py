@@ -435,9 +435,9 @@ class PlaneFriction(PlaneRows):
         another time (an error of order dt per change, which a step of alternating sizes piles up). A body
         the rest rule stopped, one with no history yet and a driven body (its driver keeps pace) are left."""
         rows = self._bodies
-        gap = rows[:, K.GAP]
-        shift = np.where((gap > 0.0) & (rows[:, K.STAG] > 0.0) & (rows[:, K.STOP] == 0.0) & (rows[:, K.DRV] == 0.0),
-                         0.5 * (dt - gap), 0.0)
+        gap = rows[:, K.PREV_GAP]
+        shift = np.where((gap > 0.0) & (rows[:, K.STAGGERED] > 0.0) & (rows[:, K.STOP] == 0.0)
+                         & (rows[:, K.DRIVEN] == 0.0), 0.5 * (dt - gap), 0.0)
         moved = np.flatnonzero(shift)
         if not moved.size:
             return
@@ -446,8 +446,9 @@ class PlaneFriction(PlaneRows):
             body, k, r = self._list[j], shift[j], rows[j]
             m = r[K.MASS]
             v = body.velocity
-            body.velocity = (v.x + k * (gx + (r[K.FFX] + r[K.LDX]) / m), v.y + k * (gy + (r[K.FFY] + r[K.LDY]) / m))
-            body.angular_velocity += k * (r[K.FFT] + r[K.LDT]) / (m * r[K.IPM])
+            body.velocity = (v.x + k * (gx + (r[K.FRICTION_FX] + r[K.LOAD_FX]) / m),
+                             v.y + k * (gy + (r[K.FRICTION_FY] + r[K.LOAD_FY]) / m))
+            body.angular_velocity += k * (r[K.FRICTION_TORQUE] + r[K.LOAD_TORQUE]) / (m * r[K.INERTIA_PER_MASS])
 
     def _couple(self, dt: float) -> None:
         """The coupled step after pymunk's (:mod:`rrbody.engine.coupling`), and its bookkeeping: the rest

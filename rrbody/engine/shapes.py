@@ -53,7 +53,8 @@ def body_footprint(body: Any, pressure: Pressure | None = None, *, name: Callabl
         foot = apply_pressure(body_parts(body), uniform() if pressure is None else pressure, balance=True)
     except ValueError as e:
         raise ValueError(f"body {name(body)}: {e}") from None
-    if table and np.any((foot[0][:, C.KIND] == C.POLYGON) & ((foot[0][:, C.KX] != 0.0) | (foot[0][:, C.KY] != 0.0))):
+    if table and np.any((foot[0][:, C.KIND] == C.POLYGON)
+                        & ((foot[0][:, C.SLOPE_X] != 0.0) | (foot[0][:, C.SLOPE_Y] != 0.0))):
         raise ValueError(f"body {name(body)}: friction_method 'table' needs each polygon uniformly loaded, but its "
                          f"centre of gravity, off its shapes' centre of mass, tilts the pressure: use 'auto' (exact)")
     return foot
@@ -61,7 +62,7 @@ def body_footprint(body: Any, pressure: Pressure | None = None, *, name: Callabl
 
 def body_parts(body: Any) -> list[Part]:
     """The parts of a pymunk ``body``'s own shapes with area (body frame from its centre of gravity),
-    each carrying its shape's mass (kg, row WEIGHT: :func:`rrbody.physics.loads.shares`)."""
+    each carrying its shape's mass (kg, row LOAD_SHARE: :func:`rrbody.physics.loads.shares`)."""
     import pymunk
 
     cog = body.center_of_gravity
@@ -96,7 +97,7 @@ def body_parts(body: Any) -> list[Part]:
         else:
             raise ValueError(f"shape must be a pymunk Circle, Poly or Segment, got {type(s).__name__}")
         if len(parts) > n:
-            parts[-1][0][C.WEIGHT] = float(s.mass)
+            parts[-1][0][C.LOAD_SHARE] = float(s.mass)
     if not parts:
         raise ValueError("body must have at least one shape with area (a Circle, a Poly or a Segment with a "
                          "radius) for plane friction, got none")

@@ -97,9 +97,9 @@ class Tape:
             for k, b in enumerate(self.bodies):
                 if plane.row_index(b) is not None:
                     row = plane.row_of(b)
-                    if row[K.DRV] > 0.0:
-                        self.anchor[k] = row[[K.ANX, K.ANY]]
-                        self.drive_sense[k] = math.copysign(1.0, row[K.OMG])
+                    if row[K.DRIVEN] > 0.0:
+                        self.anchor[k] = row[[K.ANCHOR_X, K.ANCHOR_Y]]
+                        self.drive_sense[k] = math.copysign(1.0, row[K.DRIVE_OMEGA])
         self.width = WIDTH_MOTION if self.motion else WIDTH_POSE
         #: memory one frame takes: bodies x width numbers x 8 bytes
         self.bytes_per_frame = len(self.bodies) * self.width * 8

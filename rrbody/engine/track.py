@@ -18,7 +18,7 @@ import math
 import numpy as np
 from numba import njit
 
-from rrbody.contact.columns import GAP, PW, STAG, STOP
+from rrbody.contact.columns import PREV_GAP, PREV_SPIN, STAGGERED, STOP
 from rrbody.engine.bodymem import ANGLE, SPIN, VX, VY, X, Y, f64_at
 from rrbody.integrate.events import GO_ON, on_step
 
@@ -70,12 +70,12 @@ def track_step(t, addr, offs, j, bodies, fs, ev, minima, out):  # noqa: ANN001 (
         ang, w, x, y = fs[ANG_IN], fs[SPIN_IN], fs[X_IN], fs[Y_IN]
         at_rest = fs[REST_IN] != 0.0
     phi = ang + fs[_BETA]
-    if bodies[j, GAP] <= 0.0 or bodies[j, STAG] == 0.0:
+    if bodies[j, PREV_GAP] <= 0.0 or bodies[j, STAGGERED] == 0.0:
         phid = w
     elif bodies[j, STOP] > 0.0 and at_rest:
         phid = 0.0
     else:
-        phid = 0.5 * (bodies[j, PW] + w)
+        phid = 0.5 * (bodies[j, PREV_SPIN] + w)
     # the pivot: P of the body (its CM at (x, y), the anchor turned by the body angle) against the circle
     ca = math.cos(ang)
     sa = math.sin(ang)

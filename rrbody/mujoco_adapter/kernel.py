@@ -67,7 +67,7 @@ def gather(dof: np.ndarray, qadr: np.ndarray, ids: np.ndarray, ipos: np.ndarray,
            load: np.ndarray, dt: float) -> None:
     """Fill ``got`` (rows angle, vx, vy, w, fx, fy, torque: the in-plane state and the load, as the plugin
     kernel reads pymunk) and each body's normal load ``load`` (N: the sum of MuJoCo's normal forces of
-    its contacts with the plane geom ``plane`` in its last step), and set the kernel's COEFF and MUS
+    its contacts with the plane geom ``plane`` in its last step), and set the kernel's FRICTION_COEFF and STATIC_COEFF
     (mu N / m and mu_static N / m, m/s^2). The load in ``got`` is every force but friction in the
     plane: gravity's in-plane part, the user's ``xfrc_applied``, and the other constraints' forces of
     the last step (a finger's push), force at the centre of gravity and torque about it.
@@ -97,8 +97,8 @@ def gather(dof: np.ndarray, qadr: np.ndarray, ids: np.ndarray, ipos: np.ndarray,
         R = _mat(qpos, qadr[i] + 3)
         m = bodies[i, K.MASS]
         nl = max(load[i], 0.0)
-        bodies[i, K.COEFF] = mu[i] * nl / m
-        bodies[i, K.MUS] = mus[i] * nl / m
+        bodies[i, K.FRICTION_COEFF] = mu[i] * nl / m
+        bodies[i, K.STATIC_COEFF] = mus[i] * nl / m
         wx, wy, wz = _rot(R, qvel[a + 3], qvel[a + 4], qvel[a + 5])
         rx, ry, rz = _offset(i, R, ipos)
         # the centre of gravity's velocity: the origin's plus w x r
@@ -111,7 +111,7 @@ def gather(dof: np.ndarray, qadr: np.ndarray, ids: np.ndarray, ipos: np.ndarray,
         got[i, 2] = vx * t2x + vy * t2y + vz * t2z
         got[i, 3] = wx * nx + wy * ny + wz * nz
         if math.hypot(got[i, 1], got[i, 2]) + abs(got[i, 3]) * bodies[i, K.REACH] \
-                <= RESIDUE * bodies[i, K.COEFF] * dt:
+                <= RESIDUE * bodies[i, K.FRICTION_COEFF] * dt:
             # what MuJoCo's step leaves of a body the rest rule has zeroed (its normal contacts' solver,
             # the tipping it keeps): at rest, as for the plugin, whose bodies pymunk leaves exactly at rest
             got[i, 1] = 0.0
@@ -135,7 +135,7 @@ def gather(dof: np.ndarray, qadr: np.ndarray, ids: np.ndarray, ipos: np.ndarray,
         lx = fx * t1x + fy * t1y + fz * t1z
         ly = fx * t2x + fy * t2y + fz * t2z
         lt = (xfrc[b, 3] + cx) * nx + (xfrc[b, 4] + cy) * ny + (xfrc[b, 5] + cz) * nz
-        small = RESIDUE * m * bodies[i, K.MUS]
+        small = RESIDUE * m * bodies[i, K.STATIC_COEFF]
         if math.hypot(lx, ly) <= small and abs(lt) <= small * bodies[i, K.REACH]:
             lx = ly = lt = 0.0  # the rounding of the constraint forces, not a load: the static test is then free
         got[i, 4] = lx
@@ -175,8 +175,8 @@ def set_planar(i: int, vx: float, vy: float, w: float, dof: np.ndarray, qadr: np
 def scatter(dof: np.ndarray, qadr: np.ndarray, ids: np.ndarray, ipos: np.ndarray, frame: np.ndarray,
             bodies: np.ndarray, qpos: np.ndarray, qvel: np.ndarray, xfrc: np.ndarray, user: np.ndarray,
             got: np.ndarray, moving: np.ndarray, t_stop: np.ndarray, t: float, dt: float) -> int:
-    """After the plugin kernel: add each body's friction (its FFX, FFY, FFT: in-plane force, N, and
-    torque about the normal, N m) to ``xfrc_applied``, keeping the user's own rows in ``user`` (put back
+    """After the plugin kernel: add each body's friction (its FRICTION_FX, FRICTION_FY, FRICTION_TORQUE: in-plane force,
+    N, and torque about the normal, N m) to ``xfrc_applied``, keeping the user's own rows in ``user`` (put back
     after the step, bit for bit: :func:`unapply`), and set exactly zero the in-plane motion of the bodies the
     rest rule zeroes. Stops: the rest rule's in this step, or (the limiter's impulse having left only
     MuJoCo's residue, read as rest) in the last one; ``got``'s velocities belong to t - dt/2, so the stop
@@ -185,9 +185,9 @@ def scatter(dof: np.ndarray, qadr: np.ndarray, ids: np.ndarray, ipos: np.ndarray
     n_new = 0
     for i in range(dof.shape[0]):
         b = ids[i]
-        f1 = bodies[i, K.FFX]
-        f2 = bodies[i, K.FFY]
-        tq = bodies[i, K.FFT]
+        f1 = bodies[i, K.FRICTION_FX]
+        f2 = bodies[i, K.FRICTION_FY]
+        tq = bodies[i, K.FRICTION_TORQUE]
         for c in range(6):
             user[i, c] = xfrc[b, c]
         for c in range(3):

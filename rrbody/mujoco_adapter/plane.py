@@ -63,20 +63,20 @@ __all__ = ["PlaneFriction", "TOUCH"]
 
 #: default largest distance (m) between a geom's lowest point and the plane for it to rest on it
 TOUCH = 1e-3
-#: the plugin kernel's ``tables`` (kernel.TKIND): the adapter evaluates every footprint exactly
+#: the plugin kernel's ``tables`` (kernel.TABLE_KIND): the adapter evaluates every footprint exactly
 _NO_TABLES = np.zeros((0, 3))
 
 
 def _resync(rows: np.ndarray, gap: np.ndarray, dt: float) -> None:
     """A step of another size than the last (``gap``, s, per body): MuJoCo's velocity after a step belongs to
     half that step before its end, so the kick from the last step's velocity to this one's spans (gap + dt) / 2,
-    not dt: each body's friction (FFX, FFY, FFT, which :func:`rrbody.mujoco_adapter.kernel.scatter` applies)
-    is scaled by (gap + dt) / (2 dt). Without it a step that changes size moves the staggered velocity off
-    its time (an error of order dt per change, which steps of alternating sizes pile up). A body the rest
-    rule acts on (its impulse stops it within the step) or with no history is left."""
+    not dt: each body's friction (FRICTION_FX, FRICTION_FY, FRICTION_TORQUE, which
+    :func:`rrbody.mujoco_adapter.kernel.scatter` applies) is scaled by (gap + dt) / (2 dt). Without it a step that
+    changes size moves the staggered velocity off its time (an error of order dt per change, which steps of alternating
+    sizes pile up). A body the rest rule acts on (its impulse stops it within the step) or with no history is left."""
     k = np.flatnonzero((gap > 0.0) & (gap != dt) & (rows[:, K.STOP] == 0.0))
     if k.size:
-        rows[k, K.FFX:K.FFT + 1] *= ((gap[k] + dt) / (2.0 * dt))[:, None]
+        rows[k, K.FRICTION_FX:K.FRICTION_TORQUE + 1] *= ((gap[k] + dt) / (2.0 * dt))[:, None]
 
 
 def _timestep(model: Any) -> float:
@@ -195,7 +195,8 @@ class PlaneFriction:
             Ri = data.ximat[b].reshape(3, 3)
             nb = Ri.T @ self._frame[2]  # the normal in the principal frame: I about n = n^T I n
             inertia = float(nb @ (model.body_inertia[b] * nb))
-            rows[i, [K.MASS, K.IPM, K.LAW, K.REACH, K.SNAP, K.VGX, K.VGY, K.VJ, K.STAG, K.HELD]] = \
+            rows[i, [K.MASS, K.INERTIA_PER_MASS, K.LAW, K.REACH, K.REST_RULE, K.LOAD_MEAN_X, K.LOAD_MEAN_Y,
+                     K.LOAD_SPREAD, K.STAGGERED, K.HELD]] = \
                 m, inertia / m, K.LAW_DRY, reach, 1.0, gx, gy, jj, 1.0, -1.0
         # every argument checked: the plane's contacts keep their normal row only (its condim wins over every
         # other geom's); that moves the depth and tilt at which MuJoCo's soft contacts hold a body at rest, so
@@ -209,7 +210,7 @@ class PlaneFriction:
                ref=self._ref, reach=np.ascontiguousarray(rows[:, K.REACH]), switch=switch)
         mujoco.mj_forward(model, data)
         self._shapes, self._geo, ranges = stack(feet)
-        rows[:, K.S0], rows[:, K.S1] = ranges[:, 0], ranges[:, 1]
+        rows[:, K.SHAPE_FIRST], rows[:, K.SHAPE_END] = ranges[:, 0], ranges[:, 1]
         self._bodies = rows
         self._k_ids = np.arange(1, n + 1, dtype=np.int64)  # the kernel's ids: any distinct non-zero keys
         self._lookup = np.ascontiguousarray(np.vstack([self._k_ids, np.arange(n, dtype=np.int64)]))
@@ -310,7 +311,7 @@ class PlaneFriction:
         self._gather(dt)
         for i in range(self.n):
             alpha, vx, vy, w, lx, ly, lt = self._got[i]
-            m, ipm = self._bodies[i, K.MASS], self._bodies[i, K.IPM]
+            m, ipm = self._bodies[i, K.MASS], self._bodies[i, K.INERTIA_PER_MASS]
             ax, ay, aw = lx / m, ly / m, lt / (m * ipm)
             if (vx, vy, w) != (0.0, 0.0, 0.0):
                 fx, fy, fw = K.body_accel(i, alpha + w * dt, vx, vy, w, self._bodies, self._shapes, self._geo,
@@ -318,17 +319,18 @@ class PlaneFriction:
                 ax, ay, aw = ax + fx, ay + fy, aw + fw
                 MK.set_planar(i, vx - 0.5 * dt * ax, vy - 0.5 * dt * ay, w - 0.5 * dt * aw, self._dof, self._qadr,
                               self._ipos, self._frame, d.qpos, d.qvel)
-                self._bodies[i, [K.PVX, K.PVY, K.PW]] = vx - 1.5 * dt * ax, vy - 1.5 * dt * ay, w - 1.5 * dt * aw
+                self._bodies[i, [K.PREV_VX, K.PREV_VY, K.PREV_SPIN]] = (vx - 1.5 * dt * ax, vy - 1.5 * dt * ay,
+                                                                        w - 1.5 * dt * aw)
             else:
-                self._bodies[i, [K.PVX, K.PVY, K.PW]] = 0.0
-            self._bodies[i, K.GAP] = dt
+                self._bodies[i, [K.PREV_VX, K.PREV_VY, K.PREV_SPIN]] = 0.0
+            self._bodies[i, K.PREV_GAP] = dt
         self._fresh = False
 
     def restart(self) -> None:
         """Forget the velocity history: call it after setting the bodies' velocities by hand (the next
         step gives them the half kick, as the first step does)."""
         self._fresh = True
-        self._bodies[:, [K.PVX, K.PVY, K.PW, K.GAP, K.STOP]] = 0.0
+        self._bodies[:, [K.PREV_VX, K.PREV_VY, K.PREV_SPIN, K.PREV_GAP, K.STOP]] = 0.0
         self._bodies[:, K.HELD] = -1.0
 
     def step(self, n: int = 1) -> None:
@@ -347,7 +349,7 @@ class PlaneFriction:
                     self._refuse()
                 self._kick(dt)
             self._gather(dt)
-            gap = self._bodies[:, K.GAP].copy()  # the last step's size, before plane_step writes this one's
+            gap = self._bodies[:, K.PREV_GAP].copy()  # the last step's size, before plane_step writes this one's
             n_flag = self._call("plane_step", self._got, self._k_ids, self._lookup, self._cache, self._bodies,
                                 self._shapes, self._geo, _NO_TABLES, float(d.time), dt, self._out, *NO_ACTIVE)
             if n_flag < 0:
@@ -382,9 +384,9 @@ class PlaneFriction:
         self._gather(_timestep(self.model))
         v = self._got[i, 1:4]
         p = self._bodies[i]
-        if p[K.GAP] <= 0.0 or self._fresh or p[K.STOP] > 0.0 or not v.any():
+        if p[K.PREV_GAP] <= 0.0 or self._fresh or p[K.STOP] > 0.0 or not v.any():
             return float(v[0]), float(v[1]), float(v[2])
-        e = 1.5 * v - 0.5 * p[[K.PVX, K.PVY, K.PW]]
+        e = 1.5 * v - 0.5 * p[[K.PREV_VX, K.PREV_VY, K.PREV_SPIN]]
         e[e * v < 0.0] = 0.0  # a stop within the half step: the extrapolation must not overshoot it
         return float(e[0]), float(e[1]), float(e[2])
 
@@ -398,7 +400,7 @@ class PlaneFriction:
         """The friction the last step applied to ``body``: force (N, along the plane's t1, t2) at its
         centre of gravity and torque about the normal (N m), the rest rule's stop included."""
         p = self._bodies[self._row(body)]
-        return float(p[K.FFX]), float(p[K.FFY]), float(p[K.FFT])
+        return float(p[K.FRICTION_FX]), float(p[K.FRICTION_FY]), float(p[K.FRICTION_TORQUE])
 
     def stop_time(self, body: int | str) -> float | None:
         """When ``body`` last came to rest in the plane (s, ``data.time``; within a step), if it is at rest now."""

@@ -32,8 +32,9 @@ def stack(footprints: Sequence[tuple[np.ndarray, np.ndarray]]) -> tuple[np.ndarr
     for i, (sh, geo) in enumerate(footprints):
         sh = np.array(sh, dtype=float)
         kind = sh[:, C.KIND]
-        sh[kind == C.POLYGON, C.V0:C.Q1 + 1] += n_geo  # V0, V1, Q0, Q1: consecutive columns
-        sh[kind == C.SAMPLED, C.Q0:C.Q1 + 1] += n_geo
+        # VERTEX_FIRST, VERTEX_END, QUAD_FIRST, QUAD_END: consecutive columns
+        sh[kind == C.POLYGON, C.VERTEX_FIRST:C.QUAD_END + 1] += n_geo
+        sh[kind == C.SAMPLED, C.QUAD_FIRST:C.QUAD_END + 1] += n_geo
         ranges[i] = n_rows, n_rows + sh.shape[0]
         n_rows += sh.shape[0]
         n_geo += geo.shape[0]

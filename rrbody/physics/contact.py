@@ -3,23 +3,23 @@ pymunk plugin (:mod:`rrbody.contact.kernel`), the ODE path (the area method ``co
 :mod:`rrbody.physics.areas.area_contact`) and the batched API call.
 
 A *footprint* is a list of parts, each a row of ``shapes`` carrying its share of the normal load
-(WEIGHT: the shares sum to 1; an annulus is a disk minus a disk, so a share may be negative):
+(LOAD_SHARE: the shares sum to 1; an annulus is a disk minus a disk, so a share may be negative):
 
-- ELLIPSE (a circle if RA = RB): uniform pressure, the instantaneous-centre quadrature (NQ nodes per
-  panel; 24 give a circle to ~5e-12), semi-axes RA, RB (m), the RA axis at angle ORI (rad);
-- POLYGON: uniform pressure on a convex polygon, exact (:mod:`rrbody.physics.polygon`): RAD, AREA,
-  MXX, MXY, MYY, its vertices ``geo[V0:V1]`` and far-field rule ``geo[Q0:Q1]``; a pressure slope
-  (KX, KY) != 0 (1/m) makes its pressure linear, proportional to 1 + k . (s - centroid), also exact
-  (:mod:`rrbody.physics.polygon_linear`; the slope that puts a body's centre of pressure at its
-  centre of gravity, :mod:`rrbody.physics.footprint`);
+- ELLIPSE (a circle if RADIUS_A = RADIUS_B): uniform pressure, the instantaneous-centre quadrature (PANEL_NODES nodes
+  per panel; 24 give a circle to ~5e-12), semi-axes RADIUS_A, RADIUS_B (m), the RADIUS_A axis at angle AXIS_ANGLE (rad);
+- POLYGON: uniform pressure on a convex polygon, exact (:mod:`rrbody.physics.polygon`): VERTEX_RADIUS, AREA,
+  MOMENT_XX, MOMENT_XY, MOMENT_YY, its vertices ``geo[VERTEX_FIRST:VERTEX_END]`` and far-field rule
+  ``geo[QUAD_FIRST:QUAD_END]``; a pressure slope (SLOPE_X, SLOPE_Y) != 0 (1/m) makes its pressure linear, proportional
+  to 1 + k . (s - centroid), also exact (:mod:`rrbody.physics.polygon_linear`; the slope that puts a body's centre of
+  pressure at its centre of gravity, :mod:`rrbody.physics.footprint`);
 - POINT: the load at one point (a foot, a point mass);
-- SAMPLED: area elements ``geo[Q0:Q1]`` (rows x, y, weight; weights sum to 1): any pressure p(x, y);
-- RING: the load spread evenly on a circle of radius RA (a rim, a running band), exact
+- SAMPLED: area elements ``geo[QUAD_FIRST:QUAD_END]`` (rows x, y, weight; weights sum to 1): any pressure p(x, y);
+- RING: the load spread evenly on a circle of radius RADIUS_A (a rim, a running band), exact
   (:mod:`rrbody.physics.radial`, complete elliptic integrals);
-- HERTZ: p proportional to sqrt(1 - rho^2 / RA^2) on a disk of radius RA (a sphere or a rounded
+- HERTZ: p proportional to sqrt(1 - rho^2 / RADIUS_A^2) on a disk of radius RADIUS_A (a sphere or a rounded
   foot on the plane), exact (:mod:`rrbody.physics.radial`).
 
-CX, CY is the part's centre (ellipse, ring, Hertz patch, point) or centroid (polygon), in the body
+CENTRE_X, CENTRE_Y is the part's centre (ellipse, ring, Hertz patch, point) or centroid (polygon), in the body
 frame from the body's centre of gravity (m). ``geo`` rows have at least three columns (x, y, w);
 the ODE path packs parts and geo rows into one array (:func:`pack`).
 
@@ -39,14 +39,16 @@ from rrbody.physics.polygon import polygon_wrench
 from rrbody.physics.polygon_linear import linear_polygon_wrench
 from rrbody.physics.radial import hertz_wrench, ring_wrench
 
-__all__ = ["footprint_wrench", "pack", "KIND", "WEIGHT", "CX", "CY", "RA", "RB", "ORI", "NQ", "RAD", "AREA",
-           "MXX", "MXY", "MYY", "V0", "V1", "Q0", "Q1", "N_SHAPE", "ELLIPSE", "POLYGON", "POINT", "SAMPLED",
-           "RING", "HERTZ", "KX", "KY", "KIND_NAMES", "HEADER", "H_PARTS", "H_GX", "H_GY", "H_J", "H_REACH"]
+__all__ = ["footprint_wrench", "pack", "KIND", "LOAD_SHARE", "CENTRE_X", "CENTRE_Y", "RADIUS_A", "RADIUS_B",
+           "AXIS_ANGLE", "PANEL_NODES", "VERTEX_RADIUS", "AREA", "MOMENT_XX", "MOMENT_XY", "MOMENT_YY", "VERTEX_FIRST",
+           "VERTEX_END", "QUAD_FIRST", "QUAD_END", "N_SHAPE", "ELLIPSE", "POLYGON", "POINT", "SAMPLED", "RING", "HERTZ",
+           "SLOPE_X", "SLOPE_Y", "KIND_NAMES", "HEADER", "H_PARTS", "H_MEAN_X", "H_MEAN_Y", "H_SPREAD", "H_REACH"]
 
-KIND, WEIGHT, CX, CY, RA, RB, ORI, NQ, RAD, AREA, MXX, MXY, MYY, V0, V1, Q0, Q1 = range(17)
+(KIND, LOAD_SHARE, CENTRE_X, CENTRE_Y, RADIUS_A, RADIUS_B, AXIS_ANGLE, PANEL_NODES, VERTEX_RADIUS, AREA, MOMENT_XX,
+ MOMENT_XY, MOMENT_YY, VERTEX_FIRST, VERTEX_END, QUAD_FIRST, QUAD_END) = range(17)
 N_SHAPE = 17
 #: a polygon's pressure slope (1/m): columns an ellipse's semi-axes use, free in a polygon's row
-KX, KY = RA, RB
+SLOPE_X, SLOPE_Y = RADIUS_A, RADIUS_B
 ELLIPSE, POLYGON, POINT, SAMPLED, RING, HERTZ = 0.0, 1.0, 2.0, 3.0, 4.0, 5.0
 KIND_NAMES = {ELLIPSE: "ellipse", POLYGON: "polygon", POINT: "point", SAMPLED: "sampled", RING: "ring",
               HERTZ: "hertz"}
@@ -55,7 +57,7 @@ KIND_NAMES = {ELLIPSE: "ellipse", POLYGON: "polygon", POINT: "point", SAMPLED: "
 #: (m) and mean squared distance (m^2) from the centre of gravity (all the viscous law needs), and
 #: the footprint's reach (m: its largest distance from the centre of gravity)
 HEADER = 1
-H_PARTS, H_GX, H_GY, H_J, H_REACH = range(5)
+H_PARTS, H_MEAN_X, H_MEAN_Y, H_SPREAD, H_REACH = range(5)
 
 
 @njit(cache=True)
@@ -69,38 +71,40 @@ def footprint_wrench(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int, vbx:
     fy = 0.0
     tq = 0.0
     for k in range(s0, s1):
-        ox = shapes[k, CX]
-        oy = shapes[k, CY]
+        ox = shapes[k, CENTRE_X]
+        oy = shapes[k, CENTRE_Y]
         kind = shapes[k, KIND]
         # velocity of the part's own centre: v + w z x o
         ux = vbx - w * oy
         uy = vby + w * ox
         if kind == ELLIPSE:
-            gx, gy, gt = icr_wrench(shapes[k, RA], shapes[k, RB], int(shapes[k, NQ]), shapes[k, ORI], ux, uy, w,
-                                    DRY, 1.0, v_eps, 0.0)
+            gx, gy, gt = icr_wrench(shapes[k, RADIUS_A], shapes[k, RADIUS_B], int(shapes[k, PANEL_NODES]),
+                                    shapes[k, AXIS_ANGLE], ux, uy, w, DRY, 1.0, v_eps, 0.0)
             gt += ox * gy - oy * gx  # the kernels' torques are about the part's centre
-        elif kind == POLYGON and shapes[k, KX] == 0.0 and shapes[k, KY] == 0.0:
-            gx, gy, gt = polygon_wrench(geo, int(shapes[k, V0]), int(shapes[k, V1]), shapes[k, AREA], ox, oy,
-                                        shapes[k, RAD], shapes[k, MXX], shapes[k, MXY], shapes[k, MYY], geo,
-                                        int(shapes[k, Q0]), int(shapes[k, Q1]), vbx, vby, w, v_eps)
+        elif kind == POLYGON and shapes[k, SLOPE_X] == 0.0 and shapes[k, SLOPE_Y] == 0.0:
+            gx, gy, gt = polygon_wrench(geo, int(shapes[k, VERTEX_FIRST]), int(shapes[k, VERTEX_END]), shapes[k, AREA],
+                                        ox, oy, shapes[k, VERTEX_RADIUS], shapes[k, MOMENT_XX], shapes[k, MOMENT_XY],
+                                        shapes[k, MOMENT_YY], geo, int(shapes[k, QUAD_FIRST]), int(shapes[k, QUAD_END]),
+                                        vbx, vby, w, v_eps)
         elif kind == POLYGON:
-            gx, gy, gt = linear_polygon_wrench(geo, int(shapes[k, V0]), int(shapes[k, V1]), shapes[k, AREA], ox, oy,
-                                               shapes[k, RAD], shapes[k, KX], shapes[k, KY], geo, int(shapes[k, Q0]),
-                                               int(shapes[k, Q1]), vbx, vby, w, v_eps)
+            gx, gy, gt = linear_polygon_wrench(geo, int(shapes[k, VERTEX_FIRST]), int(shapes[k, VERTEX_END]),
+                                               shapes[k, AREA], ox, oy, shapes[k, VERTEX_RADIUS], shapes[k, SLOPE_X],
+                                               shapes[k, SLOPE_Y], geo, int(shapes[k, QUAD_FIRST]),
+                                               int(shapes[k, QUAD_END]), vbx, vby, w, v_eps)
         elif kind == POINT:
             gx, gy = law_dry.force(ux, uy, 1.0, v_eps)
             gt = ox * gy - oy * gx
         elif kind == RING:
-            gx, gy, gt = ring_wrench(shapes[k, RA], ux, uy, w, v_eps)
+            gx, gy, gt = ring_wrench(shapes[k, RADIUS_A], ux, uy, w, v_eps)
             gt += ox * gy - oy * gx
         elif kind == HERTZ:
-            gx, gy, gt = hertz_wrench(shapes[k, RA], ux, uy, w, v_eps)
+            gx, gy, gt = hertz_wrench(shapes[k, RADIUS_A], ux, uy, w, v_eps)
             gt += ox * gy - oy * gx
         else:  # SAMPLED: rows (x, y, weight) from the centre of gravity, the sampled area method's own sum
             # np.int64: literal constants would compile the sampled method's kernel once more
-            gx, gy, gt = area_sampled.wrench(np.int64(DRY), geo[int(shapes[k, Q0]):int(shapes[k, Q1])], 0.0, 0.0,
-                                             np.int64(0), 0.0, vbx, vby, w, 1.0, v_eps, NO_PARAMS)
-        wt = shapes[k, WEIGHT]
+            gx, gy, gt = area_sampled.wrench(np.int64(DRY), geo[int(shapes[k, QUAD_FIRST]):int(shapes[k, QUAD_END])],
+                                             0.0, 0.0, np.int64(0), 0.0, vbx, vby, w, 1.0, v_eps, NO_PARAMS)
+        wt = shapes[k, LOAD_SHARE]
         fx += wt * gx
         fy += wt * gy
         tq += wt * gt
@@ -113,11 +117,12 @@ def pack(shapes: np.ndarray, geo: np.ndarray, reach: float, mean: tuple[float, f
     array; :func:`footprint_wrench` takes it as both ``shapes`` and ``geo``."""
     n = shapes.shape[0]
     S = np.zeros((HEADER + n + geo.shape[0], N_SHAPE))
-    S[0, [H_PARTS, H_GX, H_GY, H_J, H_REACH]] = n, mean[0], mean[1], spread, reach
+    S[0, [H_PARTS, H_MEAN_X, H_MEAN_Y, H_SPREAD, H_REACH]] = n, mean[0], mean[1], spread, reach
     rows = shapes.copy()
     shift = HEADER + n
-    rows[rows[:, KIND] == POLYGON, V0:Q1 + 1] += shift  # V0, V1, Q0, Q1: consecutive columns
-    rows[rows[:, KIND] == SAMPLED, Q0:Q1 + 1] += shift
+    # VERTEX_FIRST, VERTEX_END, QUAD_FIRST, QUAD_END: consecutive columns
+    rows[rows[:, KIND] == POLYGON, VERTEX_FIRST:QUAD_END + 1] += shift
+    rows[rows[:, KIND] == SAMPLED, QUAD_FIRST:QUAD_END + 1] += shift
     S[HEADER:shift] = rows
     S[shift:, :geo.shape[1]] = geo
     return S

@@ -41,7 +41,7 @@ Part = tuple[np.ndarray, np.ndarray, float, float, tuple[float, float], float]
 
 def _row(kind: float, cx: float, cy: float) -> np.ndarray:
     row = np.zeros(C.N_SHAPE)
-    row[[C.KIND, C.CX, C.CY]] = kind, cx, cy
+    row[[C.KIND, C.CENTRE_X, C.CENTRE_Y]] = kind, cx, cy
     return row
 
 
@@ -49,7 +49,7 @@ def ellipse_part(cx: float, cy: float, a: float, b: float, ori: float = 0.0, nod
     """An ellipse (a circle if a = b) with semi-axes a (along ``ori``) and b (m) centred at (cx, cy),
     uniform pressure, integrated by the instantaneous-centre quadrature with ``nodes`` per panel."""
     row = _row(C.ELLIPSE, cx, cy)
-    row[[C.RA, C.RB, C.ORI, C.NQ]] = a, b, ori, nodes
+    row[[C.RADIUS_A, C.RADIUS_B, C.AXIS_ANGLE, C.PANEL_NODES]] = a, b, ori, nodes
     return row, np.zeros((0, 3)), math.pi * a * b, math.hypot(cx, cy) + max(a, b), (cx, cy), \
         cx * cx + cy * cy + 0.25 * (a * a + b * b)
 
@@ -59,9 +59,10 @@ def polygon_part(vertices: np.ndarray) -> Part:
     v, area, gx, gy, m2 = polygon_geometry(vertices)
     rule = gauss_rule(v)
     row = _row(C.POLYGON, gx, gy)
-    row[C.RAD] = float(np.max(np.hypot(v[:, 0] - gx, v[:, 1] - gy)))
-    row[[C.AREA, C.MXX, C.MXY, C.MYY]] = area, *m2
-    row[[C.V0, C.V1, C.Q0, C.Q1]] = 0, v.shape[0], v.shape[0], v.shape[0] + rule.shape[0]
+    row[C.VERTEX_RADIUS] = float(np.max(np.hypot(v[:, 0] - gx, v[:, 1] - gy)))
+    row[[C.AREA, C.MOMENT_XX, C.MOMENT_XY, C.MOMENT_YY]] = area, *m2
+    row[[C.VERTEX_FIRST, C.VERTEX_END, C.QUAD_FIRST, C.QUAD_END]] = (0, v.shape[0], v.shape[0],
+                                                                     v.shape[0] + rule.shape[0])
     geo = np.vstack([np.column_stack([v, np.zeros(v.shape[0])]), rule])
     return row, geo, area, float(np.max(np.hypot(v[:, 0], v[:, 1]))), (gx, gy), float(m2[0] + m2[2])
 
@@ -75,7 +76,7 @@ def sampled_part(samples: np.ndarray) -> Part:
     """Area elements: rows (x, y, weight) from the centre of gravity, weights summing to 1 (use alone)."""
     s = np.ascontiguousarray(samples, dtype=float)
     row = _row(C.SAMPLED, 0.0, 0.0)
-    row[[C.Q0, C.Q1]] = 0, s.shape[0]
+    row[[C.QUAD_FIRST, C.QUAD_END]] = 0, s.shape[0]
     w = s[:, 2]
     return row, s, 0.0, float(np.max(np.hypot(s[:, 0], s[:, 1]))), (float(w @ s[:, 0]), float(w @ s[:, 1])), \
         float(w @ (s[:, 0] ** 2 + s[:, 1] ** 2))
@@ -84,14 +85,14 @@ def sampled_part(samples: np.ndarray) -> Part:
 def ring_part(cx: float, cy: float, radius: float) -> Part:
     """The part's load spread evenly on the circle of ``radius`` (m) about (cx, cy)."""
     row = _row(C.RING, cx, cy)
-    row[C.RA] = radius
+    row[C.RADIUS_A] = radius
     return row, np.zeros((0, 3)), 0.0, math.hypot(cx, cy) + radius, (cx, cy), cx * cx + cy * cy + radius * radius
 
 
 def hertz_part(cx: float, cy: float, a: float) -> Part:
     """Hertz's pressure, proportional to sqrt(1 - r^2/a^2), on the disk of radius ``a`` (m) about (cx, cy)."""
     row = _row(C.HERTZ, cx, cy)
-    row[C.RA] = a
+    row[C.RADIUS_A] = a
     # <r^2> under p ~ sqrt(1 - r^2/a^2): 2 a^2 / 5
     return row, np.zeros((0, 3)), 0.0, math.hypot(cx, cy) + a, (cx, cy), cx * cx + cy * cy + 0.4 * a * a
 
@@ -108,11 +109,11 @@ def combine(parts: list[Part], weights: np.ndarray | None = None) -> Footprint:
     rows, geos, n = [], [], 0
     for (row, geo, *_), wt in zip(parts, weights):
         row = row.copy()
-        row[C.WEIGHT] = wt
+        row[C.LOAD_SHARE] = wt
         if row[C.KIND] == C.POLYGON:
-            row[[C.V0, C.V1]] += n
+            row[[C.VERTEX_FIRST, C.VERTEX_END]] += n
         if row[C.KIND] in (C.POLYGON, C.SAMPLED):
-            row[[C.Q0, C.Q1]] += n
+            row[[C.QUAD_FIRST, C.QUAD_END]] += n
         n += geo.shape[0]
         rows.append(row)
         geos.append(geo)
@@ -132,12 +133,12 @@ def inside(parts: list[Part], x: np.ndarray, y: np.ndarray) -> np.ndarray:
     ok = np.zeros(x.shape, dtype=bool)
     for row, geo, *_ in parts:
         if row[C.KIND] == C.ELLIPSE:
-            c, s = math.cos(row[C.ORI]), math.sin(row[C.ORI])
-            dx, dy = x - row[C.CX], y - row[C.CY]
+            c, s = math.cos(row[C.AXIS_ANGLE]), math.sin(row[C.AXIS_ANGLE])
+            dx, dy = x - row[C.CENTRE_X], y - row[C.CENTRE_Y]
             u, v = c * dx + s * dy, -s * dx + c * dy
-            ok |= np.hypot(u / (row[C.RA] + tol), v / (row[C.RB] + tol)) <= 1.0
+            ok |= np.hypot(u / (row[C.RADIUS_A] + tol), v / (row[C.RADIUS_B] + tol)) <= 1.0
         elif row[C.KIND] == C.POLYGON:
-            v = geo[int(row[C.V0]):int(row[C.V1]), :2]  # counter-clockwise (polygon_geometry)
+            v = geo[int(row[C.VERTEX_FIRST]):int(row[C.VERTEX_END]), :2]  # counter-clockwise (polygon_geometry)
             e = np.roll(v, -1, axis=0) - v
             length = np.hypot(e[:, 0], e[:, 1])
             # signed distance inside every edge's line (>= -tol) for a convex polygon
@@ -161,7 +162,7 @@ def _field_samples(parts: list[Part], pressure: Pressure) -> np.ndarray:
     rows = []
     for (row, geo, area, *_), n in zip(parts, np.maximum(16, pressure.samples * areas / areas.sum()).astype(int)):
         if row[C.KIND] == C.POLYGON:
-            v = geo[int(row[C.V0]):int(row[C.V1]), :2]
+            v = geo[int(row[C.VERTEX_FIRST]):int(row[C.VERTEX_END]), :2]
             q = gauss_rule(v, max(2, int(math.sqrt(n / max(1, v.shape[0] - 2)))))
             rows.append(np.column_stack([q[:, 0], q[:, 1], q[:, 2] * area / q[:, 2].sum()]))
         elif row[C.KIND] == C.ELLIPSE:
@@ -172,11 +173,11 @@ def _field_samples(parts: list[Part], pressure: Pressure) -> np.ndarray:
             rr = 0.5 * (xr + 1.0)
             th = 2.0 * math.pi * (np.arange(nt) + 0.5) / nt
             R, T = np.meshgrid(rr, th)
-            W = np.meshgrid(0.5 * wr * rr, th)[0] * (2.0 * math.pi / nt) * row[C.RA] * row[C.RB]
-            u, v = row[C.RA] * R * np.cos(T), row[C.RB] * R * np.sin(T)
-            c, s = math.cos(row[C.ORI]), math.sin(row[C.ORI])
-            rows.append(np.column_stack([row[C.CX] + c * u.ravel() - s * v.ravel(),
-                                         row[C.CY] + s * u.ravel() + c * v.ravel(), W.ravel()]))
+            W = np.meshgrid(0.5 * wr * rr, th)[0] * (2.0 * math.pi / nt) * row[C.RADIUS_A] * row[C.RADIUS_B]
+            u, v = row[C.RADIUS_A] * R * np.cos(T), row[C.RADIUS_B] * R * np.sin(T)
+            c, s = math.cos(row[C.AXIS_ANGLE]), math.sin(row[C.AXIS_ANGLE])
+            rows.append(np.column_stack([row[C.CENTRE_X] + c * u.ravel() - s * v.ravel(),
+                                         row[C.CENTRE_Y] + s * u.ravel() + c * v.ravel(), W.ravel()]))
     if not rows:
         raise ValueError("pressure field needs a footprint with area (circles, ellipses or polygons)")
     q = np.vstack(rows)

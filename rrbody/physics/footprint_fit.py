@@ -125,8 +125,8 @@ def edge_lines(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int, R: float) 
     for k in range(s0, s1):
         if shapes[k, C.KIND] != C.POLYGON:
             continue
-        v = geo[int(shapes[k, C.V0]):int(shapes[k, C.V1]), :2]  # counter-clockwise
-        kap = shapes[k, C.WEIGHT] / shapes[k, C.AREA]
+        v = geo[int(shapes[k, C.VERTEX_FIRST]):int(shapes[k, C.VERTEX_END]), :2]  # counter-clockwise
+        kap = shapes[k, C.LOAD_SHARE] / shapes[k, C.AREA]
         for a, b in zip(v, np.roll(v, -1, axis=0)):
             L = math.hypot(b[0] - a[0], b[1] - a[1])
             if L == 0.0:
@@ -252,17 +252,17 @@ def table_reach(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int) -> float:
     for k in range(s0, s1):
         row = shapes[k]
         kind = row[C.KIND]
-        o = math.hypot(row[C.CX], row[C.CY])
+        o = math.hypot(row[C.CENTRE_X], row[C.CENTRE_Y])
         if kind == C.POLYGON:
-            v = geo[int(row[C.V0]):int(row[C.V1]), :2]
+            v = geo[int(row[C.VERTEX_FIRST]):int(row[C.VERTEX_END]), :2]
             r = max(r, float(np.max(np.hypot(v[:, 0], v[:, 1]))))
         elif kind == C.SAMPLED:
-            q = geo[int(row[C.Q0]):int(row[C.Q1]), :2]
+            q = geo[int(row[C.QUAD_FIRST]):int(row[C.QUAD_END]), :2]
             r = max(r, float(np.max(np.hypot(q[:, 0], q[:, 1]))))
         elif kind == C.ELLIPSE:
-            r = max(r, o + max(row[C.RA], row[C.RB]))
+            r = max(r, o + max(row[C.RADIUS_A], row[C.RADIUS_B]))
         elif kind in (C.RING, C.HERTZ):
-            r = max(r, o + row[C.RA])
+            r = max(r, o + row[C.RADIUS_A])
         else:
             r = max(r, o)
     return r
@@ -283,19 +283,19 @@ def deadband_factor(shapes: np.ndarray, geo: np.ndarray, s0: int, s1: int, R: fl
     for k in range(s0, s1):
         row = shapes[k]
         kind = row[C.KIND]
-        ox, oy = row[C.CX], row[C.CY]
+        ox, oy = row[C.CENTRE_X], row[C.CENTRE_Y]
         o = math.hypot(ox, oy)
         if kind == C.POLYGON:
-            K = max(K, R / (o + row[C.RAD]))
+            K = max(K, R / (o + row[C.VERTEX_RADIUS]))
         elif kind == C.ELLIPSE:
-            a = max(row[C.RA], row[C.RB])
+            a = max(row[C.RADIUS_A], row[C.RADIUS_B])
             K = max(K, 1.0 + o / a, R / a)
         elif kind in (C.RING, C.HERTZ):
-            K = max(K, 1.0 + o / row[C.RA], R / row[C.RA])
+            K = max(K, 1.0 + o / row[C.RADIUS_A], R / row[C.RADIUS_A])
         elif kind == C.POINT:
             pts.append((ox, oy))
         else:
-            pts.extend(map(tuple, geo[int(row[C.Q0]):int(row[C.Q1]), :2]))
+            pts.extend(map(tuple, geo[int(row[C.QUAD_FIRST]):int(row[C.QUAD_END]), :2]))
     if pts:
         p = np.array(pts)
         d = p0 - np.max(np.abs(p), axis=1)

@@ -123,25 +123,25 @@ def element_quadrature(law, shapes, geo, s0, s1, vbx, vby, w, coeff, v_eps, lp, 
     tq = 0.0
     for k in range(s0, s1):
         kind = shapes[k, C.KIND]
-        wk = shapes[k, C.WEIGHT]
-        ox = shapes[k, C.CX]
-        oy = shapes[k, C.CY]
+        wk = shapes[k, C.LOAD_SHARE]
+        ox = shapes[k, C.CENTRE_X]
+        oy = shapes[k, C.CENTRE_Y]
         if kind == C.POINT:
             a, b, c = _node(law, ox, oy, wk, vbx, vby, w, coeff, v_eps, lp, c0)
             fx += a
             fy += b
             tq += c
         elif kind == C.SAMPLED:
-            for q in range(int(shapes[k, C.Q0]), int(shapes[k, C.Q1])):
+            for q in range(int(shapes[k, C.QUAD_FIRST]), int(shapes[k, C.QUAD_END])):
                 a, b, c = _node(law, geo[q, 0], geo[q, 1], wk * geo[q, 2], vbx, vby, w, coeff, v_eps, lp, c0)
                 fx += a
                 fy += b
                 tq += c
         elif kind == C.POLYGON:
-            v0 = int(shapes[k, C.V0])
-            nv = int(shapes[k, C.V1]) - v0
-            kx = shapes[k, C.KX]
-            ky = shapes[k, C.KY]
+            v0 = int(shapes[k, C.VERTEX_FIRST])
+            nv = int(shapes[k, C.VERTEX_END]) - v0
+            kx = shapes[k, C.SLOPE_X]
+            ky = shapes[k, C.SLOPE_Y]
             scale = wk / shapes[k, C.AREA]
             for e in range(nv):
                 ax = geo[v0 + e, 0] - ox
@@ -161,11 +161,11 @@ def element_quadrature(law, shapes, geo, s0, s1, vbx, vby, w, coeff, v_eps, lp, 
                         fy += b
                         tq += c
         else:  # ELLIPSE, RING, HERTZ: polar rules about the part's centre
-            ra = shapes[k, C.RA]
+            ra = shapes[k, C.RADIUS_A]
             if kind == C.ELLIPSE:
-                rb = shapes[k, C.RB]
-                co = math.cos(shapes[k, C.ORI])
-                so = math.sin(shapes[k, C.ORI])
+                rb = shapes[k, C.RADIUS_B]
+                co = math.cos(shapes[k, C.AXIS_ANGLE])
+                so = math.sin(shapes[k, C.AXIS_ANGLE])
                 nr = N_RADIAL
             else:
                 rb = ra

@@ -5,7 +5,7 @@ A rigid body resting on a level plane is pressed with its centre of pressure und
 gravity (the plane's moments balance the weight's). Under the default pressure:
 
 1. *Each part presses with its own weight, spread over its own area* (:func:`shares`): a part that
-   carries a mass (kg, in its row's WEIGHT column before :func:`rrbody.physics.footprint.combine`
+   carries a mass (kg, in its row's LOAD_SHARE column before :func:`rrbody.physics.footprint.combine`
    normalises it: a pymunk shape's ``mass``, ``rrbody.planar.box(..., mass=...)``) takes the share
    m_i / sum m of the load; parts without masses share it by area (one density). Mass shares within
    ``SHARE_TOL`` of the area shares *are* the area shares, so a body of one density is loaded bit for
@@ -53,11 +53,11 @@ Part = tuple[np.ndarray, np.ndarray, float, float, tuple[float, float], float]
 
 def shares(parts: list[Part]) -> np.ndarray:
     """Each part's share of the load (summing to 1): its mass over the parts' total where parts carry
-    masses (their row's WEIGHT > 0; a part of no mass carries none), else by area (parts of no area,
+    masses (their row's LOAD_SHARE > 0; a part of no mass carries none), else by area (parts of no area,
     points, share it equally)."""
     areas = np.array([p[2] for p in parts])
     by_area = areas / areas.sum() if areas.sum() > 0.0 else np.full(len(parts), 1.0 / len(parts))
-    masses = np.array([p[0][C.WEIGHT] for p in parts])
+    masses = np.array([p[0][C.LOAD_SHARE] for p in parts])
     if not masses.sum() > 0.0:
         return by_area
     by_mass = masses / masses.sum()
@@ -69,8 +69,9 @@ def shares(parts: list[Part]) -> np.ndarray:
 def _central(row: np.ndarray) -> np.ndarray:
     """A uniformly loaded part's second moment about its own centre, over its area (m^2; 2 x 2)."""
     if row[C.KIND] == C.POLYGON:
-        gx, gy = row[C.CX], row[C.CY]
-        return np.array([[row[C.MXX] - gx * gx, row[C.MXY] - gx * gy], [row[C.MXY] - gx * gy, row[C.MYY] - gy * gy]])
+        gx, gy = row[C.CENTRE_X], row[C.CENTRE_Y]
+        return np.array([[row[C.MOMENT_XX] - gx * gx, row[C.MOMENT_XY] - gx * gy],
+                         [row[C.MOMENT_XY] - gx * gy, row[C.MOMENT_YY] - gy * gy]])
     return np.zeros((2, 2))
 
 
@@ -79,9 +80,9 @@ def _lowest(parts: list[Part], px: float, py: float, k: np.ndarray) -> tuple[flo
     best = (math.inf, 0.0, 0.0)
     for row, geo, *_ in parts:
         if row[C.KIND] == C.POLYGON:
-            pts = geo[int(row[C.V0]):int(row[C.V1]), :2]
+            pts = geo[int(row[C.VERTEX_FIRST]):int(row[C.VERTEX_END]), :2]
         else:
-            pts = np.array([[row[C.CX], row[C.CY]]])
+            pts = np.array([[row[C.CENTRE_X], row[C.CENTRE_Y]]])
         f = 1.0 + k[0] * (pts[:, 0] - px) + k[1] * (pts[:, 1] - py)
         i = int(np.argmin(f))
         if f[i] < best[0]:
@@ -93,7 +94,7 @@ def centred(parts: list[Part], weights: np.ndarray) -> tuple[list[Part], np.ndar
     """``parts`` with ``weights`` (uniform pressure on each, summing to 1), their load centred on the
     origin (the centre of gravity): as given when it already is (to ``CENTRE_TOL`` x reach), else each
     part's pressure times 1 + k . (s - P) (module docstring): polygons get their pressure slope (row
-    KX, KY, 1/m), every part its new share. Raises ValueError (saying why, without the body's name: the
+    SLOPE_X, SLOPE_Y, 1/m), every part its new share. Raises ValueError (saying why, without the body's name: the
     caller adds it) where no non-negative linear pressure centres it, or it would need one on an
     ellipse or along a line of points."""
     px = float(sum(w * p[4][0] for p, w in zip(parts, weights)))
@@ -127,9 +128,9 @@ def centred(parts: list[Part], weights: np.ndarray) -> tuple[list[Part], np.ndar
         if row[C.KIND] == C.POLYGON and f > 0.0:
             kp = k / f  # the part's own pressure, per its mean: 1 + kp . (s - g)
             row = row.copy()
-            row[C.KX], row[C.KY] = kp
+            row[C.SLOPE_X], row[C.SLOPE_Y] = kp
             m = _central(row) @ kp
-            rule = geo[int(row[C.Q0]):int(row[C.Q1])]  # exact for the cubic moment (degree 12)
+            rule = geo[int(row[C.QUAD_FIRST]):int(row[C.QUAD_END])]  # exact for the cubic moment (degree 12)
             third = float(rule[:, 2] @ ((kp[0] * (rule[:, 0] - gx) + kp[1] * (rule[:, 1] - gy))
                                         * (rule[:, 0] ** 2 + rule[:, 1] ** 2))) / area
             out.append((row, geo, area, rch, (gx + float(m[0]), gy + float(m[1])), spread + third))

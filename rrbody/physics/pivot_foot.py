@@ -48,7 +48,7 @@ def feet_of(S: np.ndarray) -> np.ndarray | None:
     rows = S[C.HEADER:C.HEADER + n]
     if n == 0 or np.any(rows[:, C.KIND] != C.POINT):
         return None
-    return np.ascontiguousarray(rows[:, [C.CX, C.CY, C.WEIGHT]])
+    return np.ascontiguousarray(rows[:, [C.CENTRE_X, C.CENTRE_Y, C.LOAD_SHARE]])
 
 
 def foot_offsets(alpha: float, feet: np.ndarray) -> np.ndarray:

@@ -58,9 +58,10 @@ def _xy(name: str, value: object) -> tuple[float, float]:
 
 
 def _massed(part: Part, mass: float | None) -> Part:
-    """``part`` carrying ``mass`` (kg, > 0; None: none) in its row's WEIGHT (:func:`rrbody.physics.loads.shares`)."""
+    """``part`` carrying ``mass`` (kg, > 0; None: none) in its row's LOAD_SHARE
+    (:func:`rrbody.physics.loads.shares`)."""
     if mass is not None:
-        part[0][C.WEIGHT] = check_positive("mass", mass, unit="kg")
+        part[0][C.LOAD_SHARE] = check_positive("mass", mass, unit="kg")
     return part
 
 
@@ -109,7 +110,7 @@ def point(x: float, y: float, *, mass: float | None = None) -> Part:
 def masses_given(parts: Sequence[Part]) -> bool:
     """Whether every part of one body carries a mass (True) or none does (False); ValueError when only
     some do (the others' share of the weight would be unknown; the caller names the body)."""
-    has = [p[0][C.WEIGHT] > 0.0 for p in parts]
+    has = [p[0][C.LOAD_SHARE] > 0.0 for p in parts]
     if any(has) and not all(has):
         raise ValueError(f"mass must be given for every part of a body or for none, got masses on {sum(has)} of "
                          f"{len(has)} parts (part {has.index(False)} has none)")

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from rrbody.physics.contact import H_GX, H_GY, H_J, H_PARTS, HEADER, footprint_wrench
+from rrbody.physics.contact import H_MEAN_X, H_MEAN_Y, H_PARTS, H_SPREAD, HEADER, footprint_wrench
 from rrbody.physics.effects.laws import DRY
 from rrbody.physics.footprint_quad import footprint_law_wrench
 
@@ -34,5 +34,5 @@ def wrench(law, S, ra, rb, nq, icm, vbx, vby, spin, coeff, v_eps, lp):  # noqa: 
         return coeff * fx, coeff * fy, coeff * tq
     # every other law: its own footprint form, from the law table (viscous: the load's moments), or the quadrature
     # of its element force (rrbody.physics.footprint_quad); "none" never calls friction
-    return footprint_law_wrench(law, S, S, np.int64(HEADER), HEADER + int(S[0, H_PARTS]), S[0, H_GX], S[0, H_GY],
-                         S[0, H_J], vbx, vby, spin, coeff, v_eps, lp)
+    return footprint_law_wrench(law, S, S, np.int64(HEADER), HEADER + int(S[0, H_PARTS]), S[0, H_MEAN_X],
+                         S[0, H_MEAN_Y], S[0, H_SPREAD], vbx, vby, spin, coeff, v_eps, lp)

@@ -20,7 +20,7 @@ The noise is Euler-Maruyama on the velocities: a force m gamma_t sqrt(2 D_t / dt
 two components) and a torque I gamma_r sqrt(2 D_r / dt) xi' held over the step, xi, xi' independent
 standard normal numbers drawn anew each step (``noise``, filled by the plugin from one seeded
 ``numpy.random.Generator`` (PCG64) in one vectorised call per step: the noisy components only, a
-body's first at its row's column NZ). The velocity increments have
+body's first at its row's column NOISE_START). The velocity increments have
 exactly the Wiener increments' variance 2 gamma^2 D dt; with additive noise the scheme has strong
 and weak order 1 (the drift's own error is second order).
 """
@@ -34,16 +34,16 @@ from numba import njit
 
 from rrbody.physics import params as P
 
-__all__ = ["FBX", "FBY", "TQ", "DRAG", "RDRAG", "SIG", "RSIG", "NZ", "N_ACTIVE", "row", "noise_count", "load",
-           "ode_terms", "ode_noise"]
+__all__ = ["PROPULSION_X", "PROPULSION_Y", "PROPULSION_TORQUE", "DRAG", "ROT_DRAG", "NOISE_FORCE", "NOISE_TORQUE",
+           "NOISE_START", "N_ACTIVE", "row", "noise_count", "load", "ode_terms", "ode_noise"]
 
 NAME = "active"
 
 #: columns of ``active``: the propulsion in the body frame (N) and its torque about the centre of
 #: gravity (N m), the drag rates gamma_t, gamma_r (1/s), the noise's force and torque scales
 #: m gamma_t sqrt(2 D_t) (N s^0.5) and I gamma_r sqrt(2 D_r) (N m s^0.5), and where the body's
-#: normal numbers start in ``noise`` (two for the force if SIG > 0, then one for the torque if RSIG > 0)
-FBX, FBY, TQ, DRAG, RDRAG, SIG, RSIG, NZ = range(8)
+#: normal numbers start in ``noise`` (two for the force if NOISE_FORCE > 0, then one for the torque if NOISE_TORQUE > 0)
+PROPULSION_X, PROPULSION_Y, PROPULSION_TORQUE, DRAG, ROT_DRAG, NOISE_FORCE, NOISE_TORQUE, NOISE_START = range(8)
 N_ACTIVE = 8
 
 
@@ -53,13 +53,13 @@ def row(force: tuple[float, float], torque: float, drag: float, rot_drag: float,
     centre of gravity (units as in :class:`rrbody.model.active.Active`), its normal numbers from
     ``noise[first]`` on (:func:`noise_count` of them)."""
     r = np.zeros(N_ACTIVE)
-    r[NZ] = first
-    r[FBX], r[FBY] = force
-    r[TQ] = torque
+    r[NOISE_START] = first
+    r[PROPULSION_X], r[PROPULSION_Y] = force
+    r[PROPULSION_TORQUE] = torque
     r[DRAG] = drag
-    r[RDRAG] = rot_drag
-    r[SIG] = mass * drag * math.sqrt(2.0 * diffusion)
-    r[RSIG] = moment * rot_drag * math.sqrt(2.0 * rot_diffusion)
+    r[ROT_DRAG] = rot_drag
+    r[NOISE_FORCE] = mass * drag * math.sqrt(2.0 * diffusion)
+    r[NOISE_TORQUE] = moment * rot_drag * math.sqrt(2.0 * rot_diffusion)
     return r
 
 
@@ -76,23 +76,23 @@ def load(j, ca, sa, ex, ey, ew, mass, ipm, dt, active, noise):  # noqa: ANN001 (
     the step evaluates its loads at (the angle at the step's start plus w dt, where friction is
     evaluated), (ex, ey, ew) the velocity (m/s, world) and spin (rad/s) friction is evaluated at (the
     staggered scheme's extrapolation, :func:`rrbody.contact.body.extrapolated`), where the drag acts;
-    ``noise`` holds this step's standard normal numbers, the body's from column NZ of its row on."""
-    fbx = active[j, FBX]
-    fby = active[j, FBY]
+    ``noise`` holds this step's standard normal numbers, the body's from column NOISE_START of its row on."""
+    fbx = active[j, PROPULSION_X]
+    fby = active[j, PROPULSION_Y]
     fx = ca * fbx - sa * fby
     fy = sa * fbx + ca * fby
-    tq = active[j, TQ]
+    tq = active[j, PROPULSION_TORQUE]
     gt = active[j, DRAG]
-    gr = active[j, RDRAG]
+    gr = active[j, ROT_DRAG]
     if gt != 0.0 or gr != 0.0:
         fx -= mass * gt * ex
         fy -= mass * gt * ey
         tq -= mass * ipm * gr * ew
-    s = active[j, SIG]
-    r = active[j, RSIG]
+    s = active[j, NOISE_FORCE]
+    r = active[j, NOISE_TORQUE]
     if s != 0.0 or r != 0.0:
         h = 1.0 / math.sqrt(dt)
-        k = int(active[j, NZ])
+        k = int(active[j, NOISE_START])
         if s != 0.0:
             fx += s * h * noise[k]
             fy += s * h * noise[k + 1]

@@ -216,5 +216,5 @@ def _row_reader(n: int) -> Any:
 
 
 #: law_params_at(a, j, first): a law's parameters per unit mass from row j of ``a``, columns first on (the
-#: plugin's ``bodies``: rrbody.contact.columns.LAWP)
+#: plugin's ``bodies``: rrbody.contact.columns.LAW_PARAMS)
 law_params_at = _row_reader(N_LAW_PARAMS)
