@@ -293,6 +293,10 @@ def run(out: Path, *, quick: bool = False) -> StudyResult:
                                   f"{r:.3f}x (median of {len(runs)} runs: {each})", r <= bound))
     targets.append(Target("AsyncVectorEnv, 2 workers, runs rrbody/PushT-v0", "(no bound)", f"{vec * 1e6:.0f} us/step",
                           None))
+    targets.append(Target("gym-pusht + rrbody.envs.table, moving: its physics steps per env.step (the table's work)",
+                          "(no bound)", f"{parts['wrapper: physics']:.1f} us against gym-pusht's "
+                          f"{parts['gym-pusht: physics']:.1f} us (gym-pusht's own code {own['wrapper']:.0f} us per "
+                          f"step on the T's path on the table, {own['gym-pusht']:.0f} us without it)", None))
     table_md = md_table(["phase", "env", "us per step", "x gym-pusht", "each run's x", "each run's us per step"],
                         [(r["phase"], r["env"], fmt(r["us_per_step"]), f"{r['x_gym_pusht']:.3f}", r["runs_x"],
                           r["runs_us"]) for r in rows])
