@@ -34,7 +34,7 @@ import math
 from typing import Any
 
 import numpy as np
-from numba import njit
+from numba import njit, typeof
 
 from rrbody.contact import kernel as K
 from rrbody.contact.active import NO_ACTIVE
@@ -174,6 +174,10 @@ class StructIO:
             self._relink()
         args = (*self._head(plane), self._out, *act, t, dt)  # (t, dt last: the plan's call appends them)
         if self._entry is None:
+            # plane_step compiled first, with its own options: numba 0.59 would compile it inside struct_step's
+            # typing with struct_step's (no reference counting), which its work array needs
+            K.plane_step.compile(tuple(typeof(a) for a in (self._got, self._ids, *plane, float(t), float(dt),
+                                                           self._out, *act)))
             self._entry, n = fast_entry(struct_step, *args)  # runs this step once
             return int(n)
         return self._entry(*args)
