@@ -130,6 +130,16 @@ def _measure(instances: int = INSTANCES) -> dict[str, dict[str, list[float]]]:
     return got
 
 
+class _TimedSpace:
+    """gym-pusht's own space with its step timed: ``step`` in place of ``space.step`` (gym-pusht reads nothing
+    else of its space in its step)."""
+
+    __slots__ = ("_space", "step")
+
+    def __init__(self, space: Any, step: Callable[[float], None]) -> None:
+        self._space, self.step = space, step
+
+
 def _physics_steps(n_steps: int = 200) -> dict[str, list[float]]:
     """Where the wrapper's time goes at rest: inside gym-pusht's loop, each of the 10 physics steps of an
     ``env.step`` timed alone, gym-pusht's own ``space.step`` against the wrapper's ``plane.step`` (the
@@ -157,17 +167,12 @@ def _physics_steps(n_steps: int = 200) -> dict[str, list[float]]:
             where["k"] += 1
         return run
 
-    class Timed:  # gym-pusht's own space, its step timed (gym-pusht reads nothing else of it in step)
-        __slots__ = ("_space", "step")
-
-        def __init__(self, space: Any) -> None:
-            self._space, self.step = space, timed("gym-pusht: space.step", space.step)
-
     hold = np.array([40.0, 40.0], dtype=np.float32)
     bare, wrapped = gym.make("gym_pusht/PushT-v0"), table(gym.make("gym_pusht/PushT-v0"))
     for env in (bare, wrapped):
         _stepper(env, None, 0)  # reset, the agent and the T at rest, settled (as in the timing above)
-    bare.unwrapped.space = Timed(bare.unwrapped.space)
+    space = bare.unwrapped.space
+    bare.unwrapped.space = _TimedSpace(space, timed("gym-pusht: space.step", space.step))
     proxy = wrapped.unwrapped.space
     object.__setattr__(proxy, "step", timed("wrapper: plane.step", proxy.step))
     for _ in range(n_steps // BLOCK):  # blocks of BLOCK steps of each env in turn, as the timing above
@@ -202,12 +207,6 @@ def _moving_parts(n_steps: int = 300, rounds: int = 3) -> dict[str, float]:
             inside["physics"] += time.perf_counter_ns() - t0
         return run
 
-    class Timed:  # gym-pusht's own space, its step timed (gym-pusht reads nothing else of it in step)
-        __slots__ = ("_space", "step")
-
-        def __init__(self, space: Any) -> None:
-            self._space, self.step = space, timed(space.step)
-
     acts = _walk(n_steps)
     best = {k: np.full((n_steps, 2), np.inf) for k in ("gym-pusht", "wrapper")}
     for _ in range(rounds):
@@ -215,7 +214,8 @@ def _moving_parts(n_steps: int = 300, rounds: int = 3) -> dict[str, float]:
         for k, env in envs.items():
             env.reset(seed=0)
             if k == "gym-pusht":
-                env.unwrapped.space = Timed(env.unwrapped.space)
+                space = env.unwrapped.space
+                env.unwrapped.space = _TimedSpace(space, timed(space.step))
             else:
                 proxy = env.unwrapped.space
                 object.__setattr__(proxy, "step", timed(proxy.step))

@@ -58,7 +58,6 @@ class Coupling:
         self._api = None if compiled is None else compiled.api
         self.route = "public" if self._api is None else "compiled"
         self._space_address = 0 if self._api is None else arbiters.space_address(space)
-        self._rows: np.ndarray | None = None  # the plugin's rows the arguments were made for
         self._raw = np.zeros((16, I.N_RP))
         self._body = np.zeros((0, I.N_RB))
         self._rec = np.zeros(4 + 6 * 16, dtype=np.int64)
@@ -99,7 +98,6 @@ class Coupling:
             if self._api is not None:
                 self._addrs = addresses(bodies)
             self._members = members
-        self._rows = rows
         if self._api is not None:
             self._args = (self._api, self._space_address, self._addrs, lookup, self._rec, self._raw,
                           self._body, rows, *arrays, self.tol, self.max_iter, self.max_sweeps, self._order, self._vel,
@@ -115,7 +113,7 @@ class Coupling:
         table and its membership count (the arrays are taken as they were at the last :meth:`forget`).
         Returns None where no body was solved, else the rows of the bodies it brought to rest in this step
         (held now, moving at the step's start)."""
-        if self._args is None or members != self._members or rows is not self._rows:
+        if self._args is None or members != self._members:
             self._prepare(bodies, rows, arrays, lookup, members)
         if self._api is not None:
             # the cheap first look, unless something touched in the last step (it most likely touches again: the
