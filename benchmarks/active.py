@@ -159,7 +159,7 @@ def _effect_share(pf: object, reps: int = 7, block: int = 20) -> tuple[float, fl
     where it slid on, a different step; without it, the two calls differ by the active load alone
     (checked: the same count of stopped bodies, none)."""
     from rrbody.contact import kernel as K
-    from rrbody.contact.active import NO_ACTIVE
+    from rrbody.contact.columns import NO_ACTIVE
 
     base, rows, noise, kernel = _frozen_call(pf)
     act = pf._act  # type: ignore[attr-defined]
@@ -407,7 +407,7 @@ def _coupled_in_clusters(n: int, settle: float, steps: int) -> dict[str, float]:
 
     import numpy as np
 
-    from rrbody.engine.coupling import Coupling
+    from rrbody.engine.plugin.coupling import Coupling
 
     space, pf, _, _, _ = build(n)
     for _ in range(round(settle / DT)):

@@ -130,7 +130,7 @@ def _scene(n: int, kind: str = "uniform", *, mu: float = MU, mu_static: float | 
     pressure = _pressure(kind)
     if static_off:
         from rrbody.contact import kernel as K
-        from rrbody.engine.shapes import body_footprint
+        from rrbody.engine.plugin.shapes import body_footprint
 
         for b in bodies:
             pf.add_footprint(b, law=K.LAW_DRY, coeff=mu * pf.g * math.cos(pf.tilt),

@@ -233,7 +233,7 @@ def _pushed(variant: str) -> Any:
     """Study 4's space: the T pushed by the disk, warmed up ``PUSH_WARM`` steps into its contact."""
     import pymunk
 
-    from rrbody.engine.coupling import Coupling
+    from rrbody.engine.plugin.coupling import Coupling
     from rrbody.envs.pusht import tee_body
     from rrbody.plugin import PlaneFriction
 

@@ -5,7 +5,7 @@ takeover that gives the same numbers (docs/versions.md lists them). Setting the 
 ``RRBODY_NO_PRIVATE=1`` (before rrbody is imported) turns all of them off at once, so the takeovers
 can be run together, as ``make test`` does for a stated part of the suite:
 
-- pymunk's struct memory (:func:`rrbody.engine.bodymem.layout` returns None: the plugin and the
+- pymunk's struct memory (:func:`rrbody.engine.memory.bodymem.layout` returns None: the plugin and the
   recorder read and write through ``pymunk.batch`` or the bodies' properties);
 - ``pymunk.batch``'s C iterators called directly (the plugin's ``"lean"`` route: the ``"bulk"`` one);
 - Chipmunk's setters for a driven body's driver (the driver's public ``velocity`` and ``position``);

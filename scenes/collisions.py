@@ -84,7 +84,7 @@ def main(out_dir: Path, *, force: bool = True) -> None:
 
     from rrbody.analysis.flip import flip_time
     from rrbody.analysis.report import write_summary
-    from rrbody.engine.compat import on_begin
+    from rrbody.engine.memory.compat import on_begin
     from rrbody.render.figures import save_figure
     from rrbody.render.recorder import shape_outlines
 

@@ -331,7 +331,7 @@ def predictions(offsets: Sequence[float]) -> dict[str, list[float]]:
     f_x = 0 and torque = b f_y, solved for (v_x, w); then w / |v|. Independent of mu."""
     from scipy.optimize import fsolve
 
-    from rrbody.engine.shapes import body_footprint
+    from rrbody.engine.plugin.shapes import body_footprint
     from rrbody.model.pressure import as_pressure
     from rrbody.physics.contact import footprint_wrench
 

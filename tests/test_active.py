@@ -24,8 +24,8 @@ import pytest
 from scipy.integrate import quad
 
 from rrbody.contact import kernel as K
-from rrbody.engine.compat import on_begin
-from rrbody.engine.shapes import body_footprint
+from rrbody.engine.memory.compat import on_begin
+from rrbody.engine.plugin.shapes import body_footprint
 from rrbody.model.pressure import uniform
 from rrbody.plugin import Active, PlaneFriction
 

@@ -1,4 +1,4 @@
-"""The coupled step's two routes to pymunk's contacts (rrbody.engine.arbiters): pymunk's public API and
+"""The coupled step's two routes to pymunk's contacts (rrbody.engine.memory.arbiters): pymunk's public API and
 Chipmunk's own C functions called from compiled code. Where the compiled route is taken (its probe found the
 same bits), a scene stepped on each gives the same bits at every step; with RRBODY_NO_PRIVATE=1 the public
 route is the one taken."""
@@ -9,8 +9,8 @@ import numpy as np
 import pymunk
 import pytest
 
-from rrbody.engine import arbiters
-from rrbody.engine.coupling import Coupling
+from rrbody.engine.memory import arbiters
+from rrbody.engine.plugin.coupling import Coupling
 from rrbody.plugin import PlaneFriction
 
 

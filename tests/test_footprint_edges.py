@@ -1,5 +1,5 @@
 """The wrench table on and next to a polygon's edges (rrbody.physics.footprint_fit.edge_lines, cell_line,
-singular_part) and the tables' store in the cache folder (rrbody.contact.footprints.stored).
+singular_part) and the tables' store in the cache folder (rrbody.engine.plugin.footprints.stored).
 
 A uniformly loaded polygon's wrench, as a function of the instantaneous centre c, is not smooth across
 its edges: the fan triangle on an edge (rrbody.physics.polygon) carries h^2 log|h| terms, h the distance
@@ -113,7 +113,7 @@ def test_tables_are_stored_in_the_cache_folder(tmp_path, monkeypatch: pytest.Mon
     """A table is built once and then read from the cache folder (the same bytes); an unreadable file is
     built again; a folder that cannot be written still gives the built table."""
     from rrbody import _cache
-    from rrbody.contact.footprints import stored
+    from rrbody.engine.plugin.footprints import stored
 
     monkeypatch.setenv(_cache.ENV, str(tmp_path / "cache"))
     calls = []

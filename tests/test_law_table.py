@@ -144,7 +144,7 @@ def test_law_parameters_are_validated_and_bound_from_their_declaration(monkeypat
 
 # ---- the five former fallbacks --------------------------------------------------------------------
 def test_builder_refuses_a_law_the_plugin_has_no_form_for(monkeypatch: pytest.MonkeyPatch) -> None:
-    """rrbody.engine.builder mapped every law but viscous to dry friction."""
+    """rrbody.engine.scenes.builder mapped every law but viscous to dry friction."""
     from rrbody.engine import attach
 
     space = pymunk.Space()
@@ -203,7 +203,7 @@ def test_the_plugin_refuses_a_law_without_its_form(monkeypatch: pytest.MonkeyPat
     """rrbody.contact.accel evaluated every law but viscous as dry friction."""
     from rrbody.contact import columns
     from rrbody.engine import PlaneFriction
-    from rrbody.engine.shapes import body_footprint
+    from rrbody.engine.plugin.shapes import body_footprint
     from rrbody.model.pressure import uniform
 
     space = pymunk.Space()

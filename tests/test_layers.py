@@ -4,8 +4,9 @@ Layers, bottom to top: model -> physics -> integrate -> contact -> {engine, mujo
 -> render -> envs -> cli. ``contact`` is the plane step both engine adapters call and imports no engine; the two
 adapters (pymunk's ``engine`` and ``mujoco_adapter``) share a level and never import each other, and no
 package imports two engines. A module may import from its own layer or a lower one, never from a higher
-one (a back edge), and the module graph has no cycle. Imports inside functions count too: a lazy import is still a
-dependency. The
+one (a back edge), and the module graph has no cycle. Inside ``engine`` the same holds for its sub-packages, one
+owner each (``ENGINE_LEVELS``, bottom to top): memory -> plugin -> {recording, scenes}. Imports inside functions
+count too: a lazy import is still a dependency. The
 package root ``rrbody/__init__.py`` (with ``rrbody/plugin.py``, the plugin's entry point, ``rrbody/mujoco.py``, the
 MuJoCo adapter's, and
 ``rrbody/pressure.py`` and ``rrbody/planar.py``, the contacts' and the batched wrench's) is the curated public
@@ -34,6 +35,13 @@ ENGINES = {"pymunk": {"engine", "envs"}, "mujoco": {"mujoco_adapter"}}
 ROOT_MODULES = {"rrbody._version": -1, "rrbody._cache": -1, "rrbody._private": -1, "rrbody": len(LEVELS),
                 "rrbody.plugin": len(LEVELS),
                 "rrbody.mujoco": len(LEVELS), "rrbody.pressure": len(LEVELS), "rrbody.planar": len(LEVELS)}
+
+
+#: the sub-packages of ``engine``, bottom to top, one owner each: pymunk's memory read and written, the plugin with
+#: its stores, then the recorder's tape and rrbody's own scenes, which share a level and never import each other;
+#: the package's face (rrbody/engine/__init__.py) stands above them all
+ENGINE_LEVELS: tuple[tuple[str, ...], ...] = (("memory",), ("plugin",), ("recording", "scenes"))
+ENGINE_PACKAGES = tuple(name for level in ENGINE_LEVELS for name in level)
 
 
 def _module_name(path: Path) -> str:
@@ -114,6 +122,57 @@ def test_the_packages_of_one_level_do_not_import_each_other() -> None:
     crossing = sorted(f"{m} -> {t}" for m, targets in GRAPH.items() for t in targets
                       if _package(m) and _package(t) and _package(m) != _package(t) and _layer(m) == _layer(t))
     assert not crossing, crossing
+
+
+def _engine_level(module: str) -> int:
+    """The level of an ``engine`` module among :data:`ENGINE_LEVELS` (the package's face above them all)."""
+    if module == "rrbody.engine":
+        return len(ENGINE_LEVELS)
+    parts = module.split(".")
+    if len(parts) < 3 or parts[2] not in ENGINE_PACKAGES:
+        raise AssertionError(f"{module} is in no sub-package of rrbody.engine: put it in one of "
+                             f"rrbody.engine.{{{','.join(ENGINE_PACKAGES)}}}")
+    return next(i for i, level in enumerate(ENGINE_LEVELS) if parts[2] in level)
+
+
+def _engine_package(module: str) -> str:
+    """The sub-package of an ``engine`` module (``plugin`` for rrbody.engine.plugin.plane), or '' for the face."""
+    parts = module.split(".")
+    return parts[2] if len(parts) > 2 else ""
+
+
+ENGINE_MODULES = sorted(m for m in GRAPH if _package(m) == "engine")
+
+
+def test_every_engine_module_is_in_a_sub_package() -> None:
+    assert "rrbody.engine.plugin.plane" in ENGINE_MODULES  # the walk found the sub-packages
+    for module in ENGINE_MODULES:
+        _engine_level(module)
+
+
+@pytest.mark.parametrize("module", ENGINE_MODULES)
+def test_imports_inside_the_engine_run_downward(module: str) -> None:
+    """Inside rrbody.engine a module imports from its own sub-package or a lower one (:data:`ENGINE_LEVELS`), never
+    from a higher one, nor from the other sub-package of its level (the recorder's tape and rrbody's scenes)."""
+    own = _engine_level(module)
+    inside = [t for t in GRAPH[module] if _package(t) == "engine"]
+    back = sorted(t for t in inside if _engine_level(t) > own)
+    assert not back, f"{module} (engine level {own}) imports from higher sub-packages of rrbody.engine: {back}"
+    crossing = sorted(t for t in inside if _engine_level(t) == own and _engine_package(t) != _engine_package(module))
+    assert not crossing, f"{module} imports the other sub-package of its level: {crossing}"
+
+
+def test_the_engine_contract_catches_a_back_edge(tmp_path: Path) -> None:
+    """The engine's inner order itself: the plugin importing the scenes, or the tape importing a scene, is refused."""
+    f = tmp_path / "mod.py"
+    f.write_text("def g():\n    from rrbody.engine.scenes.run import simulate_engine\n")
+    found = _imports(f, "rrbody.engine.plugin.mod")
+    assert "rrbody.engine.scenes.run" in found
+    assert max(_engine_level(t) for t in found) > _engine_level("rrbody.engine.plugin.mod")
+    assert _engine_level("rrbody.engine.recording.tape") == _engine_level("rrbody.engine.scenes.run")
+    assert _engine_level("rrbody.engine.memory.bodymem") < _engine_level("rrbody.engine.plugin")
+    with pytest.raises(AssertionError, match="no sub-package"):
+        _engine_level("rrbody.engine.loose")
 
 
 #: the bottom of the physics layer and what each may import from it: the parameter layout nothing, the effects

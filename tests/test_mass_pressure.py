@@ -18,7 +18,7 @@ import pytest
 pymunk = pytest.importorskip("pymunk")
 
 from rrbody import planar  # noqa: E402
-from rrbody.engine.shapes import body_footprint, body_parts  # noqa: E402
+from rrbody.engine.plugin.shapes import body_footprint, body_parts  # noqa: E402
 from rrbody.model.pressure import ring, uniform  # noqa: E402
 from rrbody.physics import contact as C  # noqa: E402
 from rrbody.physics.footprint import apply_pressure, combine  # noqa: E402
@@ -136,7 +136,7 @@ def test_each_shape_presses_with_its_own_weight() -> None:
     _space, body, shapes3 = _mixed()
     shapes, geo, _, (gx, gy), _ = body_footprint(body)
     total = sum(s.mass for s in shapes3)
-    # rows in the footprint's stable order: circle, segment, polygon (rrbody.engine.shapes)
+    # rows in the footprint's stable order: circle, segment, polygon (rrbody.engine.plugin.shapes)
     assert shapes[:, C.LOAD_SHARE] == pytest.approx([shapes3[1].mass / total, shapes3[2].mass / total,
                                                  shapes3[0].mass / total], rel=1e-14)
     assert not np.any(shapes[shapes[:, C.KIND] == C.POLYGON][:, [C.SLOPE_X, C.SLOPE_Y]])  # no tilt: the CG is theirs

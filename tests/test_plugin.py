@@ -15,7 +15,7 @@ import pytest
 from scipy.optimize import brentq
 
 from rrbody.engine import PlaneFriction
-from rrbody.engine.batchio import BatchIO
+from rrbody.engine.memory.batchio import BatchIO
 from rrbody.physics.area import disk_closed_form_ratio
 from rrbody.physics.polygon import box_spin_torque
 from tests.test_polygon import L_PARTS, reference

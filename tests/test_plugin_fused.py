@@ -1,4 +1,4 @@
-"""The plugin's one-call step on the struct route (rrbody.engine.structio.struct_step: read, kernel and write
+"""The plugin's one-call step on the struct route (rrbody.engine.memory.structio.struct_step: read, kernel and write
 in one compiled call, plane_step skipped where rrbody.contact.kernel.plane_idle finds it would change
 nothing) against the separate calls it replaces.
 
@@ -16,9 +16,9 @@ import pymunk
 import pytest
 
 from rrbody.contact import kernel as K
-from rrbody.contact.active import NO_ACTIVE
+from rrbody.contact.columns import NO_ACTIVE
 from rrbody.engine import PlaneFriction
-from rrbody.engine.bodymem import layout
+from rrbody.engine.memory.bodymem import layout
 
 G = 9.81
 

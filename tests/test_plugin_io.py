@@ -18,9 +18,9 @@ import pytest
 
 from rrbody.contact import kernel as K
 from rrbody.engine import PlaneFriction
-from rrbody.engine.batchio import ROUTES, BatchIO, batch_reads, body_uid
-from rrbody.engine.bodymem import FX, FY, TORQUE, layout
-from rrbody.engine.structio import StructIO
+from rrbody.engine.memory.batchio import ROUTES, BatchIO, batch_reads, body_uid
+from rrbody.engine.memory.bodymem import FX, FY, TORQUE, layout
+from rrbody.engine.memory.structio import StructIO
 from rrbody.physics.contact import footprint_wrench
 
 G = 9.81
@@ -143,7 +143,7 @@ def test_sleeping_space_and_a_removed_body_take_the_bulk_route() -> None:
 @pytest.mark.private
 def test_layout_reads_and_writes_force_and_torque() -> None:
     """The probed offsets of force and torque: a raw store reads back through pymunk's getters."""
-    from rrbody.engine.structio import scatter
+    from rrbody.engine.memory.structio import scatter
 
     offs = layout()
     assert offs is not None and len({int(offs[k]) for k in (FX, FY, TORQUE)}) == 3

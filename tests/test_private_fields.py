@@ -1,12 +1,12 @@
 """Private names do not cross modules; nobody but the plugin touches the plugin's private state.
 
-:class:`rrbody.engine.plugin.PlaneFriction` keeps its bodies' rows, the id lookup and the kernel's
-caches in private fields; every other module of rrbody, and the benchmarks, read them through its
+:class:`rrbody.engine.plugin.plane.PlaneFriction` keeps its bodies' rows, the id lookup and the
+kernel's caches in private fields; every other module of rrbody, and the benchmarks, read them through its
 accessors (``rows``, ``bodies_by_row``, ``row_ids``, ``row_index``, ``row_of``, ``rows_of_ids``,
 ``drive_target``, ``step_arrays``) and write through its methods (``add_footprint``, ``drive``):
-:mod:`rrbody.engine.plane_rows`. The first test walks the sources with ``ast`` and fails on an attribute
+:mod:`rrbody.engine.plugin.plane_rows`. The first test walks the sources with ``ast`` and fails on an attribute
 of one of those names read or written on anything but ``self``, outside the plugin's own modules
-(plugin.py and the modules it is split into).
+(plane.py and the modules it is split into).
 
 More generally, in the package (rrbody/), a private name (one leading underscore) is used only by the
 module that defines it: a ``from rrbody.x import _name`` in another module, or an ``obj._name`` on
@@ -25,8 +25,9 @@ ROOT = Path(__file__).resolve().parents[1]
 #: the plugin's private fields (and methods) that no other module may touch
 PRIVATE = frozenset({"_bodies", "_slots", "_list", "_idrows", "_add", "_relink", "_k_lookup", "_dirty", "_cache",
                      "_k_shapes", "_k_geo"})
-#: the plugin's own modules: plugin.py and the modules it is split into
-OWNERS = frozenset({"rrbody/engine/plugin.py", "rrbody/engine/plane_rows.py", "rrbody/engine/admit.py"})
+#: the plugin's own modules: plane.py and the modules it is split into
+OWNERS = frozenset({"rrbody/engine/plugin/plane.py", "rrbody/engine/plugin/plane_rows.py",
+                    "rrbody/engine/plugin/admit.py"})
 #: modules that are one class split into files: they share its private fields
 GROUPS = (OWNERS, frozenset({"rrbody/render/recorder.py", "rrbody/render/recorder_picture.py",
                              "rrbody/render/recorder_rerun.py"}))
@@ -63,7 +64,8 @@ def test_no_module_reaches_into_the_plugin() -> None:
             hits = reach_ins(f.read_text(), rel)
             if hits:
                 wrong[rel] = hits
-    assert not wrong, f"use PlaneFriction's accessors (rrbody/engine/plane_rows.py), not its private fields: {wrong}"
+    assert not wrong, (f"use PlaneFriction's accessors (rrbody/engine/plugin/plane_rows.py), not its private fields: "
+                       f"{wrong}")
 
 
 def test_the_walk_catches_a_reach_in() -> None:

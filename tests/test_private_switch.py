@@ -22,8 +22,8 @@ import json, numba, pymunk
 from numba.core import caching
 from rrbody import _cache, _private
 from rrbody.contact.lean import NO_REFCOUNT, fast_entry
-from rrbody.engine.batchio import BatchIO
-from rrbody.engine.bodymem import layout
+from rrbody.engine.memory.batchio import BatchIO
+from rrbody.engine.memory.bodymem import layout
 from rrbody.physics import footprint_table
 from rrbody.cli.lean import preload_cython_blas
 import sys

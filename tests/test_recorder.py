@@ -269,7 +269,7 @@ def test_bad_input_is_refused_naming_it_and_writes_nothing(tmp_path: Path, case:
                                                           monkeypatch: pytest.MonkeyPatch) -> None:
     space, pf, bodies = _sliding()
     if case == "removed, bulk read":  # the route taken where the bodies' struct layout is unknown
-        monkeypatch.setattr("rrbody.engine.tape.layout", lambda: None)
+        monkeypatch.setattr("rrbody.engine.recording.tape.layout", lambda: None)
     rec = Recorder(space, pf)
     if case != "no frames":
         for _ in range(3):
@@ -342,13 +342,13 @@ def test_rerun_draws_p_and_its_link_for_a_driven_body(tmp_path: Path) -> None:
 
 @pytest.mark.private
 def test_both_read_routes_capture_the_same_frames(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The capture reads the filmed bodies from their structs (rrbody.engine.capture) where pymunk's
+    """The capture reads the filmed bodies from their structs (rrbody.engine.recording.capture) where pymunk's
     layout of them is known, as on the pymunk this suite runs (asserted: else the fast route would go
     untested), and from the space's bulk read otherwise: both give the same numbers, bit for bit,
     through collisions, a kinematic body, a body outside the plugin, bodies added to and removed from
     the space (its bulk read's order changes) and ``reserve`` (more frames than reserved: the store
     grows)."""
-    from rrbody.engine.capture import layout
+    from rrbody.engine.recording.capture import layout
 
     assert layout() is not None
     space, pf, bodies = _sliding()
@@ -359,7 +359,7 @@ def test_both_read_routes_capture_the_same_frames(monkeypatch: pytest.MonkeyPatc
     space.add(kin, pymunk.Circle(kin, 0.05))
     fast = Recorder(space, pf, reserve=40)
     assert fast.tape._store.buf.shape[0] == 40
-    monkeypatch.setattr("rrbody.engine.tape.layout", lambda: None)
+    monkeypatch.setattr("rrbody.engine.recording.tape.layout", lambda: None)
     bulk = Recorder(space, pf)
     assert fast.tape._io is None and bulk.tape._io is not None
     extra = []

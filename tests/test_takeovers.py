@@ -18,9 +18,9 @@ import pymunk
 import pytest
 
 from rrbody.engine import EngineSettings, attach
-from rrbody.engine.batchio import ROUTES, BatchIO
-from rrbody.engine.bodymem import layout
-from rrbody.engine.compat import on_begin
+from rrbody.engine.memory.batchio import ROUTES, BatchIO
+from rrbody.engine.memory.bodymem import layout
+from rrbody.engine.memory.compat import on_begin
 from rrbody.model.bodies import Ellipse
 from rrbody.model.drive import CircularDrive
 from rrbody.model.friction import Friction
@@ -59,7 +59,7 @@ def test_every_recorder_route_captures_the_same_frames(monkeypatch: pytest.Monke
     assert layout() is not None  # on every pymunk the suite runs on: else the struct route goes untested
     space, pf, bodies = _sliding()
     recs = [Recorder(space, pf)]
-    monkeypatch.setattr("rrbody.engine.tape.layout", lambda: None)
+    monkeypatch.setattr("rrbody.engine.recording.tape.layout", lambda: None)
     for route in ROUTES:
         rec = Recorder(space, pf)
         rec.tape._io = BatchIO(space, poses=True, route=route)  # forced (the default is the fastest this pymunk has)
@@ -131,7 +131,7 @@ def test_the_drive_without_chipmunks_setters_runs_the_same_bits(monkeypatch: pyt
 
 
 def test_on_begin_observes_contacts_and_lets_them_act() -> None:
-    """rrbody.engine.compat.on_begin (pymunk 6's collision handlers, pymunk 7's on_collision): the
+    """rrbody.engine.memory.compat.on_begin (pymunk 6's collision handlers, pymunk 7's on_collision): the
     callback sees each contact begin, and the contact still acts. Two equal disks head on: the
     collision reverses their approach (elasticity 0: they leave together, each at their mean
     velocity, 0 m/s)."""
@@ -163,7 +163,7 @@ def test_kernels_compile_without_numbas_private_option(monkeypatch: pytest.Monke
     import numba.core.cpu as cpu
 
     from rrbody._private import no_refcount, private_allowed
-    from rrbody.engine.structio import gather
+    from rrbody.engine.memory.structio import gather
 
     assert no_refcount() == ({"_nrt": False} if private_allowed() else {})  # the numbas the suite runs on have it
     monkeypatch.setattr(cpu, "CPUTargetOptions", type("Options", (), {}))
@@ -199,7 +199,7 @@ def test_the_space_probe_reads_what_pymunk_says() -> None:
     too); the plugin's one call reads it there."""
     from numba import njit
 
-    from rrbody.engine.bodymem import address, f64_at, sleep_offset
+    from rrbody.engine.memory.bodymem import address, f64_at, sleep_offset
 
     @njit
     def read(a: int) -> float:
@@ -220,7 +220,7 @@ def test_without_the_space_probe_the_property_decides_the_route(monkeypatch: pyt
     """Where the probe of cpSpace finds nothing (bodymem.sleep_offset None) the plugin reads pymunk's
     property each step and keeps no plan: sleeping turned on mid-run still sends the step to the bulk
     route, and the run is the one with the probe, bit for bit."""
-    import rrbody.engine.structio as sio_module
+    import rrbody.engine.memory.structio as sio_module
 
     runs = []
     for probe in (True, False):

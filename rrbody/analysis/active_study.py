@@ -150,8 +150,8 @@ def run_box(box: Box, *, watch: Callable[[Any, Any, list[Any]], Any] | None = No
     ``watch(space, pf, bodies)``, if given, is called once before the first step and must return an
     object with a ``capture()`` method (a :class:`rrbody.plugin.Recorder`), called after every step
     and once before the first; it is returned under ``"watcher"``."""
-    from rrbody.engine.batchio import BatchIO, body_uid
-    from rrbody.engine.compat import on_begin
+    from rrbody.engine.memory.batchio import BatchIO, body_uid
+    from rrbody.engine.memory.compat import on_begin
 
     space, pf, bodies, kinds, senses, side = build(box)
     index = {b: j for j, b in enumerate(bodies)}

@@ -40,7 +40,7 @@ class PushGeometry:
     def __init__(self, body: Any, radius: float, start: Sequence[float], velocity: Sequence[float]) -> None:
         import pymunk
 
-        from rrbody.engine.shapes import body_footprint
+        from rrbody.engine.plugin.shapes import body_footprint
 
         self.shapes, self.geo = body_footprint(body)[:2]
         self.m = float(body.mass)

@@ -34,7 +34,7 @@ def cache_report() -> dict[str, Any]:
                         "stale": [str(p) for p in kernels if p != current],
                         "stale_bytes": sum(_size(p) for p in kernels if p != current)},
             "tables_bytes": _size(root / "tables"),
-            # the plugin's wrench tables live beside the kernels they belong to (rrbody.contact.footprints.stored)
+            # the plugin's wrench tables live beside the kernels they belong to (rrbody.engine.plugin.footprints.stored)
             "wrench_tables": {"count": len(list((current / "tables").glob("*.npz"))),
                               "bytes": _size(current / "tables")},
             "installed_kernels": {"path": str(shipped_kernels_dir()), "bytes": _size(shipped_kernels_dir())}}

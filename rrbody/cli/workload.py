@@ -178,7 +178,7 @@ def _planar_workload() -> None:
     import numpy as np
 
     from rrbody.contact import kernel as K
-    from rrbody.contact.active import NO_ACTIVE
+    from rrbody.contact.columns import NO_ACTIVE
     from rrbody.model.pressure import uniform
     from rrbody.mujoco_adapter import kernel as MK
     from rrbody.physics import planar

@@ -5,11 +5,12 @@ with no engine in it (this package imports neither pymunk nor MuJoCo; ``tests/te
 - :mod:`~rrbody.contact.accel`: one body's friction wrench and its limiter (the force);
 - :mod:`~rrbody.contact.kernel`: the compiled step over all bodies (the force pass), and
   :mod:`~rrbody.contact.rest`: the operator applied in it (the rest rule, static friction's hold or break);
-- :mod:`~rrbody.contact.feet`: bodies on point feet; :mod:`~rrbody.contact.active`: self-propelled bodies;
-- :mod:`~rrbody.contact.footprints`, :mod:`~rrbody.contact.rows`: where the bodies' footprints and
-  wrench tables are kept; :mod:`~rrbody.contact.lean`: calling a compiled kernel at the least cost.
+- :mod:`~rrbody.contact.feet`: bodies on point feet; self-propelled bodies are a load in the step (their
+  arrays: :mod:`~rrbody.contact.columns`, with ``NO_ACTIVE``, the pair passed when there are none);
+- :mod:`~rrbody.contact.lean`: calling a compiled kernel at the least cost.
 
-The adapters: :mod:`rrbody.engine` (pymunk: the plugin ``PlaneFriction`` and rrbody's own scenes) and
+The adapters: :mod:`rrbody.engine` (pymunk: the plugin ``PlaneFriction``, which keeps its bodies' footprints,
+wrench tables and active bodies in :mod:`rrbody.engine.plugin`, and rrbody's own scenes) and
 :mod:`rrbody.mujoco_adapter` (MuJoCo, entered through :mod:`rrbody.mujoco`). Units: SI; per unit mass, forces in m/s^2
 and torques in m^2/s^2.
 """

@@ -32,11 +32,17 @@ per distinct table. ``shapes`` (float, per footprint part) and ``geo``: the foot
 :mod:`rrbody.physics.contact`. ``lookup``: row 0 the plugin bodies' ids (int64 view of pymunk's uintptr ids) sorted,
 row 1 their rows. ``cache`` (int64, rows ROWMAP, ROW_ID, STATUS): the plugin row of each row of the space's bulk read,
 the id it was found for, and what the last check found (see :func:`rrbody.contact.kernel.plane_check`).
+``active`` (float, one row per plugin body, columns :mod:`rrbody.physics.effects.active`) and ``noise`` (this
+step's standard normal numbers): the active bodies' load; :data:`NO_ACTIVE` is the pair a step without active
+bodies passes.
 """
 
 from __future__ import annotations
 
+import numpy as np
+
 from rrbody.model.laws import LAW_CODES, N_LAW_PARAMS
+from rrbody.physics.effects import active as A
 
 __all__ = ["MASS", "INERTIA_PER_MASS", "LAW", "FRICTION_COEFF", "REACH", "REST_RULE", "SHAPE_FIRST", "SHAPE_END",
            "SLIP_EPS", "STAGGERED", "PREV_VX", "PREV_VY", "PREV_SPIN", "PREV_GAP", "STOP", "EVAL_ANGLE", "EVAL_SPIN",
@@ -46,7 +52,7 @@ __all__ = ["MASS", "INERTIA_PER_MASS", "LAW", "FRICTION_COEFF", "REACH", "REST_R
            "HELD_LOAD_Y", "HELD_LOAD_TORQUE", "HELD_ANGLE", "HELD", "PINNED_FOOT", "LOAD_FX", "LOAD_FY", "LOAD_TORQUE",
            "N_BODY", "STOPPING", "ZEROED", "LAW_CODE", "LAW_NONE", "LAW_DRY", "LAW_VISCOUS", "LAW_PARAMS", "DEFER",
            "TABLE_NONE", "TABLE_CIRCLE", "TABLE_FOOTPRINT", "N_STATUS", "ROWMAP", "ROW_ID", "STATUS", "SEEN", "BAD",
-           "FIRST_BAD"]
+           "FIRST_BAD", "NO_ACTIVE"]
 
 # the columns every step reads or writes come first (the row's first four cache lines), the rest after
 (MASS, INERTIA_PER_MASS, LAW, FRICTION_COEFF, REACH, REST_RULE, SHAPE_FIRST, SHAPE_END, SLIP_EPS, STAGGERED, PREV_VX,
@@ -76,3 +82,6 @@ ROWMAP, ROW_ID, STATUS = 0, 1, 2
 #: ``got`` row of the first of them (-1 if none)
 SEEN, BAD, FIRST_BAD = 0, 1, 2
 N_STATUS = 3
+
+#: the arrays a plugin without active bodies passes (the kernel skips the effect: no rows)
+NO_ACTIVE: tuple[np.ndarray, np.ndarray] = (np.zeros((0, A.N_ACTIVE)), np.zeros(0))

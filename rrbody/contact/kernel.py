@@ -1,5 +1,5 @@
 """The plane step: one compiled call per step for all bodies of a space, whichever engine steps them
-(pymunk's plugin :class:`rrbody.engine.plugin.PlaneFriction`, the MuJoCo adapter
+(pymunk's plugin :class:`rrbody.engine.plugin.plane.PlaneFriction`, the MuJoCo adapter
 :mod:`rrbody.mujoco_adapter.plane`). This module is the force pass over the bodies (:func:`plane_step`:
 the read mapped to the adapter's rows, then the loads, friction and the rest of each body in passes);
 one body's step is :mod:`rrbody.contact.body`, the operator acting in it (the rest rule, static

@@ -15,7 +15,7 @@ the coverage is the T's area inside the goal T over the goal's area; success, an
 The table. gym-pusht has none: it sets ``space.damping = 0``, which pymunk applies as
 velocity x 0^dt, so every velocity is wiped at every step and the T moves only while it is pushed,
 as its mass and inertia answer the contact impulse. Here (``table=True``, the default) the space keeps
-its momentum and :class:`rrbody.engine.plugin.PlaneFriction` presses the T on the table with its
+its momentum and :class:`rrbody.engine.plugin.plane.PlaneFriction` presses the T on the table with its
 weight (``pressure``: how the weight spreads; the centre of pressure follows the centre of gravity)
 and applies dry friction integrated over its area: ``mu`` sliding, ``mu_static`` at rest (None: equal
 to ``mu``), ``g`` in m/s^2, and ``scale`` metres per workspace unit (:mod:`rrbody.envs.tabletop`
@@ -33,7 +33,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from rrbody.engine.compat import on_post_solve
+from rrbody.engine.memory.compat import on_post_solve
 from rrbody.envs.pusht_draw import draw
 from rrbody.envs.substep import guarded
 from rrbody.envs.tabletop import MU, SCALE, G, make_table
@@ -140,7 +140,7 @@ class PushTEnv(gym.Env):
     ``pixels`` an (observation_height, observation_width, 3) uint8 picture; ``pixels_agent_pos``
     {the picture, the agent's position}. Actions: the agent's target position, 2 numbers in [0, 512]
     (beyond it, clipped to it). ``env.unwrapped.plane`` is the table
-    (:class:`rrbody.engine.plugin.PlaneFriction`, None without one); ``env.unwrapped.space`` the pymunk
+    (:class:`rrbody.engine.plugin.plane.PlaneFriction`, None without one); ``env.unwrapped.space`` the pymunk
     space, rebuilt by every reset. On a table a physics step is cut into sub-steps where the T would cross
     more than a wall's thickness in it (:mod:`rrbody.envs.substep`).
 

@@ -33,7 +33,7 @@ class Table:
     """A table's checked parameters.
 
     ``mu``, ``mu_static`` (None: equal to ``mu``) and ``pressure`` as
-    :meth:`rrbody.engine.plugin.PlaneFriction.add` takes them; ``g`` in m/s^2; ``scale`` in m per unit
+    :meth:`rrbody.engine.plugin.plane.PlaneFriction.add` takes them; ``g`` in m/s^2; ``scale`` in m per unit
     of the environment's space.
     """
 

@@ -12,7 +12,7 @@
 
 gym-pusht sets ``space.damping = 0``: pymunk multiplies every velocity by ``damping**dt`` in each step, so
 the T stops as soon as the agent leaves it. The wrapper replaces that wipe by the table: after each reset,
-the area-integrated Coulomb friction of :class:`rrbody.engine.plugin.PlaneFriction` on the space's bodies,
+the area-integrated Coulomb friction of :class:`rrbody.engine.plugin.plane.PlaneFriction` on the space's bodies,
 damping 1 where it was 0, and ``plane.step(dt)`` for the environment's ``space.step(dt)``. Observations,
 actions, rewards and spaces are the environment's own. The contract, :data:`CONTRACT`: docs/envs-table.md.
 """
@@ -53,7 +53,7 @@ class TableSpace:
 
     __slots__ = ("_space", "_plane", "step")
 
-    def __init__(self, plane: Any, step: Any = None) -> None:  # a rrbody.engine.plugin.PlaneFriction
+    def __init__(self, plane: Any, step: Any = None) -> None:  # a rrbody.engine.plugin.plane.PlaneFriction
         # object.__setattr__: this class's own __setattr__ writes to the real space
         object.__setattr__(self, "_space", plane.space)
         object.__setattr__(self, "_plane", plane)
@@ -80,11 +80,11 @@ class TableSpace:
 class TableWrapper(gymnasium.Wrapper[Any, Any, Any, Any], RecordConstructorArgs):
     """``env`` on a table: :func:`table` (the same keywords, checked here, before anything changes).
 
-    After every ``reset`` of ``env``: a new :class:`~rrbody.engine.plugin.PlaneFriction` on ``env.unwrapped.space``
-    (pressing with ``table.g_space`` = g / scale, units/s^2), carrying the table's bodies with ``mu``, ``mu_static``
-    and ``pressure``; the space's damping set to 1 if it was 0 (any other value is kept); and :class:`TableSpace` in
-    ``env.unwrapped.space``. Before every ``reset`` the environment gets its own space back, with its own damping, so
-    its reset runs exactly as without the table.
+    After every ``reset`` of ``env``: a new :class:`~rrbody.engine.plugin.plane.PlaneFriction` on
+    ``env.unwrapped.space`` (pressing with ``table.g_space`` = g / scale, units/s^2), carrying the table's bodies
+    with ``mu``, ``mu_static`` and ``pressure``; the space's damping set to 1 if it was 0 (any other value is kept);
+    and :class:`TableSpace` in ``env.unwrapped.space``. Before every ``reset`` the environment gets its own space
+    back, with its own damping, so its reset runs exactly as without the table.
 
     It records its keywords as gymnasium's wrappers do (``gymnasium.utils.RecordConstructorArgs``), so
     that ``env.spec`` makes it again (``gymnasium.make(env.spec)``, the checker's ``check_env``).
@@ -111,7 +111,7 @@ class TableWrapper(gymnasium.Wrapper[Any, Any, Any, Any], RecordConstructorArgs)
         return self._table
 
     @property
-    def plane(self) -> Any:  # a rrbody.engine.plugin.PlaneFriction (the docs' type reference needs no name clash)
+    def plane(self) -> Any:  # a rrbody.engine.plugin.plane.PlaneFriction (the docs' type reference needs no name clash)
         """The table's friction on the current space (a new one after every reset): ``plane.bodies``,
         ``plane.friction(body)``, ``plane.velocity(body)``, ``plane.stop_time(body)``, ``plane.space``
         (the real ``pymunk.Space``). Raises ``gymnasium.error.ResetNeeded`` before the first reset."""
@@ -228,7 +228,7 @@ def table(env: gymnasium.Env[Any, Any], *, mu: float = MU, mu_static: float | No
     -------
     TableWrapper
         ``env`` with the table, its observations, actions, rewards and spaces unchanged; ``.plane`` is
-        the current :class:`~rrbody.engine.plugin.PlaneFriction`, ``.table`` the parameters.
+        the current :class:`~rrbody.engine.plugin.plane.PlaneFriction`, ``.table`` the parameters.
 
     Raises
     ------

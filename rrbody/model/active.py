@@ -1,7 +1,7 @@
 """Active bodies: a propulsion force fixed in the body frame, a medium's drag and Langevin noise.
 
 :class:`Active` is validated plain data, read by both paths: the pymunk plugin
-(``PlaneFriction.activate``, :mod:`rrbody.contact.active`) and, for one body, the ODE path (a free
+(``PlaneFriction.activate``, :mod:`rrbody.engine.plugin.active`) and, for one body, the ODE path (a free
 scene's ``active``, :mod:`rrbody.physics.effects.active`; with noise, the fixed-step stochastic
 Runge-Kutta scheme of :mod:`rrbody.integrate.sde`, seeded by the scene's ``seed``).
 

@@ -16,7 +16,7 @@ compiled dispatch over the table). Everything else is derived from it:
 
 The composition checks itself: :func:`law_named` refuses an unknown law and :func:`check_area` a law on an area
 method that has no form for it, each a ValueError naming both, raised where a scene is bound
-(:func:`rrbody.physics.bind.area_model`) or a body enters the plugin (:mod:`rrbody.engine.admit`), never
+(:func:`rrbody.physics.bind.area_model`) or a body enters the plugin (:mod:`rrbody.engine.plugin.admit`), never
 inside a compiled kernel. Adding a law: its module in ``rrbody/physics/effects/`` and one entry here.
 
 This module is plain data (no numpy, no numba): the model layer validates scenes with it.

@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 
 from rrbody.contact import kernel as K
-from rrbody.contact.active import NO_ACTIVE
+from rrbody.contact.columns import NO_ACTIVE
 from rrbody.contact.lean import fast_entry
 from rrbody.model.checks import check_int, check_nonnegative, check_positive
 from rrbody.model.extras import require

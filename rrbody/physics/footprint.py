@@ -1,7 +1,7 @@
 """Footprints: a body's parts on the plane and the load each carries (the rows of
 :mod:`rrbody.physics.contact`), built from geometry and a pressure distribution.
 
-The geometry comes from a pymunk body (:func:`rrbody.engine.shapes.body_footprint`) or from one of
+The geometry comes from a pymunk body (:func:`rrbody.engine.plugin.shapes.body_footprint`) or from one of
 rrbody's bodies (:func:`scene_parts`); :func:`apply_pressure` then spreads the load as the pressure
 distribution (:mod:`rrbody.model.pressure`) says; under the default one each part presses with its
 own weight and a centre of gravity off the parts' centre of mass gets a linear pressure

@@ -12,9 +12,9 @@ A capture stores numbers, not pictures: per captured frame and body its pose (x,
 pymunk body's origin in m, world frame, and its angle in rad) and, with ``motion=True`` (the
 default), the velocity of its centre of gravity and its spin at the same instant (m/s, rad/s: for
 bodies of the plugin the second-order reading
-:meth:`rrbody.engine.plugin.PlaneFriction.velocity` gives, since pymunk's own velocity after a step
+:meth:`rrbody.engine.plugin.plane.PlaneFriction.velocity` gives, since pymunk's own velocity after a step
 belongs to half a step later) and the friction the plane applied in the last step (N and N m,
-:meth:`rrbody.engine.plugin.PlaneFriction.friction`). Memory: bodies x frames x 3 numbers (poses
+:meth:`rrbody.engine.plugin.plane.PlaneFriction.friction`). Memory: bodies x frames x 3 numbers (poses
 only) or x 9 (with motion), 8 bytes each; a capture that would pass ``max_mb`` stops with a
 ``ValueError`` and keeps the frames it has.
 
@@ -30,7 +30,7 @@ is the drive's for a body driven at P by rrbody's builder, and for any other bod
 its centre of gravity's path turns (the sign of v x dv/dt, from the captured velocities by central
 differences); a body sliding straight or at rest has none.
 
-The numbers live on the recorder's tape (:class:`rrbody.engine.tape.Tape`, ``rec.tape``: the pymunk
+The numbers live on the recorder's tape (:class:`rrbody.engine.recording.tape.Tape`, ``rec.tape``: the pymunk
 side, which reads the bodies and the plugin); this module draws from them and reads nothing of pymunk
 but the shapes' outlines and the static shapes.
 """
@@ -46,7 +46,7 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.engine.tape import Tape
+from rrbody.engine.recording.tape import Tape
 from rrbody.model.checks import check_int, check_real
 from rrbody.model.io import atomic_path, check_writable
 from rrbody.render.movie_figure import check_movie, check_size
@@ -73,7 +73,7 @@ _STRAIGHT = 1e-9
 
 
 def _from_tape(name: str, doc: str) -> Any:
-    """A read-only property of the recorder: its tape's attribute ``name`` (:class:`rrbody.engine.tape.Tape`;
+    """A read-only property of the recorder: its tape's attribute ``name`` (:class:`rrbody.engine.recording.tape.Tape`;
     the recorder keeps no copy of what the tape holds)."""
     return property(attrgetter(f"tape.{name}"), doc=doc)
 
@@ -81,14 +81,14 @@ def _from_tape(name: str, doc: str) -> Any:
 class Recorder:
     """Captures the bodies of a pymunk space step by step; films them as MP4, rerun recording or poster.
 
-    The captured numbers are on ``rec.tape`` (:class:`rrbody.engine.tape.Tape`, which reads pymunk and
+    The captured numbers are on ``rec.tape`` (:class:`rrbody.engine.recording.tape.Tape`, which reads pymunk and
     the plugin); the recorder draws from them.
 
     Parameters
     ----------
     space : pymunk.Space
         The space to film. Its static shapes (walls, obstacles) are drawn as they are when filmed.
-    plane : rrbody.engine.plugin.PlaneFriction or None
+    plane : rrbody.engine.plugin.plane.PlaneFriction or None
         The space's plane friction: its clock gives each frame's time, and it gives its bodies'
         velocities at that time and the friction it applied. Without it, give ``capture(t=...)``.
     bodies : sequence of pymunk.Body or None
@@ -126,7 +126,7 @@ class Recorder:
         self._static = [o for b in [space.static_body, *[x for x in space.bodies if x.body_type == pymunk.Body.STATIC]]
                         for o in [to_world(p, b.position.x, b.position.y, b.angle) for p in shape_outlines(b)]]
 
-    # ---- the tape's (rrbody.engine.tape): what was filmed and the frames, read-only ---------------
+    # ---- the tape's (rrbody.engine.recording.tape): what was filmed and the frames, read-only ---------------
     space = _from_tape("space", "The filmed pymunk space.")
     plane = _from_tape("plane", "The space's PlaneFriction, or None.")
     bodies = _from_tape("bodies", "The filmed bodies (a tuple), in the order of the frames' rows.")

@@ -1,7 +1,7 @@
 """The recorder's pictures (:class:`rrbody.render.recorder.Recorder`): every pymunk shape's exact
 outline in its body's frame, and the matplotlib artists of one picture, updated frame by frame.
 Units: m and rad, world frame for what is drawn; the frame store's columns are the tape's
-(:mod:`rrbody.engine.tape`)."""
+(:mod:`rrbody.engine.recording.tape`)."""
 
 from __future__ import annotations
 
@@ -10,7 +10,8 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.engine.tape import FT, FX, FY, PA, PX, PY, VW, VX, VY, WIDTH_MOTION, WIDTH_POSE  # the frames' columns
+# the frames' columns
+from rrbody.engine.recording.tape import FT, FX, FY, PA, PX, PY, VW, VX, VY, WIDTH_MOTION, WIDTH_POSE
 
 __all__ = ["shape_outlines", "fit_view", "MARGIN", "CIRCLE_POINTS", "REVERSE", "WITH", "NEUTRAL", "Picture", "to_world",
            "check_color", "body_colours", "WIDTH_POSE", "WIDTH_MOTION", "PX", "PY", "PA", "VX", "VY", "VW", "FX", "FY",

@@ -13,13 +13,13 @@ segments with a radius, several per body), each shape pressing with its own weig
 (centred on the centre of gravity: docs/plugin.md): exact for circles and convex polygons, or
 under a pressure distribution you choose (``pf.add(body, mu=0.4, pressure=rrbody.pressure.ring(0.05))``:
 a rim, an annulus, a Hertz patch, feet, any p(x, y); :mod:`rrbody.physics.contact`).
-One compiled call per step reads every body (from their structs, :mod:`rrbody.engine.structio`; else
+One compiled call per step reads every body (from their structs, :mod:`rrbody.engine.memory.structio`; else
 through ``pymunk.batch``), computes all wrenches and writes the forces back; then ``space.step`` runs. The contract
 (what is read, when it acts, what is guaranteed at rest) is in docs/plugin.md.
 
 The plugin's table of bodies, and the read-only accessors through which the rest of rrbody reads
-their rows, are its base class :class:`rrbody.engine.plane_rows.PlaneRows`; what ``add`` checks and
-writes for a new body is :mod:`rrbody.engine.admit`.
+their rows, are its base class :class:`rrbody.engine.plugin.plane_rows.PlaneRows`; what ``add`` checks and
+writes for a new body is :mod:`rrbody.engine.plugin.admit`.
 """
 
 from __future__ import annotations
@@ -31,17 +31,18 @@ from typing import Any
 import numpy as np
 
 from rrbody.contact import kernel as K
-from rrbody.contact.active import NO_ACTIVE, ActiveSet
+from rrbody.contact.columns import NO_ACTIVE
 from rrbody.contact.lean import fast_entry
-from rrbody.engine.admit import FRICTION_METHODS, add_law, body_row, check_body, half_kick, not_finite
-from rrbody.engine.batchio import BatchIO, body_uid
-from rrbody.engine.bodymem import layout
-from rrbody.engine.coupling import MAX_ITER as COUPLED_MAX_ITER
-from rrbody.engine.coupling import TOL as COUPLED_TOL
-from rrbody.engine.coupling import Coupling
-from rrbody.engine.plane_rows import PlaneRows
-from rrbody.engine.shapes import body_footprint
-from rrbody.engine.structio import IDLE, StructIO
+from rrbody.engine.memory.batchio import BatchIO, body_uid
+from rrbody.engine.memory.bodymem import layout
+from rrbody.engine.memory.structio import IDLE, StructIO
+from rrbody.engine.plugin.active import ActiveSet
+from rrbody.engine.plugin.admit import FRICTION_METHODS, add_law, body_row, check_body, half_kick, not_finite
+from rrbody.engine.plugin.coupling import MAX_ITER as COUPLED_MAX_ITER
+from rrbody.engine.plugin.coupling import TOL as COUPLED_TOL
+from rrbody.engine.plugin.coupling import Coupling
+from rrbody.engine.plugin.plane_rows import PlaneRows
+from rrbody.engine.plugin.shapes import body_footprint
 from rrbody.model.active import Active
 from rrbody.model.checks import check, check_choice
 from rrbody.model.friction import check_mu_static
@@ -79,7 +80,7 @@ class PlaneFriction(PlaneRows):
         Direction of steepest descent in the space's coordinates, rad from the x axis (default 0).
     scheme : str
         ``"coupled"`` (the default): a body that touches something in a step gets its velocity from the
-        plane's friction and its contacts solved together, implicitly (:mod:`rrbody.engine.coupling`);
+        plane's friction and its contacts solved together, implicitly (:mod:`rrbody.engine.plugin.coupling`);
         ``"split"``: friction is applied first and pymunk's contact solve runs after it, which is exact
         only where no step's friction could stop a body (bodies that touch nothing, or move fast).
         Bodies that touch nothing step the same way under both.
@@ -123,7 +124,7 @@ class PlaneFriction(PlaneRows):
         self._io = BatchIO(space)
         # reads and writes through the plugin bodies' own structs, where pymunk's layout is known
         self._sio = StructIO(self) if layout() is not None else None
-        super().__init__()  # the table of bodies and their rows (rrbody.engine.plane_rows)
+        super().__init__()  # the table of bodies and their rows (rrbody.engine.plugin.plane_rows)
         self.pre_step: list[Any] = []  # callables f(dt) run after friction is set, before space.step (builder)
         self._fresh: set[Any] = set()
         self._kernel: Any = None  # the compiled step's entry point, found on the first step
@@ -159,7 +160,7 @@ class PlaneFriction(PlaneRows):
         Raises ValueError naming the body for a mass or moment that is not positive and finite, for a
         position, angle, velocity or spin that is not finite, and for a centre of gravity no non-negative
         pressure holds (it would tip); naming the law for one the table does not have, or has no form for
-        a footprint or the friction_method (:func:`rrbody.engine.admit.add_law`). Amortised O(1): no copy of
+        a footprint or the friction_method (:func:`rrbody.engine.plugin.admit.add_law`). Amortised O(1): no copy of
         the other bodies' data."""
         check_body(body, self.space, self._name)
         mu = float(check("mu", mu))
@@ -186,8 +187,8 @@ class PlaneFriction(PlaneRows):
         """``add`` with the friction law and footprint already made (rrbody's builder, benchmarks), the body
         unchecked: any law of the law table with a plugin form (K.LAW_DRY with ``coeff`` mu g cos(tilt) in
         m/s^2, K.LAW_VISCOUS with gamma in 1/s; ``params`` its further parameters per unit mass, if it has
-        any; another law is a ValueError naming it, :func:`rrbody.engine.admit.check_law`) and footprint
-        (:mod:`rrbody.engine.shapes`, a point mass, sampled elements); ``snap`` False leaves
+        any; another law is a ValueError naming it, :func:`rrbody.engine.plugin.admit.check_law`) and footprint
+        (:mod:`rrbody.engine.plugin.shapes`, a point mass, sampled elements); ``snap`` False leaves
         the rest rule to the joint that holds a driven body; ``history`` = (vx, vy, spin, gap) (m/s,
         rad/s, s) when the caller has made the half kick; ``v_eps`` the speed under which the body
         counts as at rest (m/s); ``staggered`` False for a body stepped without the half-step
@@ -334,7 +335,7 @@ class PlaneFriction(PlaneRows):
         if coupling is not None:
             coupling.forget()
 
-    # ---- active bodies (rrbody.contact.active) -------------------------------------------------
+    # ---- active bodies (rrbody.engine.plugin.active) -------------------------------------------------
     def activate(self, body: Any, active: Active | None) -> None:
         """Make plugin body ``body`` self-propelled as ``active`` says (:class:`rrbody.plugin.Active`: a
         force fixed in the body frame at a body point, a medium's drag, Langevin noise; docs/active.md),
@@ -397,7 +398,7 @@ class PlaneFriction(PlaneRows):
 
     def _route(self) -> tuple[Any, tuple[np.ndarray, np.ndarray, np.ndarray]]:
         """This step's reader and writer and its first read: the plugin bodies' structs
-        (:mod:`rrbody.engine.structio`) where it is safe, else the space's bulk read (which also finds
+        (:mod:`rrbody.engine.memory.structio`) where it is safe, else the space's bulk read (which also finds
         a body that left the space, for the refusal): a space with sleeping (a raw store would not
         wake a sleeping body, as pymunk's setter does), or a body not in the space."""
         if self._sio is not None and self.space.sleep_time_threshold == math.inf:
@@ -451,7 +452,7 @@ class PlaneFriction(PlaneRows):
             body.angular_velocity += k * (r[K.FRICTION_TORQUE] + r[K.LOAD_TORQUE]) / (m * r[K.INERTIA_PER_MASS])
 
     def _couple(self, dt: float) -> None:
-        """The coupled step after pymunk's (:mod:`rrbody.engine.coupling`), and its bookkeeping: the rest
+        """The coupled step after pymunk's (:mod:`rrbody.engine.plugin.coupling`), and its bookkeeping: the rest
         rule's flags of the bodies it solved are its own now (cleared), a body it brought to rest has stopped."""
         if self._dirty:
             self._relink()

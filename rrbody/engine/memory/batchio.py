@@ -12,7 +12,7 @@ on each (``tests/test_plugin_io.py`` steps a scene on every route and compares t
 - ``"per-body"``: each body's public properties (``angle``, ``velocity``, ``angular_velocity``,
   ``force``, ``torque``; one Python call each). pymunk 6.6-6.10's ``pymunk.batch`` reads no force
   or torque and writes nothing: there a force reader takes this route. (Where the struct layout is
-  proven, :mod:`rrbody.engine.structio` serves the plugin's bodies on every pymunk, so this route
+  proven, :mod:`rrbody.engine.memory.structio` serves the plugin's bodies on every pymunk, so this route
   only carries a space with sleeping enabled, or a pymunk whose layout the probe could not prove.)
 
 A pose reader (``poses=True``, the recorder's) needs only positions, angles and velocities, which

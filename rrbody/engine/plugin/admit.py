@@ -1,4 +1,4 @@
-"""A body's entry into :class:`rrbody.engine.plugin.PlaneFriction`: the checks ``add`` makes, the row
+"""A body's entry into :class:`rrbody.engine.plugin.plane.PlaneFriction`: the checks ``add`` makes, the row
 of the kernel's ``bodies`` array it writes (columns :mod:`rrbody.contact.columns`), and the half kick
 a newly added body gets at its first step (the staggered scheme's start, docs/engine.md).
 
@@ -16,7 +16,7 @@ import numpy as np
 
 from rrbody.contact import kernel as K
 from rrbody.contact.feet import feet_step
-from rrbody.contact.footprints import Footprints
+from rrbody.engine.plugin.footprints import Footprints
 from rrbody.model.laws import LAW_TABLE, PLUGIN_AREA, Law, check_area, check_law_params, law_coded, law_named
 from rrbody.physics import contact as C
 from rrbody.physics.footprint import Footprint

@@ -19,15 +19,13 @@ from typing import Any
 import numpy as np
 
 from rrbody.contact import columns
+from rrbody.contact.columns import NO_ACTIVE
 from rrbody.model.active import MAX_SEED, Active
 from rrbody.model.checks import check_int
 from rrbody.model.laws import law_coded
 from rrbody.physics.effects import active as A
 
-__all__ = ["ActiveSet", "NO_ACTIVE"]
-
-#: the arrays a plugin without active bodies passes (the kernel skips the effect: no rows)
-NO_ACTIVE: tuple[np.ndarray, np.ndarray] = (np.zeros((0, A.N_ACTIVE)), np.zeros(0))
+__all__ = ["ActiveSet"]
 
 
 class ActiveSet:

@@ -1,4 +1,4 @@
-"""The contacts pymunk solved in a step, for the coupled step (:mod:`rrbody.engine.coupling`): two routes to one
+"""The contacts pymunk solved in a step, for the coupled step (:mod:`rrbody.engine.plugin.coupling`): two routes to one
 result, the raw point and body rows of :mod:`rrbody.contact.islands`.
 
 - ``"public"``: pymunk's Python API, ``body.each_arbiter`` on each body of the plugin and each arbiter's
@@ -527,12 +527,12 @@ def _probe(api: np.ndarray) -> bool:
     space.step(0.01)
     plugin = made[:2] + made[2:]  # rows 0, 1 (and 2: held by the joint)
     slots = {b: j for j, b in enumerate(plugin)}
-    from rrbody.engine.batchio import body_uid
+    from rrbody.engine.memory.batchio import body_uid
 
     ids = np.array([body_uid(b) for b in plugin], dtype=np.int64)
     order = np.argsort(ids, kind="stable")
     lookup = np.ascontiguousarray(np.vstack([ids[order], order.astype(np.int64)]))
-    from rrbody.engine.bodymem import address
+    from rrbody.engine.memory.bodymem import address
 
     addrs = np.array([address(b._body) for b in plugin], dtype=np.int64)
     out = []
@@ -564,6 +564,6 @@ def _probe(api: np.ndarray) -> bool:
 
 def space_address(space: Any) -> int:
     """The address of a pymunk space's cpSpace (for :func:`step_compiled`)."""
-    from rrbody.engine.bodymem import address
+    from rrbody.engine.memory.bodymem import address
 
     return address(space._space)

@@ -1,6 +1,6 @@
 """The plugin's table of bodies: which pymunk bodies feel the plane, their rows of the compiled step's
 arrays, and what is read from those rows (:class:`PlaneRows`, the base of
-:class:`rrbody.engine.plugin.PlaneFriction`).
+:class:`rrbody.engine.plugin.plane.PlaneFriction`).
 
 The rows (one per body, columns :mod:`rrbody.contact.columns`) are written only by the plugin: by
 ``add`` (:meth:`PlaneFriction.add_footprint`), ``remove``, the compiled step and, for a body rrbody's
@@ -20,9 +20,9 @@ from typing import Any
 import numpy as np
 
 from rrbody.contact import kernel as K
-from rrbody.contact.footprints import Footprints
-from rrbody.contact.rows import Rows
-from rrbody.engine.batchio import rows_of
+from rrbody.engine.memory.batchio import rows_of
+from rrbody.engine.plugin.footprints import Footprints
+from rrbody.engine.plugin.rows import Rows
 
 __all__ = ["PlaneRows"]
 
@@ -83,7 +83,7 @@ class PlaneRows:
         :mod:`rrbody.contact.columns` (SI units; world frame unless a column says the body frame): a
         read-only view, live (the step updates it in place) until the next ``add`` or ``remove`` (they
         may move it: ``members`` counts them), then read it again. Row order is not the order of
-        :attr:`~rrbody.engine.plane_rows.PlaneRows.bodies`: :meth:`row_index` gives a body's row."""
+        :attr:`~rrbody.engine.plugin.plane_rows.PlaneRows.bodies`: :meth:`row_index` gives a body's row."""
         return self._read_only
 
     @property
@@ -95,7 +95,7 @@ class PlaneRows:
 
     @property
     def row_ids(self) -> np.ndarray:
-        """Each row's body id (int64, :func:`rrbody.engine.batchio.body_uid`), in row order: a read-only
+        """Each row's body id (int64, :func:`rrbody.engine.memory.batchio.body_uid`), in row order: a read-only
         view (no copy), valid until the next ``add`` or ``remove``."""
         ids = self._idrows.view.view()
         ids.flags.writeable = False
@@ -112,7 +112,7 @@ class PlaneRows:
         return self._read_only[self._slots[body]]
 
     def rows_of_ids(self, ids: np.ndarray) -> np.ndarray:
-        """The row in :attr:`rows` of each body id of ``ids`` (int64, :func:`rrbody.engine.batchio.body_uid`),
+        """The row in :attr:`rows` of each body id of ``ids`` (int64, :func:`rrbody.engine.memory.batchio.body_uid`),
         -1 for a body not in the plugin: one vectorised look-up in the step's own sorted id table
         (built again here if the membership changed since the last step)."""
         if self._dirty:

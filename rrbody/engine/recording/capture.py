@@ -1,4 +1,4 @@
-"""The recorder's copy kernels (its tape, :class:`rrbody.engine.tape.Tape`): one frame of the filmed
+"""The recorder's copy kernels (its tape, :class:`rrbody.engine.recording.tape.Tape`): one frame of the filmed
 bodies, in one compiled call, either read straight from their structs (:func:`capture_direct`) or
 picked from the space's bulk read (:func:`capture_rows`); both add the plugin's velocity at its
 time and its friction.
@@ -6,7 +6,7 @@ time and its friction.
 ``pymunk.batch`` reads every body of a space, field by field, with a bounds check per number (about
 14 us per 1,000 bodies for position, angle, velocity and spin, measured); the recorder needs only
 the bodies it films, and their state is six numbers in each body's C struct, which
-:func:`capture_direct` reads where :func:`rrbody.engine.bodymem.layout` found them (about 2 us per
+:func:`capture_direct` reads where :func:`rrbody.engine.memory.bodymem.layout` found them (about 2 us per
 1,000 bodies). Where the layout is unknown the recorder keeps ``pymunk.batch``;
 ``tests/test_recorder.py`` checks that both routes store the same frames, bit for bit. A body
 removed from the space reads a null ``space`` field, which :func:`capture_direct` reports instead of
@@ -33,7 +33,7 @@ from rrbody.contact.kernel import (
     STOP,
 )
 from rrbody.contact.lean import NO_REFCOUNT
-from rrbody.engine.bodymem import ANGLE, SPACE, SPIN, VX, VY, X, Y, f64_at, i64_at, layout
+from rrbody.engine.memory.bodymem import ANGLE, SPACE, SPIN, VX, VY, X, Y, f64_at, i64_at, layout
 
 __all__ = ["capture_rows", "capture_direct", "layout"]
 
@@ -92,7 +92,7 @@ def capture_rows(got: np.ndarray, ids: np.ndarray, want: np.ndarray, rows: np.nd
 def capture_direct(addr: np.ndarray, offs: np.ndarray, space: int, bodies: np.ndarray, prow: np.ndarray,
                    store: np.ndarray, frame: int) -> int:
     """One frame, as :func:`capture_rows` writes it, read from the filmed bodies' structs at ``addr``
-    (byte offsets ``offs``: :func:`rrbody.engine.bodymem.layout`). Returns -1, or the index of the
+    (byte offsets ``offs``: :func:`rrbody.engine.memory.bodymem.layout`). Returns -1, or the index of the
     first filmed body no longer in ``space`` (the frame is then incomplete: the caller raises)."""
     out = store[frame]
     motion = out.shape[1] >= 9

@@ -1,4 +1,4 @@
-"""Where :class:`rrbody.engine.plugin.PlaneFriction` keeps its bodies' footprints and wrench tables:
+"""Where :class:`rrbody.engine.plugin.plane.PlaneFriction` keeps its bodies' footprints and wrench tables:
 the kernel's ``shapes``, ``geo`` and ``tables`` arrays (:mod:`rrbody.contact.columns`), growable, with
 a body's rows placed, dropped and compacted in amortised O(1), and each wrench table stored once.
 
@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from rrbody.contact import columns
-from rrbody.contact.rows import Rows
+from rrbody.engine.plugin.rows import Rows
 from rrbody.physics import contact as C
 from rrbody.physics.footprint_table import build_footprint_table
 from rrbody.physics.icr_table import build_radial_table, build_table

@@ -1,7 +1,7 @@
 """The coupled step in pymunk: the plane's friction solved together with the contacts of the plugin's bodies.
 
 After ``space.step`` the plugin reads the contacts pymunk found and solved in that step for each of its
-bodies (:mod:`rrbody.engine.arbiters`: through pymunk's public API, or through Chipmunk's own C functions
+bodies (:mod:`rrbody.engine.memory.arbiters`: through pymunk's public API, or through Chipmunk's own C functions
 where a probe proves they give the same bits), groups its bodies into islands joined by contacts
 (:mod:`rrbody.contact.islands`), and solves each island's velocities again with the plane's friction
 inside the solve (:mod:`rrbody.contact.coupled`), from the velocity each body had before any impulse of the
@@ -26,8 +26,8 @@ import numpy as np
 from rrbody.contact import coupled as CP
 from rrbody.contact import islands as I
 from rrbody.contact.lean import fast_entry
-from rrbody.engine import arbiters
-from rrbody.engine.bodymem import addresses
+from rrbody.engine.memory import arbiters
+from rrbody.engine.memory.bodymem import addresses
 
 __all__ = ["Coupling", "TOL", "MAX_ITER", "MAX_SWEEPS"]
 
@@ -41,9 +41,9 @@ MAX_SWEEPS = 500
 
 
 class Coupling:
-    """The plugin's coupled step for ``space`` (made by :class:`rrbody.engine.plugin.PlaneFriction`):
+    """The plugin's coupled step for ``space`` (made by :class:`rrbody.engine.plugin.plane.PlaneFriction`):
     :meth:`after_step` runs after each ``space.step``. ``tol``, ``max_iter`` and ``max_sweeps``: see the module
-    constants; ``route``: one of :data:`rrbody.engine.arbiters.ROUTES`, or None for the fastest proven here."""
+    constants; ``route``: one of :data:`rrbody.engine.memory.arbiters.ROUTES`, or None for the fastest proven here."""
 
     def __init__(self, space: Any, *, tol: float = TOL, max_iter: int = MAX_ITER, max_sweeps: int = MAX_SWEEPS,
                  route: str | None = None) -> None:
@@ -54,7 +54,7 @@ class Coupling:
         compiled = arbiters.compiled_route() if route in (None, "compiled") else None
         if route == "compiled" and compiled is None:
             raise ValueError("route 'compiled' is not available here (RRBODY_NO_PRIVATE=1, or this pymunk or "
-                             "platform reads other numbers through it: rrbody.engine.arbiters)")
+                             "platform reads other numbers through it: rrbody.engine.memory.arbiters)")
         self._api = None if compiled is None else compiled.api
         self.route = "public" if self._api is None else "compiled"
         self._space_address = 0 if self._api is None else arbiters.space_address(space)

@@ -1,7 +1,7 @@
 """Raw access to pymunk's C structs in compiled code: an object's address, the float64 or int64 at a
 byte address, a float64 stored there, and where a body's state lies in pymunk's ``cpBody``
-(:func:`layout`), for the recorder's capture (:mod:`rrbody.engine.capture`) and the plugin's reads
-and writes (:mod:`rrbody.engine.structio`); and where a space keeps its sleeping threshold in
+(:func:`layout`), for the recorder's capture (:mod:`rrbody.engine.recording.capture`) and the plugin's reads
+and writes (:mod:`rrbody.engine.memory.structio`); and where a space keeps its sleeping threshold in
 pymunk's ``cpSpace`` (:func:`sleep_offset`), which the plugin's compiled step reads each step.
 
 ``pymunk.batch`` reads every body of a space field by field, with a bounds check per number (about

@@ -6,7 +6,7 @@ pymunk 7 replaced ``Space.add_collision_handler(a, b)``, ``add_wildcard_collisio
 whether the contact is processed) by ``Space.on_collision(a, b, begin=...)`` (a callback that
 returns nothing; the contact is processed unless the arbiter says otherwise). :func:`on_begin`
 registers a callback that only observes contacts, on either. (The plugin and the recorder need
-nothing of the kind: their routes to the bodies are in :mod:`rrbody.engine.batchio`.)
+nothing of the kind: their routes to the bodies are in :mod:`rrbody.engine.memory.batchio`.)
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""rrbody's own scenes in a pymunk space: a thin builder on :class:`~rrbody.engine.plugin.PlaneFriction`.
+"""rrbody's own scenes in a pymunk space: a thin builder on :class:`~rrbody.engine.plugin.plane.PlaneFriction`.
 
 What :func:`attach` adds to a ``pymunk.Space``
 ----------------------------------------------
@@ -34,8 +34,8 @@ import numpy as np
 
 from rrbody._private import private_allowed
 from rrbody.contact import kernel as K
-from rrbody.engine.plugin import PlaneFriction
-from rrbody.engine.settings import EngineSettings, check_dt
+from rrbody.engine.plugin.plane import PlaneFriction
+from rrbody.engine.scenes.settings import EngineSettings, check_dt
 from rrbody.model.laws import PLUGIN_AREA, bound_params, check_area, law_named
 from rrbody.model.scene import Scene
 from rrbody.physics import params as P
@@ -157,7 +157,7 @@ class EngineHandle:
         self.plane.add_footprint(self.body, law=law, coeff=coeff, footprint=fp, snap=scene.drive is None,
                                  history=history, v_eps=1e-12 * scene.velocity_scale(), staggered=self._staggered,
                                  static=static, params=params)
-        if scene.active is not None:  # a free body's propulsion and its medium (rrbody.contact.active)
+        if scene.active is not None:  # a free body's propulsion and its medium (rrbody.engine.plugin.active)
             self.plane.activate(self.body, scene.active)
             self.plane.seed(scene.seed)  # its noise: the scene's seed, as on the ODE path
         if self.driver is not None:
@@ -282,7 +282,7 @@ def attach(space: Any, scene: Scene, *, settings: EngineSettings | None = None) 
     The space's gravity and damping act on every body in it, the attached one too: rrbody's scenes lie
     on a horizontal plane, so give such a space none. ``space.iterations`` is raised to
     ``settings.iterations`` if lower. ``settings.dt`` is checked against the scene
-    (:func:`~rrbody.engine.settings.valid_dt_range`): a coarser step raises ValueError.
+    (:func:`~rrbody.engine.scenes.settings.valid_dt_range`): a coarser step raises ValueError.
     """
     import pymunk
 

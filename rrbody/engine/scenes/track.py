@@ -1,11 +1,11 @@
-"""What the engine run loop (:mod:`rrbody.engine.run`) does after every step of a driven body, in one
+"""What the engine run loop (:mod:`rrbody.engine.scenes.run`) does after every step of a driven body, in one
 compiled call: read the body's state, sample phi and phi' onto the output grid, pass the step to the
 event detector, track the pivot's distance from the drive circle and test the horizon.
 
 Each of these was a Python statement per step (property reads through pymunk, a tuple per sample,
 the output loop, the detector's dispatch, the clock), together about twice the cost of the step
 itself; they now cost one call (docs/engine.md, "Cost"). The body's angle, spin and position are
-read from its Chipmunk struct (:mod:`rrbody.engine.bodymem`, the offsets the plugin's struct reader
+read from its Chipmunk struct (:mod:`rrbody.engine.memory.bodymem`, the offsets the plugin's struct reader
 uses) or, where that layout is unknown, written into the state vector by the caller first.
 
 Units: SI (s, rad, m, rad/s).
@@ -19,7 +19,7 @@ import numpy as np
 from numba import njit
 
 from rrbody.contact.columns import PREV_GAP, PREV_SPIN, STAGGERED, STOP
-from rrbody.engine.bodymem import ANGLE, SPIN, VX, VY, X, Y, f64_at
+from rrbody.engine.memory.bodymem import ANGLE, SPIN, VX, VY, X, Y, f64_at
 from rrbody.integrate.events import GO_ON, on_step
 
 __all__ = ["track_step", "new_track", "REACHED_END", "T_END", "T_PREV", "PHI_PREV", "PHID_PREV", "K_OUT", "MAX_PIV",

@@ -1,7 +1,7 @@
 """The run loop for rrbody's scenes in pymunk: trajectories (:func:`simulate_engine`) and flip times
 (:func:`engine_flip_time`) with the ODE path's definitions: events come from the one event detector
 (:func:`rrbody.integrate.events.on_step`, called once per engine step, for a driven body from the
-compiled per-step tracker :func:`rrbody.engine.track.track_step`), a free body's rest from the
+compiled per-step tracker :func:`rrbody.engine.scenes.track.track_step`), a free body's rest from the
 plugin's rest rule. Units: SI (s, rad, m)."""
 
 from __future__ import annotations
@@ -13,10 +13,10 @@ from typing import Any
 
 import numpy as np
 
-from rrbody.engine.bodymem import address, layout
-from rrbody.engine.builder import EngineHandle, attach
-from rrbody.engine.settings import EngineSettings, check_dt, coarse_meta, make_settings
-from rrbody.engine.track import (
+from rrbody.engine.memory.bodymem import address, layout
+from rrbody.engine.scenes.builder import EngineHandle, attach
+from rrbody.engine.scenes.settings import EngineSettings, check_dt, coarse_meta, make_settings
+from rrbody.engine.scenes.track import (
     ANG_IN,
     K_OUT,
     MAX_PIV,
@@ -134,7 +134,7 @@ def _run(scene: Scene, settings: EngineSettings, *, t_end: float, stop: str, dt_
 
 def _driven_loop(h: EngineHandle, fs: np.ndarray, ev: np.ndarray, minima: np.ndarray, out: np.ndarray,
                  max_steps: int, bar: Any) -> tuple[int, str]:
-    """Step a driven body until the tracker (:func:`rrbody.engine.track.track_step`: samples, events,
+    """Step a driven body until the tracker (:func:`rrbody.engine.scenes.track.track_step`: samples, events,
     pivot error, horizon) or ``max_steps`` stops it; returns (steps, status). Per step: the plugin's
     step and one compiled call."""
     dt = h.settings.dt

@@ -1,9 +1,9 @@
 """The plugin's per-step read and write of its own bodies straight from their Chipmunk structs.
 
-:class:`rrbody.engine.batchio.BatchIO` reads every body of the space through ``pymunk.batch`` and
+:class:`rrbody.engine.memory.batchio.BatchIO` reads every body of the space through ``pymunk.batch`` and
 writes every body's force back (about 15 us each way per 1,000 bodies, measured). :class:`StructIO`
 reads and writes only the plugin's bodies, in the plugin's row order, at the offsets
-:func:`rrbody.engine.bodymem.layout` found and checked: two compiled loops of a few loads or stores
+:func:`rrbody.engine.memory.bodymem.layout` found and checked: two compiled loops of a few loads or stores
 per body. It hands :func:`rrbody.contact.kernel.plane_step` the same columns ``BatchIO`` does (angle,
 vx, vy, spin, fx, fy, torque), so the kernel and its checks are the same on both routes.
 
@@ -22,7 +22,7 @@ What it leaves to ``BatchIO`` (the plugin decides per step, :meth:`PlaneFriction
 - a space with sleeping enabled (``space.sleep_time_threshold`` finite): pymunk's force setter
   also wakes a sleeping body (``cpBodyActivate``), which a raw store does not; without sleeping
   that call only resets an idle timer nobody reads. The compiled call reads the threshold from the
-  space's struct (:func:`rrbody.engine.bodymem.sleep_offset`, probed and checked like the body
+  space's struct (:func:`rrbody.engine.memory.bodymem.sleep_offset`, probed and checked like the body
   layout; 0.5 us less per step than pymunk's property), or :meth:`StructIO.step` reads the property
   where the probe failed;
 - a pymunk whose body layout the probe could not establish (``layout()`` is None).
@@ -37,9 +37,9 @@ import numpy as np
 from numba import njit, typeof
 
 from rrbody.contact import kernel as K
-from rrbody.contact.active import NO_ACTIVE
+from rrbody.contact.columns import NO_ACTIVE
 from rrbody.contact.lean import NO_REFCOUNT, fast_entry
-from rrbody.engine.bodymem import (
+from rrbody.engine.memory.bodymem import (
     ANGLE,
     FX,
     FY,

@@ -3,9 +3,9 @@
 A :class:`Tape` holds which bodies are filmed and, per stored frame and body, its pose (x, y, angle:
 the pymunk body's origin in m, world frame, and its angle in rad) and, with ``motion=True``, the
 velocity of its centre of gravity and its spin at the frame's time (m/s, rad/s: for bodies of the
-plugin the second-order reading :meth:`rrbody.engine.plugin.PlaneFriction.velocity` gives) and the
-friction the plane applied in the last step (N and N m, :meth:`rrbody.engine.plugin.PlaneFriction.friction`).
-:meth:`Tape.capture` stores one frame in one compiled call (:mod:`rrbody.engine.capture`), read
+plugin the second-order reading :meth:`rrbody.engine.plugin.plane.PlaneFriction.velocity` gives) and the
+friction the plane applied in the last step (N and N m, :meth:`rrbody.engine.plugin.plane.PlaneFriction.friction`).
+:meth:`Tape.capture` stores one frame in one compiled call (:mod:`rrbody.engine.recording.capture`), read
 from the bodies' structs where pymunk's layout of them is known, else from the space's bulk read.
 
 The pictures drawn from a tape are :class:`rrbody.render.recorder.Recorder`'s (the user-facing
@@ -22,17 +22,17 @@ import numpy as np
 
 from rrbody.contact import kernel as K
 from rrbody.contact.lean import fast_entry
-from rrbody.contact.rows import Rows
-from rrbody.engine.batchio import BatchIO, body_uid, rows_of
-from rrbody.engine.bodymem import address, addresses
-from rrbody.engine.capture import capture_direct, capture_rows, layout
+from rrbody.engine.memory.batchio import BatchIO, body_uid, rows_of
+from rrbody.engine.memory.bodymem import address, addresses
+from rrbody.engine.plugin.rows import Rows
+from rrbody.engine.recording.capture import capture_direct, capture_rows, layout
 from rrbody.model.checks import check_int, check_positive, check_real
 
 __all__ = ["Tape", "WIDTH_POSE", "WIDTH_MOTION", "PX", "PY", "PA", "VX", "VY", "VW", "FX", "FY", "FT"]
 
 #: numbers per body and frame: a pose (x, y, angle), or with motion also vx, vy, spin, fx, fy, torque
 WIDTH_POSE, WIDTH_MOTION = 3, 9
-#: the columns of a frame (rrbody.engine.capture writes them in this order): the body origin's x, y (m)
+#: the columns of a frame (rrbody.engine.recording.capture writes them in this order): the body origin's x, y (m)
 #: and angle (rad); the centre of gravity's velocity (m/s) and the spin (rad/s); the friction force (N)
 #: and torque (N m) of the plane's last step
 PX, PY, PA, VX, VY, VW, FX, FY, FT = range(9)
@@ -121,7 +121,7 @@ class Tape:
         self._prow: tuple[int, np.ndarray] | None = None  # (plane.members, their rows in the plane's arrays)
         self._no_plane = np.full(len(self.bodies), -1, dtype=np.int64)
         # the bodies' state is read from their structs where pymunk's layout of them is known (no call
-        # into pymunk), else from the space's bulk read, which copies every body (rrbody.engine.capture)
+        # into pymunk), else from the space's bulk read, which copies every body (rrbody.engine.recording.capture)
         self._offs = layout()
         self._io = BatchIO(space, poses=True) if self._offs is None else None
         if self._offs is not None:
