@@ -140,15 +140,17 @@ def _contacts(space: object) -> int:
 
 def _frozen_call(pf: object) -> tuple[tuple, object, object, object]:
     """The plugin's compiled call on the space's state now, for timing it again and again: (its
-    arguments up to ``active``, the ``active`` rows, the noise array, the compiled entry point). The
-    plugin's own arrays are copies (``pf.step_arrays()``, the same types: the same compiled entry), so the
+    arguments up to ``active``, the ``active`` rows, the noise array, the compiled kernel). The
+    plugin's own arrays are copies (``pf.step_arrays()``, the same types: the same compiled code), so the
     timed calls, which write the rows and the row cache, leave the plugin as it was."""
     io = pf._sio if pf._sio is not None else pf._io  # type: ignore[attr-defined]
     got, ids, out = io.read()
     rows, noise = pf._act.arrays(pf)  # type: ignore[attr-defined]
     lookup, cache, bodies, shapes, geo, tables = pf.step_arrays()  # type: ignore[attr-defined]
     base = (got, ids, lookup, cache, bodies, shapes, geo, tables, pf.t, DT, out)  # type: ignore[attr-defined]
-    return base, rows, noise, pf._kernel  # type: ignore[attr-defined]
+    from rrbody.contact import kernel as K
+
+    return base, rows, noise, K.plane_step
 
 
 def _effect_share(pf: object, reps: int = 7, block: int = 20) -> tuple[float, float]:

@@ -293,16 +293,17 @@ def one_call(n: int, steps: int, small: int = 10) -> dict[str, Any]:
     pf.step(DT)
     pf.step(DT)  # (the first step, with its half kicks, takes the separate calls; the second finds the one call's)
     try:  # internal attributes: the counting is skipped (and said) if they were renamed
+        from rrbody.contact import kernel as K
+        from rrbody.engine.memory import structio
+
         calls = [0, 0]
-        kernel, rest = pf._kernel, pf._rest
-        sio = pf._sio  # the struct route's one call (read, step, write), where it is taken
-        entry = sio._entry if sio is not None else None
+        kernel, entry, rest = K.plane_step, structio.struct_step, pf._rest
 
         def counted(*a: Any) -> Any:
             calls[0] += 1
             return kernel(*a)
 
-        def counted_entry(*a: Any) -> Any:
+        def counted_entry(*a: Any) -> Any:  # the struct route's one call (read, step, write), where it is taken
             calls[0] += 1
             return entry(*a)
 
@@ -310,14 +311,12 @@ def one_call(n: int, steps: int, small: int = 10) -> dict[str, Any]:
             calls[1] += 1
             rest(dt)
 
-        pf._kernel, pf._rest = counted, counted_rest
-        if entry is not None:
-            sio._entry = counted_entry
-            pf._plan = None  # the steady step holds the entry: the next step builds it again, counted
-        _steps(pf, steps)
-        pf._kernel, pf._rest = kernel, rest
-        if entry is not None:
-            sio._entry = entry
+        K.plane_step, structio.struct_step, pf._rest = counted, counted_entry, counted_rest
+        pf._plan = None  # the steady step holds the one call: the next step plans it again, counted
+        try:
+            _steps(pf, steps)
+        finally:
+            K.plane_step, structio.struct_step, pf._rest = kernel, entry, rest
             pf._plan = None
         res["kernel_calls_per_step"] = calls[0] / steps
         res["rest_entries"] = calls[1]

@@ -43,6 +43,7 @@ STUDIES: dict[str, str] = {
     "coldstart": "benchmarks.coldstart",
     "mujoco": "benchmarks.mujoco",
     "pusht": "benchmarks.pusht",
+    "private": "benchmarks.private",
 }
 
 DEFAULT_OUT = Path(__file__).resolve().parent / "results"

@@ -7,13 +7,10 @@ can be run together, as ``make test`` does for a stated part of the suite:
 
 - pymunk's struct memory (:func:`rrbody.engine.memory.bodymem.layout` returns None: the plugin and the
   recorder read and write through ``pymunk.batch`` or the bodies' properties);
-- ``pymunk.batch``'s C iterators called directly (the plugin's ``"lean"`` route: the ``"bulk"`` one);
 - Chipmunk's setters for a driven body's driver (the driver's public ``velocity`` and ``position``);
 - numba's cache locators (rrbody's kernels are cached by numba's own locators, next to their
   sources or in numba's user-wide folder, and keyed by the files' time stamps);
 - numba's ``_nrt=False`` option (:func:`rrbody._private.no_refcount` gives no option);
-- numba's compiled entry points (:func:`rrbody.contact.lean.fast_entry` calls the dispatcher);
-- the LLVM prefetch intrinsic of the footprint tables (no prefetch);
 - the start-up trim that loads scipy's ``cython_blas`` alone (:mod:`rrbody.cli.lean`: nothing is loaded).
 
 The kernels compiled with the switch set are cached apart from the others (the switch is part of
@@ -46,9 +43,9 @@ def private_allowed() -> bool:
 def no_refcount() -> dict[str, Any]:
     """Keyword arguments for ``njit`` of a kernel that allocates no array and keeps none: numba's
     reference counting off (its undocumented ``_nrt=False``; dropped, the kernels compile as usual).
-    The count is an atomic increment and decrement per array passed on; without it the plugin's step
-    for 1,000 bodies ran 445 -> 405 us (interleaved A/B, best of 7 runs of 100 steps) and a footprint
-    table's look-up (a float32 view of the table) 70 -> 43 ns. numba is imported only when called."""
+    The count is an atomic increment and decrement per array passed on, in every call of the per-body
+    kernels (what it costs the plugin's step: ``benchmarks/private.py``). numba is imported only when
+    called."""
     if not private_allowed():  # RRBODY_NO_PRIVATE (rrbody._private)
         return {}
     try:

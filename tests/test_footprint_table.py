@@ -247,32 +247,6 @@ def test_stored_coefficients_and_their_rounding(monkeypatch: pytest.MonkeyPatch)
     assert not FF.fit_cells(shapes, geo, 0, shapes.shape[0], R, -1, rects, 1.5 * R)[1].any()
 
 
-def test_prefetch_is_harmless(tables: dict) -> None:
-    """footprint_table_prefetch (the plugin's friction pass calls it a few bodies ahead) reads the
-    block's location only and faults on nothing: every kind of twist, including those the exact
-    formula answers, and a look-up after it gives what it gives without. (The LLVM intrinsic's name,
-    llvm.prefetch.p0, compiled to a prefetch with numba 0.59's LLVM 14 too: checked by hand.)"""
-    from rrbody.physics.footprint_table import footprint_table_prefetch
-
-    shapes, geo, T = tables["L"]
-
-    @njit
-    def ahead(T, shapes, geo, V):  # noqa: ANN001, ANN202 (numba)
-        out = np.empty((V.shape[0], 3))
-        for k in range(V.shape[0]):
-            footprint_table_prefetch(T, 0, V[k, 0], V[k, 1], V[k, 2], V_EPS)
-            out[k] = footprint_table_wrench(T, 0, shapes, geo, 0, shapes.shape[0], V[k, 0], V[k, 1], V[k, 2], V_EPS)
-        return out
-
-    R = table_reach(shapes, geo, 0, shapes.shape[0])
-    V = np.concatenate([_twists(shapes, geo, R, seed=5),
-                        [(math.nan, 0.1, 1.0), (0.1, math.inf, 1.0), (0.0, 0.0, 0.0), (1e-300, 0.0, 1e-300)]])
-    assert np.array_equal(ahead(T, shapes, geo, V), _both(T, 0, shapes, geo, V, V_EPS)[:, :3], equal_nan=True)
-    # and it is the CPU's prefetch instruction (x86 prefetcht0, ARM prfm), not a call to nothing
-    asm = ahead.inspect_asm(ahead.signatures[0]).lower()
-    assert "prefetch" in asm or "prfm" in asm
-
-
 def test_bad_input() -> None:
     shapes, geo = _l_shape()
     with pytest.raises(ValueError, match="s0, s1"):

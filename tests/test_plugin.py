@@ -15,7 +15,7 @@ import pytest
 from scipy.optimize import brentq
 
 from rrbody.engine import PlaneFriction
-from rrbody.engine.memory.batchio import BatchIO
+from rrbody.engine.memory.batchio import ROUTES, BatchIO, batch_reads
 from rrbody.physics.area import disk_closed_form_ratio
 from rrbody.physics.polygon import box_spin_torque
 from tests.test_polygon import L_PARTS, reference
@@ -252,10 +252,10 @@ def test_segment_footprint_and_mass_from_density() -> None:
     assert fx == pytest.approx(-0.5 * G * b.mass, rel=1e-14) and abs(tq) < 1e-14
 
 
-def test_lean_and_public_batch_routes_agree() -> None:
+def test_every_batch_route_reads_and_writes_a_body() -> None:
     space, pf, b = _space_with(lambda b: [pymunk.Poly.create_box(b, (0.2, 0.3))], v=(1.0, 0.2), w=3.0)
-    for lean in (True, False):
-        io = BatchIO(space, lean=lean)
+    for route in ROUTES if batch_reads() else ("per-body",):
+        io = BatchIO(space, route=route)
         got, ids, out = io.read()
         assert ids[0] == b.id and got[0, 1] == 1.0 and got[0, 3] == 3.0
         out[0] = (1.0, 2.0, 3.0)

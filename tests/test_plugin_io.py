@@ -68,8 +68,8 @@ def _state(bodies: list[pymunk.Body]) -> list[tuple]:
 
 def _routes() -> list[str]:
     """The routes this pymunk can take: the struct route where the probe proved the layout, pymunk.batch's
-    lean and public routes where its batch reads and writes forces (pymunk >= 6.11), per body always."""
-    return (["struct"] if layout() is not None else []) + (["lean", "bulk"] if batch_reads() else []) + ["per-body"]
+    public functions where its batch reads and writes forces (pymunk >= 6.11), per body always."""
+    return (["struct"] if layout() is not None else []) + (["bulk"] if batch_reads() else []) + ["per-body"]
 
 
 @pytest.mark.private
@@ -101,14 +101,13 @@ def test_every_route_steps_bit_for_bit() -> None:
 
 @pytest.mark.private
 def test_the_default_route_is_the_fastest_this_pymunk_offers() -> None:
-    """BatchIO takes the lean route where pymunk.batch reads and writes forces (pymunk >= 6.11), else
-    the per-body one; a pose reader (the recorder's) takes the lean route from pymunk 6.6 on. A route
+    """BatchIO takes pymunk.batch's public functions where they read and write forces (pymunk >= 6.11),
+    else the per-body route; a pose reader (the recorder's) takes them from pymunk 6.6 on. A route
     that does not exist, or that this pymunk cannot take, is refused, naming it."""
     space, _, bodies = _scene("struct")
-    assert BatchIO(space).route == ("lean" if batch_reads() else "per-body")
-    assert BatchIO(space, lean=False).route == ("bulk" if batch_reads() else "per-body")
-    assert batch_reads(poses=True) and BatchIO(space, poses=True).route == "lean"
-    with pytest.raises(ValueError, match="route must be one of 'lean', 'bulk', 'per-body' or None, got 'fast'"):
+    assert BatchIO(space).route == ("bulk" if batch_reads() else "per-body")
+    assert batch_reads(poses=True) and BatchIO(space, poses=True).route == "bulk"
+    with pytest.raises(ValueError, match="route must be one of 'bulk', 'per-body' or None, got 'fast'"):
         BatchIO(space, route="fast")
     if not batch_reads():
         with pytest.raises(ValueError, match=r"route 'bulk' needs a pymunk.batch that reads and writes forces "

@@ -74,30 +74,6 @@ def test_every_recorder_route_captures_the_same_frames(monkeypatch: pytest.Monke
     assert recs[0].frames[-1, 0, 0] != recs[0].frames[0, 0, 0]  # they moved
 
 
-def test_a_pymunk_batch_without_the_lean_names_takes_its_public_functions(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The lean route calls pymunk.batch's C iterator and struct, names pymunk does not document: where
-    one is missing, BatchIO takes pymunk.batch's public functions (route "bulk"), with the same numbers."""
-    import pymunk.batch as pb
-
-    real = pb.lib
-
-    class NoLib:
-        """pymunk's cffi lib without pymunk.batch's C iterators (as a pymunk that renamed them would be)."""
-
-        def __getattr__(self, name: str) -> Any:
-            if "IteratorFuncBatched" in name:
-                raise AttributeError(name)
-            return getattr(real, name)
-
-    space, pf, bodies = _sliding()
-    want = BatchIO(space, poses=True).read()[0].copy()
-    monkeypatch.setattr(pb, "lib", NoLib())  # what BatchIO's lean set-up finds
-    io = BatchIO(space, poses=True)
-    assert io.route == "bulk" and not io.lean
-    monkeypatch.undo()  # pymunk.batch's public functions call the iterators by their real names
-    assert np.array_equal(io.read()[0], want)
-
-
 @pytest.mark.private
 def test_the_drive_without_chipmunks_setters_runs_the_same_bits(monkeypatch: pytest.MonkeyPatch) -> None:
     """rrbody's builder moves a driven body's driver through Chipmunk's setters (pymunk.batch.lib,
@@ -241,21 +217,6 @@ def test_without_the_space_probe_the_property_decides_the_route(monkeypatch: pyt
                 assert pf._plan is None
         runs.append([(tuple(b.position), b.angle, tuple(b.velocity), b.angular_velocity) for b in bodies])
     assert runs[0] == runs[1]
-
-
-def test_fast_entry_falls_back_to_the_dispatcher() -> None:
-    """rrbody.contact.lean.fast_entry reads numba's compiled entry point (dispatcher.overloads, not
-    documented); a dispatcher without it is called itself, with the same result."""
-    from rrbody.contact.lean import fast_entry
-
-    class Plain:
-        """A callable without numba's dispatcher attributes."""
-
-        def __call__(self, x: float) -> float:
-            return 2.0 * x
-
-    fn, result = fast_entry(Plain(), 1.5)
-    assert result == 3.0 and fn(2.0) == 4.0 and isinstance(fn, Plain)
 
 
 def test_numba_refuses_kernels_another_numba_cached(tmp_path: Path) -> None:

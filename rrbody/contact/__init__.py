@@ -7,7 +7,7 @@ with no engine in it (this package imports neither pymunk nor MuJoCo; ``tests/te
   :mod:`~rrbody.contact.rest`: the operator applied in it (the rest rule, static friction's hold or break);
 - :mod:`~rrbody.contact.feet`: bodies on point feet; self-propelled bodies are a load in the step (their
   arrays: :mod:`~rrbody.contact.columns`, with ``NO_ACTIVE``, the pair passed when there are none);
-- :mod:`~rrbody.contact.lean`: calling a compiled kernel at the least cost.
+- :mod:`~rrbody.contact.lean`: the kernels' numba options (no reference counting).
 
 The adapters: :mod:`rrbody.engine` (pymunk: the plugin ``PlaneFriction``, which keeps its bodies' footprints,
 wrench tables and active bodies in :mod:`rrbody.engine.plugin`, and rrbody's own scenes) and

@@ -31,10 +31,10 @@ from rrbody.physics.contact import footprint_wrench
 from rrbody.physics.effects.drive_circular import sincos_reduced
 from rrbody.physics.effects.laws import law_params_at
 from rrbody.physics.footprint_quad import footprint_law_wrench
-from rrbody.physics.footprint_table import footprint_table_prefetch, footprint_table_wrench
+from rrbody.physics.footprint_table import footprint_table_wrench
 from rrbody.physics.icr_table import table_wrench_body
 
-__all__ = ["body_accel", "accel_at", "reads_footprint_table", "prefetch_at", "limited", "limited_at"]
+__all__ = ["body_accel", "accel_at", "limited", "limited_at"]
 
 
 @njit(cache=True, **NO_REFCOUNT)
@@ -79,21 +79,6 @@ def accel_at(j: int, ca: float, sa: float, vx: float, vy: float, w: float, bodie
         fx, fy, tq = footprint_wrench(shapes, geo, int(bodies[j, SHAPE_FIRST]), int(bodies[j, SHAPE_END]), vbx, vby, w,
                                       bodies[j, SLIP_EPS])
     return c * (ca * fx - sa * fy), c * (sa * fx + ca * fy), c * tq / bodies[j, INERTIA_PER_MASS]
-
-
-@njit(cache=True, inline="always")
-def reads_footprint_table(j: int, bodies: np.ndarray) -> bool:
-    """Whether :func:`accel_at` reads body j's friction from its footprint's own table (dry, mu > 0)."""
-    return bodies[j, FRICTION_COEFF] != 0.0 and bodies[j, LAW] == LAW_DRY and bodies[j, TABLE_KIND] == TABLE_FOOTPRINT
-
-
-@njit(cache=True, inline="always")
-def prefetch_at(j: int, ca: float, sa: float, vx: float, vy: float, w: float, bodies: np.ndarray,
-                tables: np.ndarray) -> None:
-    """Start bringing in the table block :func:`accel_at` with these arguments will read, for a body
-    that :func:`reads_footprint_table` (the same body-frame twist, so the same block)."""
-    footprint_table_prefetch(tables, int(bodies[j, TABLE_START]), ca * vx + sa * vy, -sa * vx + ca * vy, w,
-                             bodies[j, SLIP_EPS])
 
 
 @njit(cache=True, inline="always")

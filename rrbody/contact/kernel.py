@@ -22,7 +22,7 @@ from rrbody.contact import body as B
 from rrbody.contact import rest as R
 
 # (kernel.body_accel and kernel.limited: the plugin's readers)
-from rrbody.contact.accel import accel_at, body_accel, limited, prefetch_at, reads_footprint_table  # noqa: F401
+from rrbody.contact.accel import accel_at, body_accel, limited  # noqa: F401
 from rrbody.contact.columns import *  # noqa: F403 (the columns, here and as kernel.MASS etc. for every reader)
 from rrbody.contact.lean import NO_REFCOUNT
 
@@ -158,26 +158,6 @@ def plane_idle(got: np.ndarray, ids: np.ndarray, lookup: np.ndarray, cache: np.n
 #: (rad), its cosine and sine, the velocity (m/s, world) and spin (rad/s) it is evaluated at, and the
 #: friction there (per unit mass, world: :func:`rrbody.contact.accel.accel_at`)
 _W_ALPHA, _W_COS, _W_SIN, _W_EVAL_VX, _W_EVAL_VY, _W_EVAL_SPIN, _W_ACCEL_X, _W_ACCEL_Y, _W_ACCEL_SPIN = range(9)
-#: footprint-table bodies whose coefficients the friction pass asks for ahead of their evaluation
-AHEAD = 4
-
-
-@njit(cache=True, inline="always")
-def _next_tabled(k: int, n: int, rowmap: np.ndarray, got: np.ndarray, bodies: np.ndarray) -> int:
-    """The first body k' >= k whose friction the second pass evaluates from a footprint table, or n."""
-    while k < n:
-        j = rowmap[k]
-        if j >= 0 and reads_footprint_table(j, bodies) and R.evaluated(k, j, got, bodies):
-            return k
-        k += 1
-    return n
-
-
-@njit(cache=True, inline="always")
-def _fetch(k: int, rowmap: np.ndarray, bodies: np.ndarray, tables: np.ndarray, work: np.ndarray) -> None:
-    """Start bringing in the table block body k's evaluation (accel_at, from ``work``) will read."""
-    prefetch_at(rowmap[k], work[k, _W_COS], work[k, _W_SIN], work[k, _W_EVAL_VX], work[k, _W_EVAL_VY],
-                work[k, _W_EVAL_SPIN], bodies, tables)
 _N_WORK = 9
 
 
@@ -217,23 +197,10 @@ def _sweep(got: np.ndarray, rowmap: np.ndarray, bodies: np.ndarray, shapes: np.n
         (work[i, _W_ALPHA], work[i, _W_COS], work[i, _W_SIN], work[i, _W_EVAL_VX], work[i, _W_EVAL_VY],
          work[i, _W_EVAL_SPIN]) = B.load(i, j, got, bodies, dt, out, active, noise)
     for disks in (True, False):
-        p = 0  # where the search for the next footprint-table body to fetch for resumes
-        fetched = 0  # footprint-table bodies fetched and not yet evaluated
         for i in range(n):
             j = rowmap[i]
             if j < 0 or (bodies[j, TABLE_KIND] == TABLE_CIRCLE) != disks or not R.evaluated(i, j, got, bodies):
                 continue
-            if reads_footprint_table(j, bodies):
-                # this body's block and those of the AHEAD such bodies after it on their way (one call
-                # site each: every inlined copy of the look-up is compiled again)
-                while fetched <= AHEAD:
-                    p = _next_tabled(p, n, rowmap, got, bodies)
-                    if p == n:
-                        break
-                    _fetch(p, rowmap, bodies, tables, work)
-                    p += 1
-                    fetched += 1
-                fetched -= 1
             work[i, _W_ACCEL_X], work[i, _W_ACCEL_Y], work[i, _W_ACCEL_SPIN] = accel_at(
                 j, work[i, _W_COS], work[i, _W_SIN], work[i, _W_EVAL_VX], work[i, _W_EVAL_VY], work[i, _W_EVAL_SPIN],
                 bodies, shapes, geo, tables)
@@ -250,16 +217,3 @@ def _sweep(got: np.ndarray, rowmap: np.ndarray, bodies: np.ndarray, shapes: np.n
         else:
             n_stop += r
     return n_stop, n_defer
-
-
-
-
-
-
-
-
-
-
-
-
-

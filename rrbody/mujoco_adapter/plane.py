@@ -44,7 +44,6 @@ import numpy as np
 
 from rrbody.contact import kernel as K
 from rrbody.contact.columns import NO_ACTIVE
-from rrbody.contact.lean import fast_entry
 from rrbody.model.checks import check_int, check_nonnegative, check_positive
 from rrbody.model.extras import require
 from rrbody.model.pressure import Pressure, as_pressure
@@ -220,7 +219,6 @@ class PlaneFriction:
         self._load = np.zeros(n)
         self._user = np.zeros((n, 6))
         self._gvec = np.ascontiguousarray(model.opt.gravity, dtype=float)
-        self._entries: dict[str, Any] = {}  # compiled entry points (lean.fast_entry), found on first use
         self._fresh = True
         self.n_stopped = 0
         self._t_stop = np.full(n, np.nan)
@@ -278,24 +276,16 @@ class PlaneFriction:
         d = self.data
         c = d.contact
         # MuJoCo's contact fields are strided views (contiguous when they hold one contact or none): copied
-        # contiguous, every call has the types of the first, as the compiled entry point requires
+        # contiguous, every call has the types of the first (one compiled version)
         cg = np.ascontiguousarray
         args = (self._dof, self._qadr, self._ids, self._ipos, self._ref, self._frame, self._gvec, self._mu, self._mus,
                 self._geom_row, self.plane, d.qpos, d.qvel, d.qfrc_constraint, d.xfrc_applied, d.efc_force,
                 cg(c.geom1), cg(c.geom2), cg(c.efc_address), int(d.ncon), self._bodies, self._got, self._load, dt)
-        if self._entries.get("gather") is None:  # the compiled entry point: no type dispatch per call
-            self._entries["gather"], _ = fast_entry(MK.gather, *args)
-        else:
-            self._entries["gather"](*args)
+        MK.gather(*args)
 
     def _call(self, name: str, *args: Any) -> Any:
-        """``rrbody.mujoco_adapter.kernel.<name>(*args)`` through its compiled entry point (found on the first call)."""
-        entry = self._entries.get(name)
-        if entry is None:
-            self._entries[name], result = fast_entry(getattr(MK, name) if name != "plane_step" else K.plane_step,
-                                                       *args)
-            return result
-        return entry(*args)
+        """``rrbody.mujoco_adapter.kernel.<name>(*args)`` (``plane_step``: the plugin's kernel)."""
+        return (K.plane_step if name == "plane_step" else getattr(MK, name))(*args)
 
     def _refuse(self) -> None:
         m = self.model

@@ -53,12 +53,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from llvmlite import ir
 from numba import njit
-from numba.core import cgutils, types
-from numba.extending import intrinsic
 
-from rrbody._private import no_refcount, private_allowed
+from rrbody._private import no_refcount
 from rrbody.physics import contact as C
 from rrbody.physics.contact import footprint_wrench
 from rrbody.physics.footprint_fit import (
@@ -75,7 +72,7 @@ from rrbody.physics.footprint_fit import (
 )
 from rrbody.physics.icr_table import HUGE, TINY, twist_scale
 
-__all__ = ["build_footprint_table", "footprint_table_wrench", "footprint_table_prefetch", "table_covers", "table_reach",
+__all__ = ["build_footprint_table", "footprint_table_wrench", "table_covers", "table_reach",
            "RHO", "CELLS", "SPLIT", "LEVELS", "S_PANELS", "MAX_U_PANELS", "HEAD"]
 
 #: half-width of the inner square in units of the reach R
@@ -366,42 +363,3 @@ def footprint_table_wrench(T, t0, shapes, geo, s0, s1, vbx, vby, w, v_eps):  # n
             f1 += L * T[r + 1, 1]
             f2 += L * T[r + 1, 2] * (d - 2.0 * h / 3.0)
     return sg * f0, sg * f1, sg * T[t0 + 1, 0] * f2
-
-
-#: whether the look-ups ask for their blocks ahead (LLVM's prefetch through numba's private ``cgutils``;
-#: off under ``RRBODY_NO_PRIVATE``, rrbody._private): a compile-time constant of the kernels
-PREFETCH: bool = private_allowed()
-
-
-@intrinsic
-def _prefetch(typingctx, arr, row):  # noqa: ANN001, ANN202 (numba)
-    """Ask the CPU to bring the cache line holding ``arr[row, 0]`` (a C-contiguous 2-D array) towards
-    it, without waiting (LLVM's prefetch: read, high locality, data); no fault for any address."""
-    sig = types.void(arr, row)
-
-    def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
-        aryty = signature.args[0]
-        ary = context.make_array(aryty)(context, builder, args[0])
-        idx = context.cast(builder, args[1], signature.args[1], types.intp)
-        zero = context.get_constant(types.intp, 0)
-        ptr = cgutils.get_item_pointer2(context, builder, ary.data, cgutils.unpack_tuple(builder, ary.shape),
-                                        cgutils.unpack_tuple(builder, ary.strides), aryty.layout, [idx, zero],
-                                        wraparound=False, boundscheck=False)
-        i8p = ir.PointerType(ir.IntType(8))
-        i32 = ir.IntType(32)
-        fn = cgutils.get_or_insert_function(builder.module, ir.FunctionType(ir.VoidType(), [i8p, i32, i32, i32]),
-                                            "llvm.prefetch.p0")
-        builder.call(fn, [builder.bitcast(ptr, i8p), i32(0), i32(3), i32(1)])
-        return context.get_dummy_value()
-    return sig, codegen
-
-
-@njit(cache=True, inline="always")
-def footprint_table_prefetch(T, t0, vbx, vby, w, v_eps):  # noqa: ANN001 (numba)
-    """Start bringing in the block :func:`footprint_table_wrench` will read for this twist (nothing
-    for the exact formula): called a few bodies ahead, so that the look-up finds its coefficients
-    in the cache instead of waiting for memory."""
-    base = _locate(T, t0, vbx, vby, w, v_eps)[0]
-    if PREFETCH and base >= 0:
-        for r in range(0, BLOCK, 2):  # 48 bytes apart: every 64-byte line of the block
-            _prefetch(T, base + r)

@@ -1,14 +1,11 @@
 """Bulk reads and writes of a pymunk space's bodies: through ``pymunk.batch``, or body by body.
 
 One read per step fetches (angle, velocity, spin, force, torque) and the id of every body of the
-space; one write sets every body's force and torque. Three routes (:data:`ROUTES`), the same numbers
+space; one write sets every body's force and torque. Two routes (:data:`ROUTES`), the same numbers
 on each (``tests/test_plugin_io.py`` steps a scene on every route and compares the bits):
 
-- ``"lean"``: ``pymunk.batch``'s C iterator, called directly. ``pymunk.batch`` is marked
-  experimental by pymunk; its public functions allocate a C struct and resolve flags on every call
-  (about 1.5 us each, measured), so this route keeps that struct and the C iterator between calls.
-  It uses names pymunk does not document (docs/versions.md lists them);
-- ``"bulk"``: ``pymunk.batch``'s public functions (same data, slower), where those names are missing;
+- ``"bulk"``: ``pymunk.batch``'s public functions (``pymunk.batch`` is marked experimental by pymunk),
+  numpy views on its own buffers (docs/versions.md);
 - ``"per-body"``: each body's public properties (``angle``, ``velocity``, ``angular_velocity``,
   ``force``, ``torque``; one Python call each). pymunk 6.6-6.10's ``pymunk.batch`` reads no force
   or torque and writes nothing: there a force reader takes this route. (Where the struct layout is
@@ -16,8 +13,7 @@ on each (``tests/test_plugin_io.py`` steps a scene on every route and compares t
   only carries a space with sleeping enabled, or a pymunk whose layout the probe could not prove.)
 
 A pose reader (``poses=True``, the recorder's) needs only positions, angles and velocities, which
-``pymunk.batch`` reads from 6.6 on; its lean route calls the iterator by the name it has on that
-pymunk (it was renamed in 6.11).
+``pymunk.batch`` reads from 6.6 on.
 """
 
 from __future__ import annotations
@@ -26,8 +22,6 @@ from typing import Any
 
 import numpy as np
 
-from rrbody._private import private_allowed
-
 __all__ = ["BatchIO", "READ_COLUMNS", "POSE_COLUMNS", "ROUTES", "body_uid", "rows_of", "batch_reads"]
 
 #: columns of the array :meth:`BatchIO.read` returns (pymunk.batch writes fields in this order)
@@ -35,9 +29,7 @@ READ_COLUMNS = ("angle", "vx", "vy", "spin", "fx", "fy", "torque")
 #: the columns of a reader made with ``poses=True`` (the recorder's): position, angle, velocity, spin
 POSE_COLUMNS = ("x", "y", "angle", "vx", "vy", "spin")
 #: the routes to the bodies, fastest first (``BatchIO(route=...)``; :attr:`BatchIO.route` is the one taken)
-ROUTES = ("lean", "bulk", "per-body")
-#: the name of pymunk.batch's C body iterator: pymunk >= 6.11, then pymunk 6.6-6.10 (a reader only)
-_GET_ITERATORS = ("pmSpaceBodyGetIteratorFuncBatched", "pmSpaceBodyIteratorFuncBatched")
+ROUTES = ("bulk", "per-body")
 
 
 def body_uid(body: Any) -> int:
@@ -76,11 +68,10 @@ class BatchIO:
     """Reader and force writer for all bodies of ``space`` (order: pymunk's iteration order); with
     ``poses`` a reader of :data:`POSE_COLUMNS` instead (its forces are not to be written).
 
-    ``route``: one of :data:`ROUTES`, or None for the fastest this pymunk offers (``lean=False``:
-    not the lean one). The route taken is :attr:`route`; a route this pymunk cannot take raises
-    ValueError, naming it."""
+    ``route``: one of :data:`ROUTES`, or None for the fastest this pymunk offers. The route taken is
+    :attr:`route`; a route this pymunk cannot take raises ValueError, naming it."""
 
-    def __init__(self, space: Any, *, lean: bool = True, poses: bool = False, route: str | None = None) -> None:
+    def __init__(self, space: Any, *, poses: bool = False, route: str | None = None) -> None:
         if route is not None and route not in ROUTES:
             raise ValueError(f"route must be one of {', '.join(map(repr, ROUTES))} or None, got {route!r}")
         self._space = space
@@ -88,11 +79,9 @@ class BatchIO:
         self._width = len(POSE_COLUMNS) if poses else len(READ_COLUMNS)
         self._n = -1
         self._bodies: list[Any] = []  # the per-body route's bodies of the last read, in its row order
-        self.lean = False
         batched = batch_reads(poses)
         if route is None:
-            # (RRBODY_NO_PRIVATE: never the lean route, whose C names pymunk does not document)
-            route = ("lean" if lean and private_allowed() else "bulk") if batched else "per-body"
+            route = "bulk" if batched else "per-body"
         elif route != "per-body" and not batched:
             raise ValueError(f"route {route!r} needs a pymunk.batch that reads "
                              f"{'poses' if poses else 'and writes forces'}"
@@ -117,38 +106,6 @@ class BatchIO:
             raise ValueError("rrbody's PlaneFriction needs a 64-bit pymunk (uintptr_t of 8 bytes)")
         self._fptr: Any = None
         self._iptr: Any = None
-        if route == "lean":
-            self.lean = self._lean_setup(pb)
-            if not self.lean:
-                self.route = "bulk"  # the public functions: same data
-
-    def _lean_setup(self, pb: Any) -> bool:
-        """Keep pymunk.batch's C struct and iterators for direct calls; False if this pymunk lacks a
-        name they need (its public functions then serve: :attr:`route` "bulk")."""
-        try:
-            ffi, lib = pb.ffi, pb.lib
-            self._ffi, self._lib, self._sp = ffi, lib, self._space._space
-            self._each = lib.cpSpaceEachBody
-            for name in _GET_ITERATORS:
-                try:
-                    self._fn_get = ffi.addressof(lib, name)
-                    break
-                except AttributeError:
-                    continue
-            else:
-                return False
-            self._gdata = ffi.new("pmBatchedData *")
-            self._gdata.fields = self._read_fields.value
-            self._gdata.floatArray = self._gbuf._float_arr
-            self._gdata.intArray = self._gbuf._int_arr
-            if self._write_fields is not None:
-                self._fn_set = ffi.addressof(lib, "pmSpaceBodySetIteratorFuncBatched")
-                self._sdata = ffi.new("pmBatchedData *")
-                self._sdata.fields = self._write_fields.value
-                self._sdata.intArray = self._sbuf._int_arr
-        except (AttributeError, TypeError, pb.ffi.error):  # a struct or field this pymunk lacks
-            return False
-        return True
 
     def read(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(got, ids, out): ``got`` (n x 7, READ_COLUMNS; n x 6, POSE_COLUMNS, for a pose reader) and ``ids``
@@ -158,13 +115,8 @@ class BatchIO:
             return self._read_each()
         fa = self._gbuf._float_arr
         ia = self._gbuf._int_arr
-        if self.lean:
-            fa.num = 0
-            ia.num = 0
-            self._each(self._sp, self._fn_get, self._gdata)
-        else:
-            self._gbuf.clear()
-            self._pb.get_space_bodies(self._space, self._read_fields, self._gbuf)
+        self._gbuf.clear()
+        self._pb.get_space_bodies(self._space, self._read_fields, self._gbuf)
         n = ia.num
         if n != self._n or fa.arr != self._fptr or ia.arr != self._iptr:
             self._rebuild(n)
@@ -187,8 +139,6 @@ class BatchIO:
         self._out = np.zeros((n, 3))
         if n and self._write_fields is not None:
             self._sbuf.set_float_buf(self._out)
-            if self.lean:
-                self._sdata.floatArray = self._sbuf._float_arr
 
     def _read_each(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """:meth:`read` on the per-body route: every body of the space through its public properties."""
@@ -222,9 +172,6 @@ class BatchIO:
             for b, (fx, fy, tq) in zip(self._bodies, self._out.tolist()):
                 b.force = (fx, fy)
                 b.torque = tq
-        elif self.lean:
-            self._sbuf._float_arr.num = 0
-            self._each(self._sp, self._fn_set, self._sdata)
         else:
             self._pb.set_space_bodies(self._space, self._write_fields, self._sbuf)
 

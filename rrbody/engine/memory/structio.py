@@ -38,7 +38,7 @@ from numba import njit, typeof
 
 from rrbody.contact import kernel as K
 from rrbody.contact.columns import NO_ACTIVE
-from rrbody.contact.lean import NO_REFCOUNT, fast_entry
+from rrbody.contact.lean import NO_REFCOUNT
 from rrbody.engine.memory.bodymem import (
     ANGLE,
     FX,
@@ -135,7 +135,7 @@ class StructIO:
         # where the compiled call reads the space's sleeping threshold (0: step() reads pymunk's property)
         self._sleep_at = 0 if off is None else self._space + off
         self._members = -1
-        self._entry: Any = None  # struct_step's compiled entry point (fast_entry), found on the first step
+        self._typed = False  # struct_step compiled for these argument types (on the first step)
         self._addr = np.zeros(0, dtype=np.int64)
         self._got = np.zeros((0, 7))
         self._out = np.zeros((0, 3))
@@ -173,14 +173,13 @@ class StructIO:
         if self._members != self._pf.members:
             self._relink()
         args = (*self._head(plane), self._out, *act, t, dt)  # (t, dt last: the plan's call appends them)
-        if self._entry is None:
+        if not self._typed:
             # plane_step compiled first, with its own options: numba 0.59 would compile it inside struct_step's
             # typing with struct_step's (no reference counting), which its work array needs
             K.plane_step.compile(tuple(typeof(a) for a in (self._got, self._ids, *plane, float(t), float(dt),
                                                            self._out, *act)))
-            self._entry, n = fast_entry(struct_step, *args)  # runs this step once
-            return int(n)
-        return self._entry(*args)
+            self._typed = True
+        return int(struct_step(*args))
 
     def _head(self, plane: tuple[np.ndarray, ...]) -> tuple[Any, ...]:
         """:func:`struct_step`'s first arguments (this reader's, then ``plane``'s)."""
@@ -192,9 +191,9 @@ class StructIO:
         must run instead: before its first call, and where the compiled call cannot read the sleeping
         threshold itself. Valid until the plugin's membership or any of its arrays changes (the plugin drops
         it then)."""
-        if self._entry is None or self._sleep_at == 0 or self._members != self._pf.members:
+        if not self._typed or self._sleep_at == 0 or self._members != self._pf.members:
             return None
-        return self._entry, (*self._head(plane), self._out, *NO_ACTIVE)
+        return struct_step, (*self._head(plane), self._out, *NO_ACTIVE)
 
     def write_forces(self) -> None:
         """Set every plugin body's force (N, at its centre of gravity) and torque (N m) from ``out``."""

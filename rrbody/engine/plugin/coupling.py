@@ -25,7 +25,6 @@ import numpy as np
 
 from rrbody.contact import coupled as CP
 from rrbody.contact import islands as I
-from rrbody.contact.lean import fast_entry
 from rrbody.engine.memory import arbiters
 from rrbody.engine.memory.bodymem import addresses
 
@@ -64,8 +63,6 @@ class Coupling:
         self._addrs = np.zeros(0, dtype=np.int64)
         self._members = -1  # the plugin's membership count the per-row arrays were made at
         self._args: tuple[Any, ...] | None = None  # the compiled route's arguments after dt (forget() drops them)
-        self._entry: Any = None  # the compiled route's entry point (fast_entry), found on its first call
-        self._touch: Any = None  # and its first look's (whether anything touched)
         self._count = np.zeros(1, dtype=np.int64)
         self._report = np.zeros((0, CP.N_OUT))
         self._n_isl = 0
@@ -119,17 +116,10 @@ class Coupling:
             # the cheap first look, unless something touched in the last step (it most likely touches again: the
             # whole step finds out as cheaply)
             if not self._touched:
-                if self._touch is None:
-                    self._touch, touched = fast_entry(arbiters.touching, *self._touch_args)
-                else:
-                    touched = self._touch(*self._touch_args)
-                if not touched:
+                if not arbiters.touching(*self._touch_args):
                     return None
             while True:
-                if self._entry is None:
-                    self._entry, counts = fast_entry(arbiters.step_compiled, dt, *self._args)
-                else:
-                    counts = self._entry(dt, *self._args)
+                counts = arbiters.step_compiled(dt, *self._args)
                 nb = counts[0]
                 if nb >= 0:
                     break

@@ -32,7 +32,6 @@ import numpy as np
 
 from rrbody.contact import kernel as K
 from rrbody.contact.columns import NO_ACTIVE
-from rrbody.contact.lean import fast_entry
 from rrbody.engine.memory.batchio import BatchIO, body_uid
 from rrbody.engine.memory.bodymem import layout
 from rrbody.engine.memory.structio import IDLE, StructIO
@@ -127,7 +126,6 @@ class PlaneFriction(PlaneRows):
         super().__init__()  # the table of bodies and their rows (rrbody.engine.plugin.plane_rows)
         self.pre_step: list[Any] = []  # callables f(dt) run after friction is set, before space.step (builder)
         self._fresh: set[Any] = set()
-        self._kernel: Any = None  # the compiled step's entry point, found on the first step
         self.t = 0.0  # s: time advanced by step (compensated sum)
         self._tc = 0.0
         self.n_stopped = 0  # stops made by the rest rule so far
@@ -383,14 +381,11 @@ class PlaneFriction(PlaneRows):
             act = NO_ACTIVE if self._act is None else self._act.arrays(self)
         args = (got, ids, self._k_lookup, self._cache, self._bodies, self._k_shapes, self._k_geo, self._k_tables,
                 self.t, dt, out, *act)
-        if self._kernel is None:
-            self._kernel, n_flag = fast_entry(K.plane_step, *args)  # runs this step's kernel once
-        else:
-            n_flag = self._kernel(*args)
+        n_flag = K.plane_step(*args)
         if n_flag < 0:  # rare: the space grew past the caches, or the check failed
             if n_flag == -2:
                 self._grow_caches(got.shape[0])
-                n_flag = self._kernel(got, ids, self._k_lookup, self._cache, *args[4:])
+                n_flag = K.plane_step(got, ids, self._k_lookup, self._cache, *args[4:])
             if n_flag < 0:
                 self._refuse(got)
         io.write_forces()

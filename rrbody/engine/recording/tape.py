@@ -21,7 +21,6 @@ from typing import Any
 import numpy as np
 
 from rrbody.contact import kernel as K
-from rrbody.contact.lean import fast_entry
 from rrbody.engine.memory.batchio import BatchIO, body_uid, rows_of
 from rrbody.engine.memory.bodymem import address, addresses
 from rrbody.engine.plugin.rows import Rows
@@ -104,8 +103,6 @@ class Tape:
         #: memory one frame takes: bodies x width numbers x 8 bytes
         self.bytes_per_frame = len(self.bodies) * self.width * 8
         self._max_frames = int(self.max_mb * 1e6 // self.bytes_per_frame)  # the most frames max_mb allows
-        # the capture kernel's compiled entry point (capture_direct or capture_rows), found on the first capture
-        self._kernel: Any = None
         self._store = Rows((len(self.bodies), self.width))  # the frames, and their times (s)
         self._clock = Rows(None)
         if reserve is not None:
@@ -177,10 +174,7 @@ class Tape:
         else:
             got, ids, _ = self._io.read()
             kernel, args = capture_rows, (got, ids, self.ids, self._rows, bodies, prow, store, n)
-        if self._kernel is None:
-            self._kernel, result = fast_entry(kernel, *args)
-        else:
-            result = self._kernel(*args)
+        result = kernel(*args)
         if self._io is None:
             if result >= 0:  # the index of a filmed body no longer in the space
                 self._gone(result, n)
