@@ -17,19 +17,19 @@ DOCS_EXTRAS := docs,movie,envs
 # with the empty variable E inside, so that only the quoted figures hold them
 E :=
 unq = $(filter-out <!--q$(E):%,$(subst -->,--> ,$(subst <!--/q$(E)-->,,$(1))))
-T_VENV := <!--q:setup.demo.venv-->5 s<!--/q-->
+T_VENV := <!--q:setup.demo.venv-->4 s<!--/q-->
 T_REQS := <!--q:setup.demo.build-reqs-->4 s<!--/q-->
 T_DEMO_PKGS := <!--q:setup.demo.install-->2 s<!--/q-->
-T_TEST_PKGS := <!--q:setup.test.install-->18 s<!--/q-->
-T_DEMO_KERNELS := <!--q:setup.demo.kernels-->46 s<!--/q-->
-T_LOAD := <!--q:setup.demo.load-->1.9-2.0<!--/q-->
-T_KERNELS := <!--q:setup.test.kernels-->227 s<!--/q-->
-T_TEST_LOAD := <!--q:setup.test.load-->1.6-2.2<!--/q-->
-T_MOVIE := <!--q:setup.demo.demo-->37 s<!--/q-->
-T_LOWEST := <!--q:setup.test.lowest-venv-->11 s<!--/q-->
-T_SUITE := <!--q:setup.test.suite-->544 s<!--/q-->
-T_SUITE_LOWEST := <!--q:setup.test.suite-lowest-->272 s<!--/q-->
-T_SUITE_PUBLIC := <!--q:setup.test.suite-public-->236 s<!--/q-->
+T_TEST_PKGS := <!--q:setup.test.install-->7 s<!--/q-->
+T_DEMO_KERNELS := <!--q:setup.demo.kernels-->42 s<!--/q-->
+T_LOAD := <!--q:setup.demo.load-->0.3-1.2<!--/q-->
+T_KERNELS := <!--q:setup.test.kernels-->137 s<!--/q-->
+T_TEST_LOAD := <!--q:setup.test.load-->1.2-2.1<!--/q-->
+T_MOVIE := <!--q:setup.demo.demo-->32 s<!--/q-->
+T_LOWEST := <!--q:setup.test.lowest-venv-->7 s<!--/q-->
+T_SUITE := <!--q:setup.test.suite-->272 s<!--/q-->
+T_SUITE_LOWEST := <!--q:setup.test.suite-lowest-->138 s<!--/q-->
+T_SUITE_PUBLIC := <!--q:setup.test.suite-public-->114 s<!--/q-->
 
 # The venv's packages are installed by uv (from PyPI, like pip; the test venv's packages in 17 s
 # against pip's 35-39 s), itself installed into the venv by the venv's pip: a fresh machine needs
