@@ -283,10 +283,6 @@ class PlaneFriction:
                 cg(c.geom1), cg(c.geom2), cg(c.efc_address), int(d.ncon), self._bodies, self._got, self._load, dt)
         MK.gather(*args)
 
-    def _call(self, name: str, *args: Any) -> Any:
-        """``rrbody.mujoco_adapter.kernel.<name>(*args)`` (``plane_step``: the plugin's kernel)."""
-        return (K.plane_step if name == "plane_step" else getattr(MK, name))(*args)
-
     def _refuse(self) -> None:
         m = self.model
         i = int(self._cache[K.STATUS, K.FIRST_BAD])
@@ -340,16 +336,16 @@ class PlaneFriction:
                 self._kick(dt)
             self._gather(dt)
             gap = self._bodies[:, K.PREV_GAP].copy()  # the last step's size, before plane_step writes this one's
-            n_flag = self._call("plane_step", self._got, self._k_ids, self._lookup, self._cache, self._bodies,
-                                self._shapes, self._geo, _NO_TABLES, float(d.time), dt, self._out, *NO_ACTIVE)
+            n_flag = K.plane_step(self._got, self._k_ids, self._lookup, self._cache, self._bodies, self._shapes,
+                                  self._geo, _NO_TABLES, float(d.time), dt, self._out, *NO_ACTIVE)
             if n_flag < 0:
                 self._refuse()
             _resync(self._bodies, gap, dt)
-            self.n_stopped += self._call("scatter", self._dof, self._qadr, self._ids, self._ipos, self._frame,
-                                         self._bodies, d.qpos, d.qvel, d.xfrc_applied, self._user, self._got,
-                                         self._moving, self._t_stop, float(d.time), dt)
+            self.n_stopped += MK.scatter(self._dof, self._qadr, self._ids, self._ipos, self._frame, self._bodies,
+                                         d.qpos, d.qvel, d.xfrc_applied, self._user, self._got, self._moving,
+                                         self._t_stop, float(d.time), dt)
             mujoco.mj_step(m, d)
-            self._call("unapply", self._ids, d.xfrc_applied, self._user)
+            MK.unapply(self._ids, d.xfrc_applied, self._user)
 
     # ---- readers -----------------------------------------------------------------------------
     @property

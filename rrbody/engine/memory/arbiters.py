@@ -35,6 +35,7 @@ from numba.extending import intrinsic
 from rrbody._private import private_allowed
 from rrbody.contact import islands as I
 from rrbody.contact.kernel import find_row
+from rrbody.engine.memory.bodymem import address, i64_at
 
 __all__ = ["ROUTES", "read_public", "write_public", "touching", "read_compiled", "write_compiled", "space_loads",
            "step_compiled",
@@ -149,14 +150,6 @@ def _addr(typingctx: Any, p: Any) -> Any:
 
 
 @intrinsic
-def _load(typingctx: Any, a: Any) -> Any:
-    """The int64 at byte address a."""
-    def codegen(context: Any, builder: Any, sig: Any, args: Any) -> Any:
-        return builder.load(builder.inttoptr(args[0], _I64.as_pointer()))
-    return types.int64(types.int64), codegen
-
-
-@intrinsic
 def _store(typingctx: Any, a: Any, v: Any) -> Any:
     """Store the int64 v at byte address a."""
     def codegen(context: Any, builder: Any, sig: Any, args: Any) -> Any:
@@ -204,11 +197,11 @@ def _on_arbiter(body: Any, arb: Any, data: Any) -> None:
     Chipmunk hands the arbiter over with ``body`` first only here) to the record at ``data``: int64s
     (count, capacity, the two getters' addresses, records...)."""
     d = _addr(data)
-    n = _load(d)
-    if n < _load(d + 8):
+    n = i64_at(d)
+    if n < i64_at(d + 8):
         a = _addr(arb)
-        nx, ny = _vec_i(_load(d + 16), a)
-        sx, sy = _vec_i(_load(d + 24), a)
+        nx, ny = _vec_i(i64_at(d + 16), a)
+        sx, sy = _vec_i(i64_at(d + 24), a)
         r = d + 32 + 8 * _REC * n
         _store(r, a)
         _store(r + 8, _addr(body))
@@ -223,7 +216,7 @@ def _on_arbiter(body: Any, arb: Any, data: Any) -> None:
 def _on_constraint(body: Any, constraint: Any, data: Any) -> None:
     """cpBodyEachConstraint's callback: count the constraints at ``data`` (an int64)."""
     d = _addr(data)
-    _store(d, _load(d) + 1)
+    _store(d, i64_at(d) + 1)
 
 
 @njit(cache=True)
@@ -245,7 +238,7 @@ def _body_state(api: np.ndarray, b: int, out: np.ndarray) -> None:
 def _on_any(body: Any, arb: Any, data: Any) -> None:
     """cpBodyEachArbiter's callback: count the arbiters at ``data`` (an int64)."""
     d = _addr(data)
-    _store(d, _load(d) + 1)
+    _store(d, i64_at(d) + 1)
 
 
 @njit(cache=True)
@@ -532,8 +525,6 @@ def _probe(api: np.ndarray) -> bool:
     ids = np.array([body_uid(b) for b in plugin], dtype=np.int64)
     order = np.argsort(ids, kind="stable")
     lookup = np.ascontiguousarray(np.vstack([ids[order], order.astype(np.int64)]))
-    from rrbody.engine.memory.bodymem import address
-
     addrs = np.array([address(b._body) for b in plugin], dtype=np.int64)
     out = []
     for route in ("public", "compiled"):
@@ -564,6 +555,4 @@ def _probe(api: np.ndarray) -> bool:
 
 def space_address(space: Any) -> int:
     """The address of a pymunk space's cpSpace (for :func:`step_compiled`)."""
-    from rrbody.engine.memory.bodymem import address
-
     return address(space._space)

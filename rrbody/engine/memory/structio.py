@@ -186,7 +186,7 @@ class StructIO:
         return (self._addr, self._offs, self._space, self._sleep_at, self._got, self._ids, *plane)
 
     def plan(self, plane: tuple[np.ndarray, ...]) -> tuple[Any, tuple[Any, ...]] | None:
-        """The plugin's next steps while nothing changes: (entry, args) with ``entry(*args, t, dt)`` the call
+        """The plugin's next steps while nothing changes: (struct_step, args), ``struct_step(*args, t, dt)`` the call
         :meth:`step` would make for ``plane`` (the same arrays) and no active bodies. None where :meth:`step`
         must run instead: before its first call, and where the compiled call cannot read the sleeping
         threshold itself. Valid until the plugin's membership or any of its arrays changes (the plugin drops

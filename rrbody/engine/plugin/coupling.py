@@ -115,9 +115,8 @@ class Coupling:
         if self._api is not None:
             # the cheap first look, unless something touched in the last step (it most likely touches again: the
             # whole step finds out as cheaply)
-            if not self._touched:
-                if not arbiters.touching(*self._touch_args):
-                    return None
+            if not self._touched and not arbiters.touching(*self._touch_args):
+                return None
             while True:
                 counts = arbiters.step_compiled(dt, *self._args)
                 nb = counts[0]
